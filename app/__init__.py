@@ -1,0 +1,1 @@
+"""Entry points only: the ``dolphinfit`` command line and (later) the GUI launcher."""
