@@ -273,6 +273,15 @@ class NadirCamera:
                 f"altitudes; a batch must have 1 frame or as many as the camera"
             )
 
+    def _frames_batch(self, values: torch.Tensor, width: int, what: str) -> torch.Tensor:
+        """``values`` as (T | 1, N, width): adds the frame axis to (N, width), checks the batch."""
+        batch = values.unsqueeze(0) if values.dim() == 2 else values
+        if batch.dim() != 3 or batch.shape[-1] != width:
+            raise ValueError(f"{what} must have shape (T, N, {width}) or (N, {width}), "
+                             f"got {tuple(values.shape)}")
+        self._check_batch(batch.shape[0], what)
+        return batch
+
     def _altitudes_like(self, tensor: torch.Tensor) -> torch.Tensor:
         """(T, 1) altitudes in ``tensor``'s dtype and device."""
         return self.altitude_m.to(dtype=tensor.dtype, device=tensor.device).unsqueeze(-1)
@@ -285,12 +294,7 @@ class NadirCamera:
         submerged points are imaged at their apparent surface point. Raises ValueError for a
         point at or above the camera.
         """
-        points = points_world.unsqueeze(0) if points_world.dim() == 2 else points_world
-        if points.dim() != 3 or points.shape[-1] != 3:
-            raise ValueError(
-                f"points must have shape (T, N, 3) or (N, 3), got {tuple(points_world.shape)}"
-            )
-        self._check_batch(points.shape[0], "points")
+        points = self._frames_batch(points_world, 3, "points")
         h = self._altitudes_like(points)
         if bool((points[..., 2].detach() >= h.detach()).any()):
             raise ValueError("a point is at or above the camera (z ≥ altitude_m)")
@@ -312,12 +316,7 @@ class NadirCamera:
         a float or a (T,) tensor, below the camera. Returns (T', N, 3), metres, world frame. With
         refraction on and the plane under water, the viewing ray bends at the surface.
         """
-        xy = xy_px.unsqueeze(0) if xy_px.dim() == 2 else xy_px
-        if xy.dim() != 3 or xy.shape[-1] != 2:
-            raise ValueError(
-                f"pixels must have shape (T, N, 2) or (N, 2), got {tuple(xy_px.shape)}"
-            )
-        self._check_batch(xy.shape[0], "pixels")
+        xy = self._frames_batch(xy_px, 2, "pixels")
         h = self._altitudes_like(xy)
         plane_z = torch.as_tensor(plane_z_m, dtype=xy.dtype, device=xy.device).reshape(-1, 1)
         self._check_batch(plane_z.shape[0], "plane heights")
