@@ -1,0 +1,29 @@
+"""Screen-space barycentric interpolation at covered pixels, with gradients to the vertices.
+
+The barycentrics are recomputed from the grad-enabled projected vertices of each pixel's
+front-most face (DIB-R: screen-space, not perspective-correct), so attribute gradients reach
+vertex positions through d(weights)/d(2-D vertex); depth gets none.
+"""
+
+import torch
+
+from core.render.rasterize import Fragments, edge_weights
+
+
+def barycentrics(xy_px: torch.Tensor, faces: torch.Tensor, frags: Fragments) -> torch.Tensor:
+    """(C, 3) weights of the covered pixels in their faces; xy_px: (T, V, 2)."""
+    tri = xy_px[frags.frame[:, None], faces[frags.face]]          # (C, 3, 2)
+    return edge_weights(tri, frags.pixel_centres(xy_px.dtype))
+
+
+def interpolate_vertex_values(values: torch.Tensor, faces: torch.Tensor, frags: Fragments,
+                              weights: torch.Tensor) -> torch.Tensor:
+    """(C, D) per-vertex ``values`` (T, V, D) interpolated at the covered pixels."""
+    corner = values[frags.frame[:, None], faces[frags.face]]       # (C, 3, D)
+    return (weights[..., None] * corner).sum(-2)
+
+
+def interpolate_corner_values(corner_values: torch.Tensor, frags: Fragments,
+                              weights: torch.Tensor) -> torch.Tensor:
+    """(C, D) per-face-corner ``corner_values`` (F, 3, D) interpolated at covered pixels."""
+    return (weights[..., None] * corner_values[frags.face]).sum(-2)

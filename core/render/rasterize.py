@@ -1,0 +1,112 @@
+"""Hard rasterization without gradient: the front-most front face at every pixel.
+
+Faces are front-facing when their projected signed area is negative: outward winding is
+counter-clockwise seen from outside, and image rows grow downwards, which flips the sign.
+Depth is the distance below the camera (h − z, positive), interpolated linearly in screen space
+as DIB-R does; the smallest wins, ties go to the larger face index.
+"""
+
+from dataclasses import dataclass
+
+import torch
+
+from core.render.pairs import box_pair_chunks
+
+BARY_EPS = 1e-8  # signed epsilon in barycentric denominators (Kaolin's rule; rendering.md §2)
+
+
+@dataclass(frozen=True, eq=False)
+class Fragments:
+    """Per-pixel result of the hard raster."""
+
+    face_idx: torch.Tensor   # (T, H, W) int64 front-most face, −1 where uncovered
+    pixel: torch.Tensor      # (C,) int64 flat index t·H·W + row·W + col of covered pixels
+    face: torch.Tensor       # (C,) int64 their front-most face
+    frame: torch.Tensor      # (C,) int64 their frame
+
+    @property
+    def covered(self) -> torch.Tensor:
+        """(T, H, W) bool hard coverage."""
+        return self.face_idx >= 0
+
+    def pixel_centres(self, dtype: torch.dtype) -> torch.Tensor:
+        """(C, 2) (u, v) centres of the covered pixels."""
+        height, width = self.face_idx.shape[1:]
+        within = self.pixel % (height * width)
+        return torch.stack([within % width, torch.div(within, width, rounding_mode="floor")],
+                           dim=-1).to(dtype)
+
+
+def cross2(a: torch.Tensor, b: torch.Tensor) -> torch.Tensor:
+    """2-D cross product of (..., 2) vectors."""
+    return a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0]
+
+
+def edge_weights(tri: torch.Tensor, point: torch.Tensor) -> torch.Tensor:
+    """(..., 3) normalised barycentric weights of ``point`` (..., 2) in ``tri`` (..., 3, 2)."""
+    a, b, c = tri.unbind(-2)
+    w = torch.stack([cross2(b - point, c - point), cross2(c - point, a - point),
+                     cross2(a - point, b - point)], dim=-1)
+    total = w.sum(-1, keepdim=True)
+    return w / (total + BARY_EPS * torch.sign(total))
+
+
+def face_boxes(tri: torch.Tensor, width_px: int, height_px: int,
+               margin_px: float = 0.0) -> tuple[torch.Tensor, ...]:
+    """Integer pixel boxes (col_min, col_max, row_min, row_max) of triangles (..., 3, 2).
+
+    Without margin: pixel centres inside the closed box. With margin m: centres c with
+    min − m ≤ c < max + m (half-open, as DIB-R's enlarged box). Clamped to the image.
+    """
+    lo, hi = tri.amin(-2), tri.amax(-2)
+    if margin_px:
+        first = torch.ceil(lo - margin_px)
+        last = torch.ceil(hi + margin_px) - 1
+    else:
+        first, last = torch.ceil(lo), torch.floor(hi)
+    first = first.to(torch.int64)
+    last = last.to(torch.int64)
+    return (first[..., 0].clamp(min=0), last[..., 0].clamp(max=width_px - 1),
+            first[..., 1].clamp(min=0), last[..., 1].clamp(max=height_px - 1))
+
+
+def rasterize(xy_px: torch.Tensor, depth: torch.Tensor, faces: torch.Tensor, height_px: int,
+              width_px: int, max_pairs: int) -> Fragments:
+    """Front-most front face per pixel.
+
+    xy_px: (T, V, 2) vertex positions in viewport pixels; depth: (T, V) distance below the
+    camera (faces with a vertex at depth ≤ 0 are dropped); faces: (F, 3) int64.
+    """
+    with torch.no_grad():
+        num_frames, num_pixels = xy_px.shape[0], height_px * width_px
+        tri = xy_px[:, faces]                                     # (T, F, 3, 2)
+        tri_depth = depth[:, faces]                               # (T, F, 3)
+        area2 = cross2(tri[:, :, 1] - tri[:, :, 0], tri[:, :, 2] - tri[:, :, 0])
+        frame, face = torch.nonzero((area2 < 0) & (tri_depth > 0).all(-1), as_tuple=True)
+        col_min, col_max, row_min, row_max = face_boxes(tri[frame, face], width_px, height_px)
+
+        zbuf = torch.full((num_frames * num_pixels,), torch.inf, dtype=xy_px.dtype)
+        hits_pixel, hits_face, hits_depth = [], [], []
+        for pairs in box_pair_chunks(col_min, col_max, row_min, row_max, max_pairs):
+            t, f = frame[pairs.owner], face[pairs.owner]
+            point = torch.stack([pairs.col, pairs.row], dim=-1).to(xy_px.dtype)
+            weights = edge_weights(tri[t, f], point)
+            inside = (weights >= 0).all(-1)
+            z = (weights[inside] * tri_depth[t[inside], f[inside]]).sum(-1)
+            pixel = t[inside] * num_pixels + pairs.row[inside] * width_px + pairs.col[inside]
+            zbuf.scatter_reduce_(0, pixel, z, reduce="amin")
+            hits_pixel.append(pixel)
+            hits_face.append(f[inside])
+            hits_depth.append(z)
+        face_buf = torch.full((num_frames * num_pixels,), -1, dtype=torch.int64)
+        if hits_pixel:
+            pixel, face_hit, z = torch.cat(hits_pixel), torch.cat(hits_face), torch.cat(hits_depth)
+            nearest = z == zbuf[pixel]
+            face_buf.scatter_reduce_(0, pixel[nearest], face_hit[nearest], reduce="amax")
+        covered_pixel = torch.nonzero(face_buf >= 0, as_tuple=True)[0]
+        return Fragments(
+            face_idx=face_buf.reshape(num_frames, height_px, width_px),
+            pixel=covered_pixel,
+            face=face_buf[covered_pixel],
+            frame=torch.div(covered_pixel, num_pixels, rounding_mode="floor"),
+        )
