@@ -1,0 +1,158 @@
+"""Laser-altimeter logs in the LidarBoX style.
+
+The format follows the description in reference/ecosystem.md §8 (no real log ships with the
+project): the Dawson / LidarBoX Arduino logger (LightWare SF11/C laser, GPS, IMU; Bierlich et
+al. 2024, doi:10.1139/dsa-2023-0051) writes tab-separated text at about 1 Hz, often named
+``LOG_0000.CSV``. Comment lines start with ``#``; the last one before the data is the header
+
+    #gmt_date  gmt_time  num_sats  longitude  latitude  gps_altitude_m  SOG_kt  COG  HDOP
+    laser_altitude_cm  tilt_deg  accel_x  accel_y  accel_z  gyro_x  gyro_y  gyro_z
+
+with dates ``YYYY/MM/DD`` and times ``HH:MM:SS`` (UTC from the GPS; ``INVALID`` before a fix),
+the laser distance in centimetres and missing values written ``NaN`` or ``INVALID``.
+
+Altitude = laser_altitude_cm / 100 × cos(tilt_deg): the laser is fixed to the airframe, so a
+tilted airframe measures a slant range (CollatriX v2, Whalength); a gimballed laser needs no
+correction. 13000 and 15000 cm are the SF11's error readings (CollatriX v2) and count as
+missing. The laser measures height above the water directly: no launch height is added.
+
+Time alignment: ``time_offset_s`` is the log time, in seconds after the log's first dated row,
+at which the clip's first frame was recorded; a row's time on the clip's clock is its log time
+minus ``time_offset_s``.
+"""
+
+import math
+from datetime import datetime
+from pathlib import Path
+
+import numpy as np
+
+from core.errors import InputError
+from core.io.altitude_samples import AltitudeSamples, AltitudeSource
+from core.io.report import list_some
+
+LASER_COLUMN = "laser_altitude_cm"
+TILT_COLUMN = "tilt_deg"
+DATE_COLUMN, TIME_COLUMN = "gmt_date", "gmt_time"
+ERROR_VALUES_CM = frozenset({13000.0, 15000.0})  # SF11 error readings (CollatriX v2)
+MISSING_TOKENS = frozenset({"", "nan", "invalid"})
+CM_PER_M = 100.0
+MAX_TILT_DEG = 90.0  # beyond this the laser cannot point at the water
+TIME_FORMATS = ("%Y/%m/%d %H:%M:%S", "%Y/%m/%d %H:%M:%S.%f")
+
+
+def _cells(line: str) -> list[str]:
+    """A row's cells: tab-separated, or whitespace-separated if the line has no tab."""
+    return [c.strip() for c in (line.split("\t") if "\t" in line else line.split())]
+
+
+def _header_and_rows(path: Path) -> tuple[list[str], list[tuple[int, list[str]]]]:
+    """The header's column names and the (line number, cells) of the data rows."""
+    try:
+        lines = path.read_text(encoding="utf-8-sig", errors="replace").splitlines()
+    except FileNotFoundError:
+        raise InputError(f"{path}: no such file") from None
+    except OSError as exc:
+        raise InputError(f"{path}: cannot be read ({exc.strerror})") from None
+    header = None
+    rows = []
+    for line_no, line in enumerate(lines, start=1):
+        if line.startswith("#"):
+            if LASER_COLUMN in line:
+                header = _cells(line.lstrip("#"))
+        elif line.strip():
+            rows.append((line_no, _cells(line)))
+    if header is None:
+        raise InputError(f"{path}: no '#' header line naming {LASER_COLUMN} "
+                         "(not a LidarBoX laser log?)")
+    return header, rows
+
+
+def _optional_float(path: Path, line_no: int, column: str, cell: str) -> float:
+    """The cell as a float, NaN if written as missing; InputError naming line and column."""
+    if cell.lower() in MISSING_TOKENS:
+        return np.nan
+    try:
+        return float(cell)
+    except ValueError:
+        raise InputError(f"{path}, line {line_no}: {column} {cell!r} is not a number") from None
+
+
+def _row_time(date: str, time: str) -> datetime | None:
+    """The row's UTC date-time, or None if the logger wrote INVALID (no GPS fix yet)."""
+    for time_format in TIME_FORMATS:
+        try:
+            return datetime.strptime(f"{date} {time}", time_format)
+        except ValueError:
+            continue
+    return None
+
+
+def read_laser_log(path: Path | str, time_offset_s: float = 0.0,
+                   tilt_correction: bool = True) -> AltitudeSamples:
+    """Altitude samples of a LidarBoX-style laser log, on the clip's clock.
+
+    Error readings (13000, 15000 cm), missing readings and, with ``tilt_correction``, missing
+    or impossible tilts give NaN samples; rows without a valid date and time, short rows and
+    rows not later than the row before are dropped. Each case adds one warning naming the
+    lines. ``tilt_correction=False`` is for a gimballed laser.
+    """
+    path = Path(path)
+    header, rows = _header_and_rows(path)
+    needed = [DATE_COLUMN, TIME_COLUMN, LASER_COLUMN] + ([TILT_COLUMN] if tilt_correction else [])
+    absent = [c for c in needed if c not in header]
+    if absent:
+        raise InputError(f"{path}: the header has no {', '.join(absent)} column"
+                         + (" (a gimballed laser needs no tilt correction)"
+                            if absent == [TILT_COLUMN] else ""))
+    col = {name: header.index(name) for name in needed}
+    problems: dict[str, list[int]] = {}
+    times, altitudes = [], []
+    for line_no, cells in rows:
+        if len(cells) < len(header):
+            problems.setdefault("short row, dropped", []).append(line_no)
+            continue
+        when = _row_time(cells[col[DATE_COLUMN]], cells[col[TIME_COLUMN]])
+        if when is None:
+            problems.setdefault("no valid date and time, dropped", []).append(line_no)
+            continue
+        if times and when <= times[-1]:
+            problems.setdefault("not later than the row before, dropped", []).append(line_no)
+            continue
+        laser_cm = _optional_float(path, line_no, LASER_COLUMN, cells[col[LASER_COLUMN]])
+        if laser_cm in ERROR_VALUES_CM:
+            problems.setdefault("laser error reading (13000/15000 cm)", []).append(line_no)
+            laser_cm = np.nan
+        elif not laser_cm > 0:
+            problems.setdefault("no laser reading", []).append(line_no)
+            laser_cm = np.nan
+        factor = 1.0
+        if tilt_correction:
+            tilt = _optional_float(path, line_no, TILT_COLUMN, cells[col[TILT_COLUMN]])
+            factor = math.cos(math.radians(tilt)) if abs(tilt) < MAX_TILT_DEG else np.nan
+            if np.isnan(factor):
+                problems.setdefault("no valid tilt", []).append(line_no)
+        times.append(when)
+        altitudes.append(laser_cm / CM_PER_M * factor)
+    if not times:
+        raise InputError(f"{path}: no row with a valid date and time")
+    time_s = np.array([(t - times[0]).total_seconds() for t in times]) - time_offset_s
+    warnings = tuple(f"{path}, lines {list_some([str(n) for n in lines])}: {what}"
+                     for what, lines in problems.items())
+    source = AltitudeSource("laser", path, "lidarbox", LASER_COLUMN,
+                            time_offset_s=time_offset_s)
+    return AltitudeSamples(np.array(altitudes), source, time_s=time_s, warnings=warnings)
+
+
+def is_laser_log(path: Path) -> bool:
+    """Whether the file's comment lines name the laser column (a LidarBoX log, any suffix)."""
+    try:
+        with path.open(encoding="utf-8", errors="replace") as file:
+            for line in file:
+                if not line.startswith("#"):
+                    return False
+                if LASER_COLUMN in line:
+                    return True
+    except OSError:
+        return False
+    return False
