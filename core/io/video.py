@@ -89,12 +89,16 @@ def _open_capture(path: Path) -> cv2.VideoCapture:
 
 
 def _decodable_end(capture: cv2.VideoCapture, num_frames: int) -> int:
-    """Index one past the last frame that decodes, looking only near the announced end."""
-    start = max(0, num_frames - TAIL_CHECK_FRAMES)
-    end = start
-    if start == 0 or capture.set(cv2.CAP_PROP_POS_FRAMES, start):
-        while end < num_frames and capture.grab():
-            end += 1
+    """Index one past the last frame that decodes, looking only near the announced end.
+
+    The capture has just read frame 0; a short clip is read on from there, a longer one from
+    TAIL_CHECK_FRAMES before its announced end.
+    """
+    end = max(1, num_frames - TAIL_CHECK_FRAMES)
+    if end > 1 and not capture.set(cv2.CAP_PROP_POS_FRAMES, end):
+        return end
+    while end < num_frames and capture.grab():
+        end += 1
     return end
 
 

@@ -129,12 +129,14 @@ def test_sequential_frames_are_exact_and_rgb(mp4_clip):
 
 
 def test_rgb_channel_order(tmp_path):
-    """A lossless clip of a pure red BGR frame reads back red in channel 0."""
+    """A 3-frame lossless clip of a pure red BGR frame has 3 frames and reads back red in
+    channel 0."""
     path = tmp_path / "red.mkv"
     red_bgr = np.zeros((HEIGHT_PX, WIDTH_PX, 3), np.uint8)
     red_bgr[..., 2] = 255
     _write_clip(path, "FFV1", [red_bgr] * 3)
     with VideoReader(path) as reader:
+        assert len(reader) == 3
         np.testing.assert_allclose(reader[1].reshape(-1, 3).mean(axis=0), [255, 0, 0], atol=2)
 
 
