@@ -1,0 +1,177 @@
+"""The elliptical volume baseline (Christiansen et al. 2019) on arrays of station widths.
+
+Plain numpy functions. Shapes: S = 19 stations at 5 %, 10 %, … 95 % of body length BL; ``...``
+any batch (e.g. D Monte Carlo draws). Units: metres in, m³ out; HW ratios are height / width.
+
+Volume (DESIGN.md §7, reference/morphometrics.md §2.1): 20 segments of Δx = 0.05·BL between
+stations 0 %, 5 %, … 100 %, with w = h = 0 at both ends. Width and height vary linearly along a
+segment and cross-sections are ellipses of axes w and h, so the exact segment volume is
+π·Δx/24·(2·w1·h1 + w1·h2 + w2·h1 + 2·w2·h2).
+
+Tail (a visible choice, morphometrics.md §2.2): "measured" uses the 90 % and 95 % widths;
+"extrapolated" (CollatriX, the paper, after Christiansen 2019) ignores them and tapers linearly
+from 85 % to zero at 100 %: w90 = ⅔·w85, w95 = ⅓·w85, and likewise for heights.
+"""
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from core.measure.condition import BodyCondition, MassModel, body_condition
+from core.model.profile import STATION_FRACTIONS
+
+SEGMENT_FRACTION = 0.05  # Δx / BL: 20 segments (DESIGN §7)
+TAIL_MEASURED = "measured"
+TAIL_EXTRAPOLATED = "extrapolated"
+TAIL_OPTIONS = (TAIL_EXTRAPOLATED, TAIL_MEASURED)
+TAIL_SOURCE_IDX = 16            # the 85 % station
+TAIL_IDX = (17, 18)             # the 90 % and 95 % stations
+TAIL_FACTORS = (2.0 / 3.0, 1.0 / 3.0)  # CollatriX bv_ellipse: w90 = ⅔·w85, w95 = ⅓·w85
+
+# Body area index range: 20–70 % of BL (Burnett et al. 2018 for gray whales, as used by
+# Bierlich et al. 2021b; secondary, morphometrics.md §2.3). The range is a user choice.
+BAI_RANGE = (0.20, 0.70)
+
+
+def apply_tail(values: np.ndarray, tail: str) -> np.ndarray:
+    """(..., S) station values with the tail option applied (a copy).
+
+    ``tail`` = "measured" keeps them; "extrapolated" sets the 90 % and 95 % values to ⅔ and ⅓
+    of the 85 % value. Works for widths and heights alike.
+    """
+    if tail not in TAIL_OPTIONS:
+        raise ValueError(f"tail must be one of {TAIL_OPTIONS}, got {tail!r}")
+    values = np.array(values, dtype=np.float64)
+    if tail == TAIL_EXTRAPOLATED:
+        for idx, factor in zip(TAIL_IDX, TAIL_FACTORS):
+            values[..., idx] = factor * values[..., TAIL_SOURCE_IDX]
+    return values
+
+
+def used_stations(tail: str) -> np.ndarray:
+    """(S,) bool: the stations whose measured widths the volume uses under ``tail``."""
+    is_used = np.ones(len(STATION_FRACTIONS), dtype=bool)
+    if tail == TAIL_EXTRAPOLATED:
+        is_used[list(TAIL_IDX)] = False
+    return is_used
+
+
+def fill_skipped(widths: np.ndarray, tail: str) -> tuple[np.ndarray, np.ndarray]:
+    """Fill unmeasured (NaN) stations that the volume uses by linear interpolation.
+
+    widths: (S,) float, NaN = not measured. Interpolates along the body between the nearest
+    measured used stations and the zero widths at 0 % and 100 %. Returns the filled (S,) widths
+    and an (S,) bool marking the stations filled. Stations the tail option ignores are left as
+    they are.
+    """
+    widths = np.asarray(widths, dtype=np.float64)
+    is_used = used_stations(tail)
+    is_known = is_used & np.isfinite(widths)
+    is_filled = is_used & ~is_known
+    ends = ([0.0], [1.0])
+    known_at = np.concatenate([ends[0], STATION_FRACTIONS[is_known], ends[1]])
+    known_w = np.concatenate([[0.0], widths[is_known], [0.0]])
+    filled = widths.copy()
+    filled[is_filled] = np.interp(STATION_FRACTIONS[is_filled], known_at, known_w)
+    return filled, is_filled
+
+
+def _with_ends(values: np.ndarray) -> np.ndarray:
+    """(..., S + 2) station values with the zero ends at 0 % and 100 % added."""
+    zeros = np.zeros(values.shape[:-1] + (1,))
+    return np.concatenate([zeros, values, zeros], axis=-1)
+
+
+def segment_volumes(length_m: np.ndarray, widths_m: np.ndarray,
+                    heights_m: np.ndarray) -> np.ndarray:
+    """(..., 20) volume of each elliptical frustum, m³.
+
+    length_m: (...) body length BL; widths_m, heights_m: (..., S) at the stations (tail
+    already applied). Segment k runs between stations k and k + 1 of 0 %, 5 %, … 100 %.
+    """
+    w, h = _with_ends(np.asarray(widths_m)), _with_ends(np.asarray(heights_m))
+    w1, w2, h1, h2 = w[..., :-1], w[..., 1:], h[..., :-1], h[..., 1:]
+    dx = SEGMENT_FRACTION * np.asarray(length_m)[..., None]
+    return np.pi * dx / 24.0 * (2 * w1 * h1 + w1 * h2 + w2 * h1 + 2 * w2 * h2)
+
+
+def elliptical_volume(length_m: np.ndarray, widths_m: np.ndarray, hw_ratios: np.ndarray,
+                      tail: str) -> np.ndarray:
+    """(...) elliptical body volume, m³.
+
+    length_m: (...); widths_m: (..., S) measured widths (no NaN among the used stations);
+    hw_ratios: (..., S) or (S,) height / width per station, finite wherever the tail option
+    takes heights from them. Heights are widths × HW ratio, then the tail option applies to
+    both.
+    """
+    widths = np.asarray(widths_m, dtype=np.float64)
+    heights = widths * np.asarray(hw_ratios, dtype=np.float64)
+    return segment_volumes(length_m, apply_tail(widths, tail),
+                           apply_tail(heights, tail)).sum(axis=-1)
+
+
+def circular_volume(length_m: np.ndarray, widths_m: np.ndarray, tail: str) -> np.ndarray:
+    """(...) volume with circular cross-sections (HW = 1), m³.
+
+    Equal to the circular-frustum sum Σ π·Δx/3·(r1² + r1·r2 + r2²), r = w/2 (Christiansen et
+    al. 2018), over the same 20 segments with zero ends.
+    """
+    widths = np.asarray(widths_m, dtype=np.float64)
+    return elliptical_volume(length_m, widths, np.ones(widths.shape[-1]), tail)
+
+
+def body_area_index(length_m: np.ndarray, widths_m: np.ndarray,
+                    bai_range: tuple[float, float] = BAI_RANGE) -> np.ndarray:
+    """(...) body area index: dorsal area between two stations / (range·BL)² × 100.
+
+    Trapezoid of the station widths over ``bai_range`` (fractions of BL, both stations);
+    Xcertainty's definition. length_m: (...); widths_m: (..., S) metres.
+    """
+    lower, upper = bai_range
+    is_in = (STATION_FRACTIONS >= lower - 1e-9) & (STATION_FRACTIONS <= upper + 1e-9)
+    if is_in.sum() < 2:
+        raise ValueError(f"bai_range {bai_range} holds fewer than two stations")
+    length = np.asarray(length_m)
+    widths = np.asarray(widths_m)[..., is_in]
+    step = np.diff(STATION_FRACTIONS[is_in]) * length[..., None]
+    area = (step * (widths[..., 1:] + widths[..., :-1]) / 2).sum(axis=-1)
+    span = STATION_FRACTIONS[is_in][-1] - STATION_FRACTIONS[is_in][0]
+    return area / (span * length) ** 2 * 100.0
+
+
+@dataclass(frozen=True, eq=False)
+class EllipticalResult:
+    """The elliptical baseline for one set of inputs (or a batch of D draws).
+
+    Arrays carry the batch shape ``...`` of the inputs: length_m (...); widths_m and
+    heights_m (..., S) as used by the volume (tail applied); volumes (...) m³; bai (...).
+    """
+
+    length_m: np.ndarray
+    widths_m: np.ndarray
+    heights_m: np.ndarray
+    volume_m3: np.ndarray
+    volume_circular_m3: np.ndarray
+    bai: np.ndarray
+    condition: BodyCondition
+
+
+def measure_elliptical(length_m: np.ndarray, widths_m: np.ndarray, hw_ratios: np.ndarray,
+                       tail: str, mass_model: MassModel = MassModel(),
+                       bai_range: tuple[float, float] = BAI_RANGE) -> EllipticalResult:
+    """Volume, circular volume, BAI, body condition and mass from metric station widths.
+
+    length_m: (...); widths_m: (..., S), filled where the volume needs them; hw_ratios:
+    (..., S) or (S,).
+    """
+    widths = np.asarray(widths_m, dtype=np.float64)
+    volume = elliptical_volume(length_m, widths, hw_ratios, tail)
+    return EllipticalResult(
+        length_m=np.asarray(length_m, dtype=np.float64),
+        widths_m=apply_tail(widths, tail),
+        heights_m=apply_tail(widths * hw_ratios, tail),
+        volume_m3=volume,
+        volume_circular_m3=circular_volume(length_m, widths, tail),
+        bai=body_area_index(length_m, apply_tail(widths, tail), bai_range),
+        condition=body_condition(length_m, volume, mass_model),
+    )
