@@ -1,10 +1,13 @@
-"""Dense brute-force renderer: every pixel against every face, for checking the sparse one.
+"""Dense brute-force renderer: every pixel against every face, to check the sparse one.
+
+Kept in the library on purpose (as pytorch3d keeps its Python rasterizer): the tests compare
+results and gradients against it, and ``dolphinfit bench render`` times it side by side.
 
 Same semantics as core/render (front-most front face by screen-space depth, ties to the larger
 face index; DIB-R soft mask over the first k faces in index order whose margin-enlarged box
 holds the pixel; foreground interpolated at the winner), but no boxes, pair lists, chunks,
-summed-area tables or sorting: only dense (pixels × faces) tensors. Only for tiny images.
-The barycentric formula and the pointwise shading functions are shared with core/render.
+summed-area tables or sorting: only dense (pixels × faces) tensors, so memory grows with
+pixels × faces. The barycentric formula and the pointwise shading functions are shared.
 """
 
 import torch

@@ -3,10 +3,10 @@
 import pytest
 import torch
 
+from core.render.dense import dense_render
 from core.render.render import project_to_viewport, render
 from core.render.settings import RasterSettings, Viewport
 
-from .dense_reference import dense_render
 from .scenes import appearance, camera, moved, two_ellipsoids
 
 WIDTH, HEIGHT = 64, 48
