@@ -9,12 +9,14 @@ import sys
 from collections.abc import Sequence
 from types import ModuleType
 
-from app.commands import camera, template
+from app.commands import camera, measure, template, synth
 from core.errors import InputError
 
 SUBCOMMANDS: dict[str, ModuleType] = {
     "template": template,
     "camera": camera,
+    "measure": measure,
+    "synth": synth,
 }
 
 

@@ -1,0 +1,93 @@
+"""What a synthetic clip shows: camera, animal, motion, water, light, sensor and effects.
+
+Every field has a unit in its name and a default; ``SynthConfig`` round-trips through JSON so
+``truth.json`` records exactly how its clip was made.
+"""
+
+from dataclasses import asdict, dataclass, field, fields
+
+from core.errors import InputError
+
+
+@dataclass(frozen=True)
+class Effects:
+    """What the fit does not model, each switchable (all on = hardest, most realistic)."""
+
+    profile_warp: bool = True    # smooth random change of width/height profiles (outside β)
+    finer_mesh: bool = False     # Loop-subdivided, smoother surface than the fitted template
+    scattering: bool = True      # water adds its own colour with depth, not only attenuation
+    refraction: bool = True      # flat-surface refraction of submerged parts
+    ripples: bool = True         # surface waves warp the submerged image
+    glints: bool = True          # sun glints on the water, over the animal too
+    compression: bool = True     # lossy mp4v video instead of lossless FFV1
+
+
+@dataclass(frozen=True)
+class SynthConfig:
+    """A synthetic clip. Lengths in metres, angles in degrees at this boundary, times in s."""
+
+    seed: int = 0
+    width_px: int = 1920
+    height_px: int = 1080
+    fps: float = 25.0
+    duration_s: float = 4.0
+    focal_mm: float = 12.29                 # the paper's camera (DESIGN.md §3)
+    sensor_width_mm: float = 17.27
+    altitude_m: float = 20.0
+    altitude_drift_m: float = 0.3           # slow sinusoidal change over the clip
+    launch_height_m: float = 1.5            # SRT rel_alt is altitude minus this
+    length_m: float = 2.5
+    shape_sd: float = 0.05                  # SD of each random log part scale
+    speed_m_s: float = 1.6
+    heading_deg: float | None = None        # None: random
+    turn_deg_s: float = 4.0
+    stroke_hz: float = 1.2
+    stroke_amplitude: float = 1.0           # 1 = a cruising stroke
+    surface_depth_m: float = 0.12           # root depth while cruising (back at the surface)
+    dive_depth_m: float = 0.6               # extra depth at the bottom of the dive
+    roll_deg: float = 4.0
+    water_rgb: tuple[float, float, float] = (0.06, 0.26, 0.30)
+    clarity_per_m: tuple[float, float, float] = (0.55, 0.18, 0.14)   # attenuation, 1/m
+    sea_state: float = 0.3                  # 0 glassy … 1 rough
+    sun_elevation_deg: float = 60.0
+    sun_azimuth_deg: float = 30.0
+    noise_sd: float = 0.01                  # sensor noise, fraction of full scale
+    blur_px: float = 0.6                    # optical blur, Gaussian σ
+    effects: Effects = field(default_factory=Effects)
+
+    def __post_init__(self) -> None:
+        positive = ("width_px", "height_px", "fps", "duration_s", "focal_mm", "sensor_width_mm",
+                    "altitude_m", "length_m", "speed_m_s")
+        for name in positive:
+            if not getattr(self, name) > 0:
+                raise InputError(f"synth option {name}: must be positive, "
+                                 f"got {getattr(self, name)!r}")
+        if self.width_px % 2 or self.height_px % 2:
+            raise InputError(f"synth image size {self.width_px}×{self.height_px}: "
+                             f"width and height must be even for the video encoder")
+        if not 0.0 <= self.sea_state <= 1.0:
+            raise InputError(f"synth option sea_state: must lie in [0, 1], got {self.sea_state}")
+
+    @property
+    def num_frames(self) -> int:
+        """Frames in the clip."""
+        return max(1, int(round(self.duration_s * self.fps)))
+
+    def to_json(self) -> dict:
+        """JSON-ready dict."""
+        return asdict(self)
+
+    @classmethod
+    def from_json(cls, data: dict) -> "SynthConfig":
+        """Inverse of :meth:`to_json`; unknown keys are an InputError."""
+        known = {f.name for f in fields(cls)}
+        unknown = sorted(set(data) - known)
+        if unknown:
+            raise InputError(f"synth config: unknown options {unknown}")
+        values = dict(data)
+        if "effects" in values:
+            values["effects"] = Effects(**values["effects"])
+        for key in ("water_rgb", "clarity_per_m"):
+            if key in values:
+                values[key] = tuple(values[key])
+        return cls(**values)

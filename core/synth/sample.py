@@ -1,0 +1,40 @@
+"""The bundled sample clip for the demo and the GUI, made on first use and cached.
+
+It is not stored in the repository: ``ensure_sample`` renders it deterministically from
+``SAMPLE_CONFIG`` into the user's cache (``$DOLPHINFIT_CACHE_DIR``, else
+``$XDG_CACHE_HOME/dolphinfit``, else ``~/.cache/dolphinfit``) and reuses it while its
+``truth.json`` records the same configuration.
+"""
+
+import json
+import os
+from collections.abc import Callable
+from pathlib import Path
+
+from core.synth.clip import ClipFiles, SynthProgress, clip_files, make_clip
+from core.synth.config import SynthConfig
+
+CACHE_DIR_ENV = "DOLPHINFIT_CACHE_DIR"
+SAMPLE_NAME = "sample-v1"
+SAMPLE_CONFIG = SynthConfig(seed=7, width_px=1280, height_px=720, fps=10.0, duration_s=5.0,
+                            altitude_m=18.0, length_m=2.45, heading_deg=20.0, sea_state=0.35,
+                            dive_depth_m=0.5)
+
+
+def cache_dir() -> Path:
+    """Where generated data is cached."""
+    if os.environ.get(CACHE_DIR_ENV):
+        return Path(os.environ[CACHE_DIR_ENV])
+    xdg = os.environ.get("XDG_CACHE_HOME") or os.path.expanduser("~/.cache")
+    return Path(xdg) / "dolphinfit"
+
+
+def ensure_sample(progress: Callable[[SynthProgress], None] | None = None) -> ClipFiles:
+    """The sample clip's files, rendering them first if they are missing or stale."""
+    out_dir = cache_dir() / SAMPLE_NAME
+    files = clip_files(out_dir, SAMPLE_CONFIG)
+    if files.truth_json.exists() and files.video.exists():
+        recorded = json.loads(files.truth_json.read_text(encoding="utf-8")).get("config")
+        if recorded == json.loads(json.dumps(SAMPLE_CONFIG.to_json())):
+            return files
+    return make_clip(SAMPLE_CONFIG, out_dir, progress=progress)

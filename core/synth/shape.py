@@ -1,0 +1,84 @@
+"""The synthetic animal's shape: random part scales, plus shape the fit cannot express.
+
+``random_betas`` draws per-part log scales and rescales uniformly to the requested length.
+``warp_profiles`` changes the template's width and height profiles by smooth random factors
+along the body (outside the span of per-part scaling). ``subdivide`` gives a finer, smoother
+(Loop-subdivided) template with skinning weights and UVs carried over.
+"""
+
+import math
+from dataclasses import replace
+
+import numpy as np
+import torch
+import trimesh
+
+from core.measure.mesh import body_length
+from core.model.model import NUM_SHAPE_PARAMS, DolphinModel
+from core.model.template import Template
+
+WARP_COMPONENTS = 3        # sine components along the body
+WARP_AMPLITUDE = 0.05      # each component's amplitude, relative width/height change
+
+
+def random_betas(model: DolphinModel, length_m: float, shape_sd: float,
+                 rng: np.random.Generator) -> torch.Tensor:
+    """(M, 4) log part scales with SD ``shape_sd``, rescaled to body length ``length_m``."""
+    draws = rng.normal(0.0, shape_sd, size=(model.num_groups, NUM_SHAPE_PARAMS))
+    betas = torch.tensor(draws, dtype=model.rest_verts.dtype)
+    rest = model.forward_rest(betas)[0]
+    current = body_length(rest, model.rostrum_idx, model.notch_idx)
+    betas[:, 0] += torch.log(length_m / current)
+    return betas
+
+
+def warp_profiles(template: Template, rng: np.random.Generator) -> Template:
+    """The template with widths and heights scaled by smooth random factors along the body.
+
+    Each vertex moves away from (or towards) the body axis: its y by 1 + a_w(t) and its z by
+    1 + a_h(t), with t its position along the body; both factors are 1 at the rostrum tip and
+    the fluke notch, so length is kept.
+    """
+    x = template.verts[:, 0]
+    t = np.clip((x[template.rostrum_idx] - x) / template.length_m, 0.0, 1.0)
+    envelope = np.sin(math.pi * t)
+
+    def factor() -> np.ndarray:
+        phases = rng.uniform(0, 2 * math.pi, WARP_COMPONENTS)
+        amplitudes = rng.uniform(-WARP_AMPLITUDE, WARP_AMPLITUDE, WARP_COMPONENTS)
+        waves = sum(a * np.sin(math.pi * (k + 1) * t + p)
+                    for k, (a, p) in enumerate(zip(amplitudes, phases)))
+        return 1.0 + envelope * waves
+
+    verts = template.verts.copy()
+    verts[:, 1] *= factor()
+    verts[:, 2] *= factor()
+    return replace(template, verts=verts)
+
+
+def subdivide(template: Template) -> Template:
+    """One Loop subdivision: 4× the faces, a smoother surface; attributes carried over.
+
+    New vertices take the skinning weights of their closest point on the original surface;
+    each new face takes its corner UVs from the original face under its centroid, so faces
+    never straddle a UV seam. Loop subdivision keeps the original vertices first (moved by
+    the smoothing), so landmark, station-ring and fin indices stay valid.
+    """
+    verts, faces = trimesh.remesh.subdivide_loop(template.verts, template.faces, iterations=1)
+    original = trimesh.Trimesh(template.verts, template.faces, process=False)
+    _, _, parent_of_vertex = trimesh.proximity.closest_point(original, verts)
+    vertex_bary = trimesh.triangles.points_to_barycentric(
+        original.triangles[parent_of_vertex], verts)
+    weights = np.einsum("vk,vkj->vj", vertex_bary,
+                        template.skin_weights[template.faces[parent_of_vertex]])
+
+    _, _, parent_of_face = trimesh.proximity.closest_point(original, verts[faces].mean(1))
+    corner_bary = trimesh.triangles.points_to_barycentric(
+        np.repeat(original.triangles[parent_of_face], 3, axis=0), verts[faces].reshape(-1, 3))
+    parent_uvs = template.uvs[template.face_uvs_idx[parent_of_face]]          # (F', 3, 2)
+    corner_uvs = np.einsum("fck,fkd->fcd", corner_bary.reshape(-1, 3, 3), parent_uvs)
+    uvs, uv_idx = np.unique(np.clip(corner_uvs, 0.0, 1.0).reshape(-1, 2), axis=0,
+                            return_inverse=True)
+    return replace(template, verts=verts, faces=faces, uvs=uvs,
+                   face_uvs_idx=uv_idx.reshape(-1, 3),
+                   skin_weights=weights / weights.sum(1, keepdims=True))
