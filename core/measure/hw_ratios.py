@@ -1,0 +1,181 @@
+"""Height/width (HW) ratios per station: presets with provenance, user CSVs, or the 3D model.
+
+The elliptical baseline takes each station's height as width × HW ratio (DESIGN.md §7). HW
+dominates its uncertainty for dolphins (about ±25 % on volume, reference/morphometrics.md §4),
+so every table carries its source, whether it is provisional, and a one-SD uncertainty per
+station that the Monte Carlo samples.
+
+CSV format (``resources/hw_ratios/*.csv`` and user files): ``# key: value`` header lines
+(``name``, ``description``, ``source``, ``provisional: yes|no``), then the columns
+``station_pct,hw_ratio[,hw_ratio_sd]``. An empty ``hw_ratio`` means no data; only the 90 % and
+95 % stations may lack data, and then carry the 85 % ratio (a provisional choice that the
+result labels; morphometrics.md §2.2).
+"""
+
+import csv
+import io
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+import torch
+
+from core.errors import InputError
+from core.measure.elliptical import TAIL_IDX, TAIL_SOURCE_IDX
+from core.measure.mesh import station_profile
+from core.model.profile import STATION_FRACTIONS
+from core.model.template import Template, load_template
+from core.resources import RESOURCES_DIR
+
+PRESETS_DIR = RESOURCES_DIR / "hw_ratios"
+DEFAULT_PRESET = "tursiops-provisional"
+FROM_MODEL = "model"  # the --hw value that takes the ratios from the 3D model
+STATION_PCT = np.round(STATION_FRACTIONS * 100, 6)
+REQUIRED_COLUMNS = ("station_pct", "hw_ratio")
+SD_COLUMN = "hw_ratio_sd"
+HEADER_KEYS = ("name", "description", "source", "provisional")
+YES_NO = {"yes": True, "no": False}
+
+
+@dataclass(frozen=True, eq=False)
+class HWRatios:
+    """An HW table: ``ratios`` (S,) height / width, NaN where there are no data (90 % and
+    95 % only); ``sd`` (S,) one-SD uncertainty of each ratio (0 = none stated)."""
+
+    name: str
+    ratios: np.ndarray
+    sd: np.ndarray
+    source: str
+    is_provisional: bool
+    description: str = ""
+
+    @property
+    def carries_tail_ratio(self) -> bool:
+        """Whether the 90 % / 95 % ratios are missing and taken from the 85 % station."""
+        return bool(np.isnan(self.ratios[list(TAIL_IDX)]).any())
+
+    def completed(self) -> tuple[np.ndarray, np.ndarray]:
+        """(S,) ratios and (S,) SDs with missing 90 % / 95 % values carried from 85 %."""
+        ratios, sd = self.ratios.copy(), self.sd.copy()
+        for idx in TAIL_IDX:
+            if np.isnan(ratios[idx]):
+                ratios[idx], sd[idx] = ratios[TAIL_SOURCE_IDX], sd[TAIL_SOURCE_IDX]
+        return ratios, sd
+
+
+def _parse_header(lines: list[str], path: Path) -> dict[str, str]:
+    """``# key: value`` lines → dict; InputError naming the line for unknown keys."""
+    header = {}
+    for line_no, line in enumerate(lines, start=1):
+        key, sep, value = line.lstrip("#").partition(":")
+        key = key.strip().lower()
+        if not sep or key not in HEADER_KEYS:
+            raise InputError(f"{path}: line {line_no}: expected '# key: value' with a key "
+                             f"among {', '.join(HEADER_KEYS)}")
+        header[key] = value.strip()
+    return header
+
+
+def _number(text: str, path: Path, line_no: int, column: str) -> float:
+    """A CSV cell as float (empty → NaN); InputError naming the file, line and column."""
+    if not text.strip():
+        return float("nan")
+    try:
+        return float(text)
+    except ValueError:
+        raise InputError(f"{path}: line {line_no}: {column} {text!r} is not a number") from None
+
+
+def read_hw_csv(path: Path) -> HWRatios:
+    """Read an HW table (format in the module docstring); InputError when it is malformed."""
+    path = Path(path)
+    try:
+        lines = path.read_text(encoding="utf-8-sig").splitlines()
+    except (OSError, UnicodeDecodeError) as exc:
+        raise InputError(f"{path}: cannot read HW ratios ({exc})") from exc
+    num_header = next((i for i, line in enumerate(lines) if not line.startswith("#")), len(lines))
+    header = _parse_header(lines[:num_header], path)
+    rows = list(csv.DictReader(io.StringIO("\n".join(lines[num_header:]))))
+    columns = rows[0].keys() if rows else ()
+    if any(column not in columns for column in REQUIRED_COLUMNS):
+        raise InputError(f"{path}: line {num_header + 1}: expected the columns "
+                         f"{','.join(REQUIRED_COLUMNS)}[,{SD_COLUMN}]")
+    ratios, sd = np.full(len(STATION_PCT), np.nan), np.zeros(len(STATION_PCT))
+    seen = set()
+    for line_no, row in enumerate(rows, start=num_header + 2):
+        pct = _number(row["station_pct"], path, line_no, "station_pct")
+        matches = np.flatnonzero(np.isclose(STATION_PCT, pct))
+        if len(matches) != 1 or pct in seen:
+            raise InputError(f"{path}: line {line_no}: station_pct {row['station_pct']!r} is "
+                             f"not one of 5, 10, … 95, or repeats an earlier row")
+        seen.add(pct)
+        ratio = _number(row["hw_ratio"], path, line_no, "hw_ratio")
+        spread = _number(row.get(SD_COLUMN) or "0", path, line_no, SD_COLUMN)
+        if ratio <= 0 or not spread >= 0:
+            raise InputError(f"{path}: line {line_no}: hw_ratio must be positive and "
+                             f"{SD_COLUMN} non-negative")
+        ratios[matches[0]], sd[matches[0]] = ratio, spread
+    missing = [f"{p:g} %" for i, p in enumerate(STATION_PCT)
+               if np.isnan(ratios[i]) and i not in TAIL_IDX]
+    if missing:
+        raise InputError(f"{path}: no HW ratio for the stations {', '.join(missing)} "
+                         f"(only 90 % and 95 % may be left empty)")
+    provisional = header.get("provisional", "no").lower()
+    if provisional not in YES_NO:
+        raise InputError(f"{path}: header 'provisional' must be yes or no, got {provisional!r}")
+    return HWRatios(name=header.get("name", path.stem), ratios=ratios, sd=sd,
+                    source=header.get("source", str(path)), is_provisional=YES_NO[provisional],
+                    description=header.get("description", ""))
+
+
+def preset_names() -> list[str]:
+    """Names of the bundled HW presets."""
+    return sorted(path.stem for path in PRESETS_DIR.glob("*.csv"))
+
+
+def load_hw_preset(name: str = DEFAULT_PRESET) -> HWRatios:
+    """A bundled preset by name; InputError listing the available ones otherwise."""
+    path = PRESETS_DIR / f"{name}.csv"
+    if not path.exists():
+        raise InputError(f"unknown HW ratio preset {name!r}; available: "
+                         f"{', '.join(preset_names())}, {FROM_MODEL}, or a CSV file")
+    return read_hw_csv(path)
+
+
+def hw_from_mesh(verts: np.ndarray, rings: np.ndarray, name: str, source: str,
+                 is_provisional: bool) -> HWRatios:
+    """HW ratios of a body mesh at its station rings (fins excluded), with no stated SD.
+
+    verts: (V, 3) float metres; rings: (S, R) int64 station rings (see
+    core.measure.mesh.station_profile).
+    """
+    profile = station_profile(torch.as_tensor(verts, dtype=torch.float64),
+                              torch.as_tensor(rings))
+    ratios = (profile.height / profile.width).numpy()
+    return HWRatios(name=name, ratios=ratios, sd=np.zeros_like(ratios), source=source,
+                    is_provisional=is_provisional)
+
+
+def hw_from_template(template: Template | None = None) -> HWRatios:
+    """HW ratios of the procedural template's rest mesh (the bundled one by default).
+
+    Provisional: the template's profile follows the provisional trends of
+    reference/morphometrics.md §4. A fitted mesh goes through :func:`hw_from_mesh`.
+    """
+    template = load_template() if template is None else template
+    return hw_from_mesh(template.verts, template.station_rings, name=FROM_MODEL,
+                        source="station heights / widths of the dolphinfit template mesh "
+                               "(core/model, built from the provisional trends of "
+                               "reference/morphometrics.md §4)", is_provisional=True)
+
+
+def resolve_hw(spec: str) -> HWRatios:
+    """``--hw`` value → table: "model" (the template), a CSV path, or a preset name."""
+    if spec == FROM_MODEL:
+        return hw_from_template()
+    path = Path(spec)
+    if path.suffix.lower() == ".csv" or path.exists():
+        if not path.is_file():
+            raise InputError(f"{path}: HW ratio file not found")
+        return read_hw_csv(path)
+    return load_hw_preset(spec)
