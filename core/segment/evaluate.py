@@ -1,0 +1,50 @@
+"""Measuring a segmenter against true masks: per-frame intersection over union.
+
+``measure_tracker`` runs on any clip with a folder of true masks (``%06d.png``): the synthetic
+clips of the tests today, ``core/synth`` clips once they exist. A frame where both the truth
+and the result are empty (the animal correctly reported lost) scores 1; a frame where only one
+of them is empty scores 0.
+"""
+
+from pathlib import Path
+
+import numpy as np
+
+from core.io.masks import MaskTrack, read_png_folder
+from core.io.video import VideoReader, open_clip
+from core.segment.segmenter import BoxSeed, Seed, Segmenter
+from core.segment.tracker import MaskTracker
+
+
+def mask_iou(result: np.ndarray, truth: np.ndarray) -> float:
+    """|result ∩ truth| / |result ∪ truth| of two (H, W) bool masks; 1 when both are empty."""
+    union = np.count_nonzero(result | truth)
+    return 1.0 if union == 0 else np.count_nonzero(result & truth) / union
+
+
+def track_iou(result: MaskTrack, truth: MaskTrack) -> np.ndarray:
+    """(T,) float64 IoU of each frame's masks."""
+    return np.array([mask_iou(result.mask(t), truth.mask(t)) for t in range(truth.num_frames)])
+
+
+def box_seed_from(truth: MaskTrack) -> BoxSeed:
+    """A user's box around the animal in the first frame where it is visible."""
+    frame_idx = int(np.flatnonzero(truth.is_visible)[0])
+    rows, cols = np.nonzero(truth.mask(frame_idx))
+    return BoxSeed(int(cols.min()), int(rows.min()), int(np.ptp(cols)) + 1,
+                   int(np.ptp(rows)) + 1, frame_idx)
+
+
+def measure_tracker(clip_path: Path | str, true_masks_dir: Path | str,
+                    segmenter: Segmenter | None = None, seed: Seed | None = None) -> np.ndarray:
+    """(T,) per-frame IoU of ``segmenter`` (default: the built-in tracker) on a clip.
+
+    ``seed`` defaults to a box around the true mask in its first visible frame, as a user
+    would draw it.
+    """
+    clip = open_clip(clip_path)
+    truth = read_png_folder(Path(true_masks_dir), clip)
+    segmenter = segmenter or MaskTracker()
+    with VideoReader(clip) as frames:
+        result = segmenter.segment(frames, seed or box_seed_from(truth))
+    return track_iou(result, truth)

@@ -1,0 +1,67 @@
+"""The segmenter interface: frames in, per-frame masks and visibility flags out.
+
+The built-in tracker implements it; so can a wrapper around an external model. Frames are any
+sequence of (H, W, 3) uint8 RGB arrays with a length (a ``VideoReader``, a list). A segmenter
+calls ``progress(num_done, num_frames)`` after each frame and checks ``cancel`` before each
+frame, raising ``SegmentationCancelled`` once it is set.
+"""
+
+import threading
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import Protocol
+
+import numpy as np
+
+from core.io.masks import MaskTrack
+
+ProgressCallback = Callable[[int, int], None]
+
+
+class Frames(Protocol):
+    """A sequence of (H, W, 3) uint8 RGB frames."""
+
+    def __len__(self) -> int: ...
+
+    def __getitem__(self, frame_idx: int) -> np.ndarray: ...
+
+
+@dataclass(frozen=True)
+class PointSeed:
+    """A click on the animal in frame ``frame_idx``, pixels."""
+
+    x_px: float
+    y_px: float
+    frame_idx: int = 0
+
+
+@dataclass(frozen=True)
+class BoxSeed:
+    """A box around the animal in frame ``frame_idx``: top-left corner and size, pixels."""
+
+    x_px: int
+    y_px: int
+    width_px: int
+    height_px: int
+    frame_idx: int = 0
+
+
+@dataclass(frozen=True)
+class AutoSeed:
+    """Find the most dolphin-like blob in frame ``frame_idx`` by itself."""
+
+    frame_idx: int = 0
+
+
+Seed = PointSeed | BoxSeed | AutoSeed
+
+
+class SegmentationCancelled(Exception):
+    """Raised by a segmenter when its cancel event was set."""
+
+
+class Segmenter(Protocol):
+    """Anything that turns frames and a seed into a MaskTrack."""
+
+    def segment(self, frames: Frames, seed: Seed, progress: ProgressCallback | None = None,
+                cancel: threading.Event | None = None) -> MaskTrack: ...

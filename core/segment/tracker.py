@@ -1,0 +1,231 @@
+"""The built-in mask tracker: no network, no model weights.
+
+From the seed frame it tracks forwards to the end of the clip, then backwards to the start.
+Each frame:
+
+1. **Predict**: the last mask shifted by the last centroid motion (constant velocity).
+2. **Classify** near the prediction: every pixel's animal coverage from the running colour
+   models of the animal and the water (``colour.coverage``), lightly smoothed; the mask is
+   coverage ≥ 0.5 within a margin of the prediction.
+3. **Clean**: keep the component that overlaps the prediction most, fill its holes.
+4. **Check**: the animal is *lost* (dived out of sight, or hidden) when its separation from
+   the surrounding water falls below half that of the seed frame, or its area below 40 % of
+   the running reference area. Lost frames get no mask.
+5. **Update** the colour models, the reference area and the motion; while lost, look for the
+   animal again in the whole frame (``seed.find_blobs``) and accept a blob of similar size
+   and contrast.
+"""
+
+import threading
+from dataclasses import dataclass, field
+
+import cv2
+import numpy as np
+
+from core.io.masks import MaskTrack
+from core.segment.colour import ColourModel, coverage, separation, to_lab
+from core.segment.seed import (
+    RING_OUTER_PX,
+    colour_models,
+    dilate,
+    fill_holes,
+    find_blobs,
+    refine,
+    seed_mask,
+    water_model,
+)
+from core.segment.segmenter import (
+    Frames,
+    ProgressCallback,
+    Seed,
+    SegmentationCancelled,
+)
+
+
+@dataclass(frozen=True)
+class TrackerSettings:
+    """Tuning of the built-in tracker (defaults measured on the synthetic test clips)."""
+
+    margin_fraction: float = 0.15  # search margin around the prediction, × its longer side
+    min_margin_px: int = 6
+    smoothing_sigma_px: float = 0.8  # Gaussian smoothing of the coverage map
+    gap_px: int = 2  # parts this close to the body belong to it
+    model_rate: float = 0.2  # per-frame running update of the colour models and the area
+    lost_separation_ratio: float = 0.5  # below half the seed frame's separation: lost
+    lost_area_ratio: float = 0.4  # below 40 % of the reference area: lost
+    reacquire_area_range: tuple[float, float] = (0.5, 2.0)  # × reference area
+
+
+@dataclass
+class _TrackState:
+    """What one tracking pass carries from frame to frame (local to the pass)."""
+
+    mask: np.ndarray | None  # last accepted (H, W) bool mask; None while lost
+    animal: ColourModel
+    water: ColourModel
+    area_px: float
+    reference_separation: float
+    velocity_px: np.ndarray = field(default_factory=lambda: np.zeros(2))
+
+
+@dataclass(frozen=True, eq=False)
+class _Crop:
+    """A mask kept as its bounding box: top-left (row, col) and the (h, w) bool crop."""
+
+    row0: int
+    col0: int
+    crop: np.ndarray
+
+    def paste(self, height_px: int, width_px: int) -> np.ndarray:
+        """The full (H, W) bool mask."""
+        mask = np.zeros((height_px, width_px), bool)
+        mask[self.row0:self.row0 + self.crop.shape[0],
+             self.col0:self.col0 + self.crop.shape[1]] = self.crop
+        return mask
+
+
+def _window(mask: np.ndarray, margin_px: int) -> tuple[slice, slice]:
+    """Row and column slices of the mask's bounding box grown by ``margin_px``."""
+    col0, row0, width, height = cv2.boundingRect(mask.astype(np.uint8))
+    return (slice(max(0, row0 - margin_px), min(mask.shape[0], row0 + height + margin_px)),
+            slice(max(0, col0 - margin_px), min(mask.shape[1], col0 + width + margin_px)))
+
+
+def _crop(mask: np.ndarray) -> _Crop:
+    rows, cols = _window(mask, 0)
+    return _Crop(rows.start, cols.start, mask[rows, cols].copy())
+
+
+def _centroid(mask: np.ndarray) -> np.ndarray:
+    """(x, y) centroid of a bool mask, pixels."""
+    moments = cv2.moments(mask.astype(np.uint8), binaryImage=True)
+    return np.array([moments["m10"], moments["m01"]]) / moments["m00"]
+
+
+def _shifted(mask: np.ndarray, shift_px: np.ndarray) -> np.ndarray:
+    """The mask moved by (dx, dy) pixels (rounded), cut at the frame's edges."""
+    matrix = np.float32([[1, 0, round(shift_px[0])], [0, 1, round(shift_px[1])]])
+    moved = cv2.warpAffine(mask.astype(np.uint8), matrix, mask.shape[::-1],
+                           flags=cv2.INTER_NEAREST)
+    return moved.astype(bool)
+
+
+def _models_near(frame_rgb: np.ndarray, mask: np.ndarray) -> tuple[ColourModel, ColourModel]:
+    """``seed.colour_models`` computed in a window around the mask only."""
+    rows, cols = _window(mask, RING_OUTER_PX + 1)
+    return colour_models(to_lab(frame_rgb[rows, cols]), mask[rows, cols])
+
+
+def _attached(candidate: np.ndarray, prediction: np.ndarray, gap_px: int) -> np.ndarray:
+    """The component of ``candidate`` that overlaps ``prediction`` most, with the components
+    within ``gap_px`` of it (flippers and flukes that a faint seam cuts off), holes filled."""
+    count, labels = cv2.connectedComponents(candidate.astype(np.uint8), connectivity=8)
+    if count < 2:
+        return np.zeros_like(candidate)
+    overlap = np.bincount(labels[prediction], minlength=count)[1:]
+    if overlap.max() == 0:
+        return np.zeros_like(candidate)
+    main = labels == 1 + int(np.argmax(overlap))
+    touching = np.unique(labels[dilate(main, gap_px)])
+    return fill_holes(np.isin(labels, touching[touching > 0]))
+
+
+class MaskTracker:
+    """The built-in segmenter (implements ``Segmenter``)."""
+
+    def __init__(self, settings: TrackerSettings = TrackerSettings()) -> None:
+        self.settings = settings
+
+    def segment(self, frames: Frames, seed: Seed, progress: ProgressCallback | None = None,
+                cancel: threading.Event | None = None) -> MaskTrack:
+        """Masks for every frame of ``frames``, tracked from ``seed`` (see the module doc).
+
+        InputError if the seed finds no animal; SegmentationCancelled once ``cancel`` is set.
+        """
+        num_frames = len(frames)
+        if not 0 <= seed.frame_idx < num_frames:
+            raise IndexError(f"seed frame {seed.frame_idx} is outside the clip "
+                             f"(0…{num_frames - 1})")
+        if cancel is not None and cancel.is_set():
+            raise SegmentationCancelled
+        first = frames[seed.frame_idx]
+        height, width = first.shape[:2]
+        mask = seed_mask(first, seed)
+        animal, water = _models_near(first, mask)
+        crops = {seed.frame_idx: _crop(mask)}
+        num_done = 1
+        if progress is not None:
+            progress(num_done, num_frames)
+        for order in (range(seed.frame_idx + 1, num_frames), range(seed.frame_idx - 1, -1, -1)):
+            state = _TrackState(mask, animal, water, float(mask.sum()),
+                                separation(animal, water))
+            for frame_idx in order:
+                if cancel is not None and cancel.is_set():
+                    raise SegmentationCancelled
+                found = self._next(frames[frame_idx], state)
+                if found is not None:
+                    crops[frame_idx] = _crop(found)
+                num_done += 1
+                if progress is not None:
+                    progress(num_done, num_frames)
+        is_visible = np.array([t in crops for t in range(num_frames)])
+        return MaskTrack(is_visible, width, height, f"built-in tracker from {seed}",
+                         lambda t: crops[t].paste(height, width))
+
+    def _next(self, frame_rgb: np.ndarray, state: _TrackState) -> np.ndarray | None:
+        """The mask in the next frame (None if lost), updating ``state``."""
+        if state.mask is None:
+            mask = self._reacquire(frame_rgb, state)
+        else:
+            mask = self._follow(frame_rgb, state)
+        if mask is None:
+            state.mask = None
+            return None
+        if state.mask is not None:
+            state.velocity_px = _centroid(mask) - _centroid(state.mask)
+        else:
+            state.velocity_px = np.zeros(2)
+        animal, water = _models_near(frame_rgb, mask)
+        rate = self.settings.model_rate
+        state.animal = state.animal.blend(animal, rate)
+        state.water = state.water.blend(water, rate)
+        state.area_px = (1 - rate) * state.area_px + rate * float(np.count_nonzero(mask))
+        state.mask = mask
+        return mask
+
+    def _follow(self, frame_rgb: np.ndarray, state: _TrackState) -> np.ndarray | None:
+        """Classify near the predicted mask; None if the result says the animal is lost."""
+        settings = self.settings
+        prediction = _shifted(state.mask, state.velocity_px)
+        if not prediction.any():
+            return None
+        rows, cols = _window(prediction, 0)
+        longer_px = max(rows.stop - rows.start, cols.stop - cols.start)
+        margin_px = max(settings.min_margin_px, round(settings.margin_fraction * longer_px))
+        rows, cols = _window(prediction, margin_px)
+        cover = cv2.GaussianBlur(coverage(to_lab(frame_rgb[rows, cols]), state.animal,
+                                          state.water), (0, 0), settings.smoothing_sigma_px)
+        near = dilate(prediction[rows, cols], margin_px)
+        mask = np.zeros_like(state.mask)
+        mask[rows, cols] = _attached((cover >= 0.5) & near, prediction[rows, cols],
+                                     settings.gap_px)
+        return mask if self._is_animal(frame_rgb, mask, state) else None
+
+    def _is_animal(self, frame_rgb: np.ndarray, mask: np.ndarray, state: _TrackState) -> bool:
+        """Whether ``mask`` still shows the animal: enough area and contrast to the water."""
+        settings = self.settings
+        if np.count_nonzero(mask) < max(1.0, settings.lost_area_ratio * state.area_px):
+            return False
+        contrast = separation(*_models_near(frame_rgb, mask))
+        return contrast >= settings.lost_separation_ratio * state.reference_separation
+
+    def _reacquire(self, frame_rgb: np.ndarray, state: _TrackState) -> np.ndarray | None:
+        """While lost: the first dolphin-like blob of about the reference size, refined."""
+        low, high = self.settings.reacquire_area_range
+        lab = to_lab(frame_rgb)
+        for blob in find_blobs(lab, water_model(lab)):
+            if low * state.area_px <= blob.area_px <= high * state.area_px:
+                mask = refine(lab, blob.mask)
+                if mask.any() and self._is_animal(frame_rgb, mask, state):
+                    return mask
+        return None
