@@ -21,7 +21,6 @@ DIR/<name>_wide.csv (CollatriX / Xcertainty); DIR defaults to the input's folder
 """
 
 import argparse
-import json
 import math
 from dataclasses import dataclass, fields, replace
 from pathlib import Path
@@ -30,8 +29,8 @@ import numpy as np
 
 from core.errors import InputError
 from core.io.annotation_json import AnnotationFile, read_annotation_json
-from core.io.atomic import atomic_path
 from core.io.collatrix import wide_row, write_wide_csv
+from core.io.json_file import read_json, write_json
 from core.io.masks import read_masks
 from core.io.morphometrix import (
     LENGTH_NAME, MorphoMetrixRecord, read_morphometrix, record_from_pixels,
@@ -217,10 +216,7 @@ def _mass_model(path: Path | None) -> MassModel:
     """Mass-model constants: the paper's, overridden by a JSON object's entries."""
     if path is None:
         return MassModel()
-    try:
-        data = json.loads(path.read_text(encoding="utf-8"))
-    except (OSError, ValueError) as exc:
-        raise InputError(f"{path}: cannot read the mass model ({exc})") from exc
+    data = read_json(path, "the mass model")
     names = {f.name for f in fields(MassModel)}
     if not isinstance(data, dict) or not set(data) <= names:
         raise InputError(f"{path}: expected an object with keys among {', '.join(sorted(names))}")
@@ -274,8 +270,7 @@ def _write_exports(stem: Path, source: MeasureInput, estimate: BaselineEstimate,
     """Write STEM_measure.json, STEM_mmx.csv (MorphoMetriX v2) and STEM_wide.csv."""
     paths = [stem.with_name(f"{stem.name}{suffix}")
              for suffix in ("_measure.json", "_mmx.csv", "_wide.csv")]
-    with atomic_path(paths[0]) as tmp:
-        tmp.write_text(json.dumps(result, indent=2, ensure_ascii=False) + "\n", encoding="utf-8")
+    write_json(paths[0], result)
     write_morphometrix_v2(paths[1], source.record)
     write_wide_csv(paths[2], [wide_row(
         source.record, image=paths[1].name, altitude_source=source.altitude_source,

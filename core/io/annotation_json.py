@@ -25,7 +25,6 @@ in order; in mirror mode (``mirror_side`` "A" or "B") only that side is needed. 
 is relative to the JSON file's folder. Writes are atomic.
 """
 
-import json
 import math
 from dataclasses import dataclass
 from pathlib import Path
@@ -35,7 +34,7 @@ import numpy as np
 
 from core.camera import CameraPreset, get_preset
 from core.errors import InputError
-from core.io.atomic import atomic_path
+from core.io.json_file import read_json, write_json
 from core.measure.annotation import (
     ALTITUDE_SOURCES, NUM_STATIONS, SIDES, Annotation, Calibration,
 )
@@ -187,18 +186,9 @@ def annotation_to_json(doc: AnnotationFile) -> dict[str, Any]:
 
 def read_annotation_json(path: Path) -> AnnotationFile:
     """Read an annotation file; InputError naming the file and the faulty entry."""
-    path = Path(path)
-    try:
-        data = json.loads(path.read_text(encoding="utf-8"))
-    except OSError as exc:
-        raise InputError(f"{path}: cannot read the annotation ({exc.strerror})") from exc
-    except (json.JSONDecodeError, UnicodeDecodeError) as exc:
-        raise InputError(f"{path}: not valid JSON ({exc})") from exc
-    return annotation_from_json(data, str(path))
+    return annotation_from_json(read_json(path, "the annotation"), str(path))
 
 
 def write_annotation_json(path: Path, doc: AnnotationFile) -> None:
     """Write an annotation file atomically."""
-    text = json.dumps(annotation_to_json(doc), indent=2, ensure_ascii=False) + "\n"
-    with atomic_path(Path(path)) as tmp:
-        tmp.write_text(text, encoding="utf-8")
+    write_json(path, annotation_to_json(doc))
