@@ -175,24 +175,24 @@ def _read_v1(rows: list[tuple[int, list[str]]], path: Path) -> MorphoMetrixRecor
     pairs, block, width_columns = {}, "metadata", {}
     lengths, widths, others = {}, {}, []
     for line_no, cells in rows:
-        first = cells[0]
+        first, second = cells[0], (cells + [""])[1]
         if first == "Object":
-            block = cells[1].split(" ")[0].lower() if len(cells) > 1 else ""
+            block = second.split(" ")[0].lower()
             if block not in ("length", "angle", "area"):
-                raise InputError(f"{path}: line {line_no}: unknown block {cells[1:2]}")
+                raise InputError(f"{path}: line {line_no}: unknown block {second!r}")
             width_columns = _v1_width_columns(cells) if block == "length" else {}
         elif block == "metadata":
-            pairs[first] = (line_no, cells[1] if len(cells) > 1 else "")
+            pairs[first] = (line_no, second)
         elif block == "length" and not first:
             width_columns = _v1_width_columns(cells)
         elif block == "length":
-            lengths[first] = _float(cells[1], path, line_no, first)
+            lengths[first] = _float(second, path, line_no, first)
             widths[first] = {pct: _float(cells[col], path, line_no, f"{first} {pct:g}% width")
                              for col, pct in width_columns.items()
                              if col < len(cells) and cells[col]}
         else:
             unit = DEGREES if block == "angle" else SQUARE_METERS
-            others.append((first, _float(cells[1], path, line_no, first), unit))
+            others.append((first, _float(second, path, line_no, first), unit))
     return MorphoMetrixRecord(version=1, lengths_m=lengths,
                               widths_m={k: v for k, v in widths.items() if v},
                               others=tuple(others), **_metadata(pairs, path))
@@ -217,7 +217,7 @@ def read_morphometrix(path: Path) -> MorphoMetrixRecord:
 
 
 def number_text(value: float) -> str:
-    """A number as CSV text with 10 significant digits (no float noise such as 2.500000000000001)."""
+    """A number as CSV text, 10 significant digits (no float noise like 2.500000000000001)."""
     return format(float(value), ".10g")
 
 

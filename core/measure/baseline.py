@@ -23,6 +23,9 @@ from core.measure.uncertainty import (
 )
 from core.model.profile import STATION_FRACTIONS
 
+# Scalar outputs summarised in the JSON's "uncertainty" (MonteCarloResult field names)
+SUMMARISED = ("length_m", "volume_m3", "volume_circular_m3", "bai", "bci", "mass_kg")
+
 
 @dataclass(frozen=True)
 class BaselineSettings:
@@ -115,9 +118,6 @@ class BaselineEstimate:
             "budget_sd": {source: {name: float(getattr(result, name).sd) for name in SUMMARISED}
                           for source, result in self.budget.items()},
         }
-
-
-SUMMARISED = ("length_m", "volume_m3", "volume_circular_m3", "bai", "bci", "mass_kg")
 
 
 def _summary_json(summary: Summary) -> dict[str, Any]:

@@ -167,13 +167,14 @@ def measure_elliptical(length_m: np.ndarray, widths_m: np.ndarray, hw_ratios: np
     (..., S) or (S,).
     """
     widths = np.asarray(widths_m, dtype=np.float64)
+    used_widths = apply_tail(widths, tail)
     volume = elliptical_volume(length_m, widths, hw_ratios, tail)
     return EllipticalResult(
         length_m=np.asarray(length_m, dtype=np.float64),
-        widths_m=apply_tail(widths, tail),
+        widths_m=used_widths,
         heights_m=apply_tail(widths * hw_ratios, tail),
         volume_m3=volume,
         volume_circular_m3=circular_volume(length_m, widths, tail),
-        bai=body_area_index(length_m, apply_tail(widths, tail), bai_range),
+        bai=body_area_index(length_m, used_widths, bai_range),
         condition=body_condition(length_m, volume, mass_model),
     )

@@ -23,6 +23,7 @@ Error sources (DESIGN.md §7):
 """
 
 from dataclasses import dataclass, replace
+from typing import Self
 
 import numpy as np
 
@@ -52,7 +53,11 @@ FOCAL_SD_FRACTION = 0.005
 FOCAL_SD_FRACTION_APPROXIMATE = 0.02
 INTERVAL_PERCENTILES = (2.5, 97.5)  # central 95 % interval
 DEFAULT_NUM_DRAWS = 2000
-ERROR_SOURCES = ("altitude", "camera", "digitisation", "hw_ratios")
+SOURCE_FIELDS = {  # error source → the ErrorModel field that sets it
+    "altitude": "altitude_sd_fraction", "camera": "focal_sd_fraction",
+    "digitisation": "digitisation_sd_px", "hw_ratios": "hw_sd_scale",
+}
+ERROR_SOURCES = tuple(SOURCE_FIELDS)
 
 
 @dataclass(frozen=True)
@@ -71,7 +76,7 @@ class ErrorModel:
                 raise ValueError(f"{name} must be a non-negative number, got {value!r}")
 
     @classmethod
-    def default(cls, altitude_source: str, is_camera_approximate: bool) -> "ErrorModel":
+    def default(cls, altitude_source: str, is_camera_approximate: bool) -> Self:
         """The documented defaults for an altitude source and camera."""
         return cls(
             altitude_sd_fraction=ALTITUDE_SD_FRACTION[altitude_source],
@@ -80,12 +85,10 @@ class ErrorModel:
             digitisation_sd_px=DIGITISATION_SD_PX,
         )
 
-    def only(self, source: str) -> "ErrorModel":
+    def only(self, source: str) -> Self:
         """This model with every source but ``source`` (one of ERROR_SOURCES) switched off."""
-        fields = {"altitude": "altitude_sd_fraction", "camera": "focal_sd_fraction",
-                  "digitisation": "digitisation_sd_px", "hw_ratios": "hw_sd_scale"}
-        return replace(ErrorModel(0.0, 0.0, 0.0, 0.0), **{fields[source]: getattr(
-            self, fields[source])})
+        kept = SOURCE_FIELDS[source]
+        return replace(self, **{name: 0.0 for name in SOURCE_FIELDS.values() if name != kept})
 
 
 @dataclass(frozen=True, eq=False)

@@ -79,7 +79,7 @@ def test_digitisation_error_of_length_and_of_a_mirrored_width():
 
 def test_digitisation_moves_stations_along_a_taper():
     """Where the body tapers, station shifts add |dw/dx|·σ_shift to the width error: at 5 %
-    (taper 0.85 BL/BL, shift SD σ·√(0.95² + 0.05²)) the SD is √(2σ² + (0.85·0.951·σ)²)."""
+    (taper 0.85, shift SD σ·√(0.95² + 0.05²)) the SD is √(2σ² + (0.85·0.951·σ)²)."""
     _, widths_px = draw_pixels(_pixels(), 2.0, 8000, np.random.default_rng(2))
     taper = W_BL[1] / 0.10  # central difference from the zero width at 0 %
     expected = 2.0 * np.sqrt(2 + (taper * np.hypot(0.95, 0.05)) ** 2)
