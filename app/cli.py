@@ -9,7 +9,7 @@ import sys
 from collections.abc import Sequence
 from types import ModuleType
 
-from app.commands import camera, measure, template, synth
+from app.commands import camera, masks, measure, synth, telemetry, template
 from core.errors import InputError
 
 SUBCOMMANDS: dict[str, ModuleType] = {
@@ -17,6 +17,8 @@ SUBCOMMANDS: dict[str, ModuleType] = {
     "camera": camera,
     "measure": measure,
     "synth": synth,
+    "telemetry": telemetry,
+    "masks": masks,
 }
 
 

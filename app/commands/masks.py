@@ -1,0 +1,90 @@
+"""Track the dolphin through a clip with the built-in tracker and write its masks.
+
+  dolphinfit masks CLIP (--seed X,Y | --box X,Y,W,H | --auto) --out DIR [--frame N]
+
+--seed is a click on the animal and --box a box around it (top-left x, y, width, height), in
+pixels of frame N (--frame, default 0); --auto finds the most dolphin-like blob (dark and
+elongated against the water) by itself. The tracker runs forwards and backwards from that
+frame and marks frames where the animal is lost (dived out of sight). --out DIR writes
+DIR/%06d.png, one per frame (255 = dolphin, empty where lost); a path ending in .npz writes
+one .npz file instead. Masks from another segmenter (a SAM-family model run elsewhere, say)
+are used by writing them in one of these formats.
+"""
+
+import argparse
+import sys
+from pathlib import Path
+
+from core.errors import InputError
+from core.io.masks import MaskTrack, write_masks
+from core.io.report import format_runs
+from core.io.video import VideoReader, open_clip
+from core.segment.segmenter import AutoSeed, BoxSeed, PointSeed, Seed
+from core.segment.tracker import MaskTracker
+
+PROGRESS_STEPS = 10  # progress lines per run
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    """The clip, one kind of seed, the seed frame and the output."""
+    parser.add_argument("clip", type=Path, help="the video")
+    seed = parser.add_mutually_exclusive_group(required=True)
+    seed.add_argument("--seed", metavar="X,Y", help="a click on the animal, pixels")
+    seed.add_argument("--box", metavar="X,Y,W,H", help="a box around the animal, pixels")
+    seed.add_argument("--auto", action="store_true", help="find the animal automatically")
+    parser.add_argument("--frame", type=int, default=0, metavar="N",
+                        help="the frame the seed is in (default 0)")
+    parser.add_argument("--out", type=Path, required=True, metavar="DIR",
+                        help="folder for %%06d.png masks, or a .npz file")
+
+
+def _numbers(option: str, text: str, count: int) -> list[float]:
+    """``count`` comma-separated numbers; InputError naming the option otherwise."""
+    try:
+        values = [float(v) for v in text.split(",")]
+    except ValueError:
+        values = []
+    if len(values) != count:
+        raise InputError(f"{option} {text!r}: expected {count} comma-separated numbers")
+    return values
+
+
+def parse_seed(args: argparse.Namespace) -> Seed:
+    """The seed named on the command line."""
+    if args.seed is not None:
+        x_px, y_px = _numbers("--seed", args.seed, 2)
+        return PointSeed(x_px, y_px, args.frame)
+    if args.box is not None:
+        x_px, y_px, width_px, height_px = (round(v) for v in _numbers("--box", args.box, 4))
+        return BoxSeed(x_px, y_px, width_px, height_px, args.frame)
+    return AutoSeed(args.frame)
+
+
+def _progress(num_done: int, total: int) -> None:
+    """A line on stderr at every tenth of the clip."""
+    step = max(1, total // PROGRESS_STEPS)
+    if num_done % step == 0 or num_done == total:
+        print(f"tracking: {num_done}/{total} frames", file=sys.stderr)
+
+
+def summary(track: MaskTrack, out: Path) -> str:
+    """"wrote OUT: T frames, V with the animal; lost in frames …"."""
+    lost = ~track.is_visible
+    text = f"wrote {out}: {track.num_frames} frames, {int(track.is_visible.sum())} with the animal"
+    return text + (f"; lost in frames {format_runs(lost)}" if lost.any() else "")
+
+
+def run(args: argparse.Namespace) -> int:
+    """Track from the seed and write the masks."""
+    seed = parse_seed(args)
+    clip = open_clip(args.clip)
+    if not 0 <= args.frame < clip.num_frames:
+        raise InputError(f"--frame {args.frame}: {clip.path} has frames 0…{clip.num_frames - 1}")
+    with VideoReader(clip) as frames:
+        try:
+            track = MaskTracker().segment(frames, seed, progress=_progress)
+        except InputError as exc:
+            raise InputError(f"{clip.path}: {exc}") from None
+    write_masks(track, args.out)
+    print(summary(track, args.out))
+    return 0
