@@ -2,8 +2,9 @@
 
 Reading: the first row names the columns; other columns are ignored; with both ``frame`` and
 ``time_s``, ``frame`` keys the samples. ``altitude_m`` is metres above the water surface (no
-launch height is added); an empty cell or ``NaN`` is a missing sample. Keys must increase
-strictly. Writing: any columns, one row per array entry, NaN as an empty cell, atomically.
+launch height is added); an empty cell, ``NaN`` or ``INVALID`` is a missing sample. Keys must
+increase strictly. Writing: any columns, one row per array entry, NaN as an empty cell,
+atomically.
 """
 
 import csv
@@ -15,32 +16,20 @@ import numpy as np
 from core.errors import InputError
 from core.io.altitude_samples import AltitudeSamples, AltitudeSource
 from core.io.atomic import atomic_path
+from core.io.text_input import cell_number, read_text
 
 KEY_COLUMNS = ("frame", "time_s")  # in order of preference
 ALTITUDE_COLUMN = "altitude_m"
-MISSING_CELLS = frozenset({"", "nan"})
 DECIMALS = 6  # micrometres and microseconds: below any altimeter's or clock's resolution
-
-
-def _number(path: Path, line_no: int, column: str, cell: str) -> float:
-    """``cell`` as a float (NaN if missing); InputError naming file, line and column if not."""
-    if cell.strip().lower() in MISSING_CELLS:
-        return np.nan
-    try:
-        return float(cell)
-    except ValueError:
-        raise InputError(f"{path}, line {line_no}: {column} {cell!r} is not a number") from None
 
 
 def _rows(path: Path) -> tuple[list[str], list[tuple[int, list[str]]]]:
     """Header and (line number, cells) of the non-blank rows; InputError if unreadable."""
     try:
-        with path.open(newline="", encoding="utf-8-sig") as file:
-            rows = [(reader_line, row) for reader_line, row in
-                    enumerate(csv.reader(file), start=1) if any(c.strip() for c in row)]
-    except FileNotFoundError:
-        raise InputError(f"{path}: no such file") from None
-    except (OSError, UnicodeDecodeError, csv.Error) as exc:
+        rows = [(line_no, row) for line_no, row in
+                enumerate(csv.reader(read_text(path).splitlines()), start=1)
+                if any(c.strip() for c in row)]
+    except csv.Error as exc:
         raise InputError(f"{path}: cannot be read as CSV ({exc})") from None
     if not rows:
         raise InputError(f"{path}: the file is empty")
@@ -63,7 +52,7 @@ def read_altitude_csv(path: Path | str) -> AltitudeSamples:
         if len(cells) < len(header):
             raise InputError(f"{path}, line {line_no}: {len(cells)} cells, the header has "
                              f"{len(header)}")
-        value = _number(path, line_no, key, cells[key_col])
+        value = cell_number(path, line_no, key, cells[key_col])
         if not np.isfinite(value) or (key == "frame" and (value != int(value) or value < 0)):
             raise InputError(f"{path}, line {line_no}: {key} {cells[key_col]!r} is not a valid "
                              f"{'frame index' if key == 'frame' else 'time'}")
@@ -71,7 +60,7 @@ def read_altitude_csv(path: Path | str) -> AltitudeSamples:
             raise InputError(f"{path}, line {line_no}: {key} {cells[key_col]} is not greater "
                              f"than the row before ({keys[-1]:g}); rows must increase")
         keys.append(value)
-        altitudes.append(_number(path, line_no, ALTITUDE_COLUMN, cells[alt_col]))
+        altitudes.append(cell_number(path, line_no, ALTITUDE_COLUMN, cells[alt_col]))
     source = AltitudeSource("csv", path, field=ALTITUDE_COLUMN)
     altitude_m = np.array(altitudes, dtype=np.float64)
     if key == "frame":

@@ -30,12 +30,12 @@ import numpy as np
 from core.errors import InputError
 from core.io.altitude_samples import AltitudeSamples, AltitudeSource
 from core.io.report import list_some
+from core.io.text_input import cell_number, read_text
 
 LASER_COLUMN = "laser_altitude_cm"
 TILT_COLUMN = "tilt_deg"
 DATE_COLUMN, TIME_COLUMN = "gmt_date", "gmt_time"
 ERROR_VALUES_CM = frozenset({13000.0, 15000.0})  # SF11 error readings (CollatriX v2)
-MISSING_TOKENS = frozenset({"", "nan", "invalid"})
 CM_PER_M = 100.0
 MAX_TILT_DEG = 90.0  # beyond this the laser cannot point at the water
 TIME_FORMATS = ("%Y/%m/%d %H:%M:%S", "%Y/%m/%d %H:%M:%S.%f")
@@ -48,12 +48,7 @@ def _cells(line: str) -> list[str]:
 
 def _header_and_rows(path: Path) -> tuple[list[str], list[tuple[int, list[str]]]]:
     """The header's column names and the (line number, cells) of the data rows."""
-    try:
-        lines = path.read_text(encoding="utf-8-sig", errors="replace").splitlines()
-    except FileNotFoundError:
-        raise InputError(f"{path}: no such file") from None
-    except OSError as exc:
-        raise InputError(f"{path}: cannot be read ({exc.strerror})") from None
+    lines = read_text(path).splitlines()
     header = None
     rows = []
     for line_no, line in enumerate(lines, start=1):
@@ -66,16 +61,6 @@ def _header_and_rows(path: Path) -> tuple[list[str], list[tuple[int, list[str]]]
         raise InputError(f"{path}: no '#' header line naming {LASER_COLUMN} "
                          "(not a LidarBoX laser log?)")
     return header, rows
-
-
-def _optional_float(path: Path, line_no: int, column: str, cell: str) -> float:
-    """The cell as a float, NaN if written as missing; InputError naming line and column."""
-    if cell.lower() in MISSING_TOKENS:
-        return np.nan
-    try:
-        return float(cell)
-    except ValueError:
-        raise InputError(f"{path}, line {line_no}: {column} {cell!r} is not a number") from None
 
 
 def _row_time(date: str, time: str) -> datetime | None:
@@ -119,7 +104,7 @@ def read_laser_log(path: Path | str, time_offset_s: float = 0.0,
         if times and when <= times[-1]:
             problems.setdefault("not later than the row before, dropped", []).append(line_no)
             continue
-        laser_cm = _optional_float(path, line_no, LASER_COLUMN, cells[col[LASER_COLUMN]])
+        laser_cm = cell_number(path, line_no, LASER_COLUMN, cells[col[LASER_COLUMN]])
         if laser_cm in ERROR_VALUES_CM:
             problems.setdefault("laser error reading (13000/15000 cm)", []).append(line_no)
             laser_cm = np.nan
@@ -128,7 +113,7 @@ def read_laser_log(path: Path | str, time_offset_s: float = 0.0,
             laser_cm = np.nan
         factor = 1.0
         if tilt_correction:
-            tilt = _optional_float(path, line_no, TILT_COLUMN, cells[col[TILT_COLUMN]])
+            tilt = cell_number(path, line_no, TILT_COLUMN, cells[col[TILT_COLUMN]])
             factor = math.cos(math.radians(tilt)) if abs(tilt) < MAX_TILT_DEG else np.nan
             if np.isnan(factor):
                 problems.setdefault("no valid tilt", []).append(line_no)

@@ -4,21 +4,18 @@ A file is a sequence of subtitle cues: a number line, usually a timing line
 (``00:00:01,000 --> 00:00:02,000``; some files have none), then payload lines up to a blank
 line. The payload's layout depends on the drone family:
 
-======================  =====================================================  =============
-family                  payload (one cue)                                      altitude
-======================  =====================================================  =============
-modern (Mavic 3, Mini   ``FrameCnt: 1, DiffTime: 20ms`` / date / ``[iso: 220]  ``rel_alt``,
-3/4 Pro, Air 3S, Neo)   … [rel_alt: -2.400 abs_alt: 0.401]``, per frame         relative
-html-bracket (Mavic 2,  ``SrtCnt : 1, DiffTime : 16ms`` / date / ``[iso : 100]  ``altitude``,
-Air 2, Air 2S)          … [altitude: 27.300000]``, per frame; the Mavic 2 Pro    absolute
-                        variant has no timing lines and no altitude
-single-line (Mini,      ``F/2.8, SS 30.15, ISO 260, EV -1.7, GPS (…), D 221.21m,  ``H``,
-Phantom 4 Pro, P4 RTK)  H 200.70m, H.S …, V.S …``, 1 Hz                          relative
-m300 (Matrice 300)      date / ``GPS(lat,lon,0.0M) BAROMETER:0.3M``, 1 Hz         ``BAROMETER``,
-                                                                               relative
-legacy (Mavic Pro,      ``HOME(lon,lat) date`` / ``GPS(lon,lat,n) BAROMETER:1.9``  ``BAROMETER``
-early Phantom/Inspire)  / ``ISO:… Shutter:… EV:… Fnum:…``; older: ``Hb:``, 1 Hz  or ``Hb``, rel.
-======================  =====================================================  =============
+- **modern** (Mavic 3, Mini 3/4 Pro, Air 3S, Neo), per frame: ``FrameCnt: 1, DiffTime: 20ms``
+  / date / ``[iso: 220] … [rel_alt: -2.400 abs_alt: 0.401]``. Altitude: ``rel_alt``, relative.
+- **html-bracket** (Mavic 2, Air 2, Air 2S), per frame: ``SrtCnt : 1, DiffTime : 16ms`` / date
+  / ``[iso : 100] … [altitude: 27.300000]``. Altitude: ``altitude``, absolute. A Mavic 2 Pro
+  variant has no timing lines and no altitude at all.
+- **single-line** (Mavic Mini/Mini 2, Phantom 4 Pro, P4 RTK), 1 Hz: ``F/2.8, SS 30.15, ISO 260,
+  EV -1.7, GPS (…), D 221.21m, H 200.70m, H.S …, V.S …``. Altitude: ``H``, relative.
+- **m300** (Matrice 300), 1 Hz: date / ``GPS(lat,lon,0.0M) BAROMETER:0.3M``. Altitude:
+  ``BAROMETER``, relative.
+- **legacy** (Mavic Pro, early Phantom/Inspire), 1 Hz: ``HOME(lon,lat) date`` /
+  ``GPS(lon,lat,n) BAROMETER:1.9`` / ``ISO:… Shutter:… EV:… Fnum:…``; an older variant writes
+  ``Hb:`` and ``Hs:``. Altitude: ``BAROMETER`` or ``Hb``, relative.
 
 Relative altitudes are barometric heights above the take-off point: the reader adds the
 take-off point's height above the water (``launch_height_m``). Absolute altitudes are above
@@ -42,6 +39,7 @@ import numpy as np
 from core.errors import InputError
 from core.io.altitude_samples import AltitudeSamples, AltitudeSource
 from core.io.report import list_some
+from core.io.text_input import read_text
 
 
 @dataclass(frozen=True)
@@ -105,20 +103,6 @@ class SrtFile:
     warnings: tuple[str, ...]
 
 
-def _read_text(path: Path) -> str:
-    """The file's text (UTF-8 or UTF-16 with a byte-order mark); InputError if unreadable."""
-    try:
-        raw = path.read_bytes()
-    except FileNotFoundError:
-        raise InputError(f"{path}: no such file") from None
-    except OSError as exc:
-        raise InputError(f"{path}: cannot be read ({exc.strerror})") from None
-    if not raw.strip():
-        raise InputError(f"{path}: the file is empty")
-    encoding = "utf-16" if raw[:2] in (b"\xff\xfe", b"\xfe\xff") else "utf-8-sig"
-    return raw.decode(encoding, errors="replace")
-
-
 def _timing_s(match: re.Match) -> tuple[float, float]:
     """(start_s, end_s) of a timing line; fields are not range-checked (60 s occurs)."""
     values = [int(g) for g in match.groups()]
@@ -157,7 +141,7 @@ def _cue(number: int, line_no: int, lines: list[str]) -> SrtCue:
     return SrtCue(number, line_no, start_s, end_s, _timestamp(text), _fields(text), text)
 
 
-def parse_cues(text: str) -> list[SrtCue]:
+def _parse_cues(text: str) -> list[SrtCue]:
     """Split SRT text into cues: a bare number after a blank line (or at the top) starts one,
     a blank line ends its payload."""
     lines = text.splitlines()
@@ -193,19 +177,26 @@ def _cue_list(cues: list[SrtCue]) -> str:
     return list_some([f"cue {c.number} (line {c.line_no})" for c in cues])
 
 
+def _is_empty(cue: SrtCue) -> bool:
+    """A cue with a number and nothing else (files cut off mid-write end with these)."""
+    return cue.start_s is None and not cue.text.strip()
+
+
 def parse_srt(path: Path | str) -> SrtFile:
     """Read a DJI SRT file; InputError if it holds no cue with DJI telemetry.
 
-    Empty cues (a number and nothing else, as files cut off mid-write end) are dropped with a
-    warning naming them.
+    Empty cues are dropped with a warning naming them.
     """
     path = Path(path)
-    cues = parse_cues(_read_text(path))
+    text = read_text(path)
+    if not text.strip():
+        raise InputError(f"{path}: the file is empty")
+    cues = _parse_cues(text)
     if not cues:
         raise InputError(f"{path}: no subtitle cues found (not an SRT file)")
-    empty = [c for c in cues if not c.text.strip() and c.start_s is None]
+    empty = [c for c in cues if _is_empty(c)]
     warnings = [f"{path}: empty {_cue_list(empty)} dropped"] if empty else []
-    cues = [c for c in cues if c not in empty]
+    cues = [c for c in cues if not _is_empty(c)]
     return SrtFile(path, _detect_family(path, cues), tuple(cues), tuple(warnings))
 
 
@@ -240,6 +231,29 @@ def _altitude_field(srt: SrtFile) -> str:
     return ""
 
 
+def _increasing(times: np.ndarray) -> np.ndarray:
+    """(N,) bool: the times that are known and later than every known time before them."""
+    keep = np.isfinite(times)
+    keep[keep] = np.concatenate([[True], np.diff(np.maximum.accumulate(times[keep])) > 0])
+    return keep
+
+
+def _altitude_warnings(srt: SrtFile, field: str, launch_height_m: float) -> list[str]:
+    """Warnings about cues without the altitude field and a missing launch height."""
+    family = srt.family
+    if not field:
+        return [f"{srt.path}: no cue carries an altitude ({family.name} family, looked for "
+                f"{' or '.join(family.altitude_fields)}): give the altitude another way"]
+    warnings = []
+    lacking = [c for c in srt.cues if field not in c.fields]
+    if lacking:
+        warnings.append(f"{srt.path}: no {field} in {_cue_list(lacking)} (truncated?)")
+    if family.is_relative and launch_height_m == 0.0:
+        warnings.append(f"{srt.path}: {field} is height above the take-off point and no launch "
+                        "height was given (the take-off point's height above the water)")
+    return warnings
+
+
 def srt_altitude(srt: SrtFile, launch_height_m: float = 0.0) -> AltitudeSamples:
     """Altitude samples of a parsed SRT: one per cue with a time, metres above the water.
 
@@ -248,33 +262,18 @@ def srt_altitude(srt: SrtFile, launch_height_m: float = 0.0) -> AltitudeSamples:
     each case adds a warning naming the cues.
     """
     family, field = srt.family, _altitude_field(srt)
-    warnings = list(srt.warnings)
     times, time_warnings = _cue_times_s(srt)
-    warnings += time_warnings
-    cues = list(srt.cues)
-    if not field:
-        warnings.append(f"{srt.path}: no cue carries an altitude ({family.name} family, "
-                        f"looked for {' or '.join(family.altitude_fields)}): give the altitude "
-                        "another way")
-    else:
-        lacking = [c for c in cues if field not in c.fields]
-        if lacking:
-            warnings.append(f"{srt.path}: no {field} in {_cue_list(lacking)} (truncated?)")
-    offset = launch_height_m if family.is_relative else 0.0
-    if family.is_relative and field and launch_height_m == 0.0:
-        warnings.append(f"{srt.path}: {field} is height above the take-off point and no launch "
-                        "height was given (the take-off point's height above the water)")
-    altitude = np.array([c.fields.get(field, np.nan) + offset for c in cues])
-    keep = np.isfinite(times)
-    keep[keep] = np.concatenate([[True], np.diff(np.maximum.accumulate(times[keep])) > 0])
-    out_of_order = [c for c, k, t in zip(cues, keep, times) if not k and np.isfinite(t)]
+    warnings = [*srt.warnings, *time_warnings, *_altitude_warnings(srt, field, launch_height_m)]
+    offset_m = launch_height_m if family.is_relative else 0.0
+    altitude = np.array([c.fields.get(field, np.nan) + offset_m for c in srt.cues])
+    keep = _increasing(times)
+    out_of_order = [c for c, k, t in zip(srt.cues, keep, times) if not k and np.isfinite(t)]
     if out_of_order:
         warnings.append(f"{srt.path}: {_cue_list(out_of_order)} not later than the cue before: "
                         "dropped")
     if not keep.any():
         raise InputError(f"{srt.path}: no cue has a usable time")
-    source = AltitudeSource("srt", srt.path, family.name, field, family.is_relative,
-                            launch_height_m if family.is_relative else 0.0)
+    source = AltitudeSource("srt", srt.path, family.name, field, family.is_relative, offset_m)
     return AltitudeSamples(altitude[keep], source, time_s=times[keep], warnings=tuple(warnings))
 
 

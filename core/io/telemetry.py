@@ -93,22 +93,10 @@ def constant_telemetry(altitude_m: float, clip: Clip) -> Telemetry:
                      np.zeros(num_frames, bool), AltitudeSource("constant"))
 
 
-def _read_srt(path: Path, launch_height_m: float, time_offset_s: float) -> AltitudeSamples:
-    return read_srt(path, launch_height_m)
-
-
-def _read_laser(path: Path, launch_height_m: float, time_offset_s: float) -> AltitudeSamples:
-    return read_laser_log(path, time_offset_s)
-
-
-def _read_csv(path: Path, launch_height_m: float, time_offset_s: float) -> AltitudeSamples:
-    return read_altitude_csv(path)
-
-
-# Altitude readers by suffix; a LidarBoX log is recognised by its header whatever its suffix
+# The reader for each suffix; a LidarBoX log is recognised by its header whatever its suffix
 # (the logger names its files LOG_0000.CSV).
-READERS = {SRT_SUFFIX: _read_srt, ".csv": _read_csv, ".txt": _read_laser, ".tsv": _read_laser,
-           ".log": _read_laser}
+READER_KINDS = {SRT_SUFFIX: "srt", ".csv": "csv", ".txt": "laser", ".tsv": "laser",
+                ".log": "laser"}
 
 
 def read_altitude(path: Path | str, launch_height_m: float = 0.0,
@@ -121,11 +109,16 @@ def read_altitude(path: Path | str, launch_height_m: float = 0.0,
     path = Path(path)
     if not path.is_file():
         raise InputError(f"{path}: no such file")
-    reader = _read_laser if is_laser_log(path) else READERS.get(path.suffix.lower())
-    if reader is None:
+    kind = "laser" if is_laser_log(path) else READER_KINDS.get(path.suffix.lower())
+    if kind == "srt":
+        samples = read_srt(path, launch_height_m)
+    elif kind == "laser":
+        samples = read_laser_log(path, time_offset_s)
+    elif kind == "csv":
+        samples = read_altitude_csv(path)
+    else:
         raise InputError(f"{path}: unknown altitude file type {path.suffix!r} (use a DJI .SRT, "
                          "a frame,altitude_m or time_s,altitude_m .csv, or a LidarBoX log)")
-    samples = reader(path, launch_height_m, time_offset_s)
     ignored = []
     if launch_height_m != 0.0 and not samples.source.is_relative:
         ignored.append(f"launch height ignored: {samples.source.field or 'the altitude'} is "

@@ -20,11 +20,13 @@ from core.segment.segmenter import AutoSeed, BoxSeed, PointSeed, Seed
 WATER_TRIM_QUANTILE = 0.95  # the water model drops the 5 % of pixels least like it (animal, glints)
 WATER_SAMPLE_STEP = 4  # fit the water model on every 4th pixel in each direction
 DETECT_DISTANCE = 4.0  # Mahalanobis distance from the water above which a pixel may be animal
-MIN_AREA_FRACTION = 0.0005  # of the frame: a 2.5 m dolphin at 30 m on 1920 px covers ~0.2 %
+# Of the frame: a 2.5 m dolphin at 20 m on a 1920×1080 frame (about 170 px long, DESIGN.md §3)
+# covers about 0.2 %; a quarter of that still counts.
+MIN_AREA_FRACTION = 0.0005
 MAX_AREA_FRACTION = 0.2
-# Length over width of the blob's moment ellipse: about 4–6 for a dolphin seen from above
-# (reference/morphometrics.md: maximum width about 20–25 % of body length), with slack for
-# bent bodies, missing flukes and noisy outlines.
+# Length over width of the blob's moment ellipse: about 4–5 for a dolphin seen from above
+# (maximum width about 0.18 of body length, reference/morphometrics.md §4), with slack for
+# bent bodies, flippers, missing flukes and noisy outlines.
 MIN_ELONGATION = 2.0
 MAX_ELONGATION = 12.0
 MIN_FILL = 0.55  # blob area over its moment ellipse's area: 1 for a filled ellipse

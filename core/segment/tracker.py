@@ -7,7 +7,8 @@ Each frame:
 2. **Classify** near the prediction: every pixel's animal coverage from the running colour
    models of the animal and the water (``colour.coverage``), lightly smoothed; the mask is
    coverage ≥ 0.5 within a margin of the prediction.
-3. **Clean**: keep the component that overlaps the prediction most, fill its holes.
+3. **Clean**: keep the component that overlaps the prediction most and the parts within a
+   couple of pixels of it (flippers, flukes), fill holes.
 4. **Check**: the animal is *lost* (dived out of sight, or hidden) when its separation from
    the surrounding water falls below half that of the seed frame, or its area below 40 % of
    the running reference area. Lost frames get no mask.
@@ -34,12 +35,7 @@ from core.segment.seed import (
     seed_mask,
     water_model,
 )
-from core.segment.segmenter import (
-    Frames,
-    ProgressCallback,
-    Seed,
-    SegmentationCancelled,
-)
+from core.segment.segmenter import Frames, ProgressCallback, Seed, SegmentationCancelled
 
 
 @dataclass(frozen=True)
