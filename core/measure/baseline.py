@@ -61,7 +61,7 @@ class BaselineEstimate:
         notes = []
         hw = self.settings.hw
         if hw.is_provisional:
-            notes.append(f"HW ratios {hw.name!r} are provisional ({hw.description or hw.source})")
+            notes.append(f"HW ratios {hw.name!r} are provisional: {hw.description or hw.source}")
         if self.settings.tail != TAIL_EXTRAPOLATED and hw.carries_tail_ratio:
             notes.append("no HW data at 90 % and 95 %: the 85 % ratio is carried (provisional)")
         if self.is_filled.any():

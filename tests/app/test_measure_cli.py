@@ -23,7 +23,7 @@ V2_DEMO = Path(__file__).resolve().parents[1] / "data" / "morphometrix" / \
 W_BL = np.array([.045, .085, .13, .15, .165, .175, .18, .18, .175, .16, .14, .125, .11, .09,
                  .075, .06, .045, .030, .015])
 BL_M, ALTITUDE_M = 2.5, 20.0
-# The paper's lens over a 1280 px crop of its 5.1K mode: focal 3643.4 px, as on the full frame.
+# The paper's lens over a 1280 px crop of its 5.1K mode: focal 3643.6 px, as on the full frame.
 CAMERA = CameraPreset("crop", "", 12.29, 17.27 / 4, 1280, 720, "test", False)
 M_PER_PX = ALTITUDE_M / CAMERA.intrinsics().focal_px
 ORIGIN_PX = np.array([400.0, 360.0])
