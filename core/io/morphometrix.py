@@ -28,6 +28,7 @@ import numpy as np
 
 from core.errors import InputError
 from core.io.atomic import atomic_path
+from core.io.text_input import cell_number, read_text
 from core.measure.annotation import PixelMeasurements
 from core.model.profile import STATION_FRACTIONS
 
@@ -86,24 +87,17 @@ def width_name(length_name: str, pct: float) -> str:
 
 
 def _float(text: str, path: Path, line_no: int, what: str) -> float:
-    """A cell as a finite float; InputError naming file, line and item otherwise."""
-    try:
-        value = float(text)
-    except ValueError:
-        value = math.nan
+    """A cell that must hold a number (not empty, not NaN); InputError naming file and line."""
+    value = cell_number(path, line_no, what, text)
     if not math.isfinite(value):
-        raise InputError(f"{path}: line {line_no}: {what}: {text!r} is not a number")
+        raise InputError(f"{path}, line {line_no}: {what} {text!r} is not a number")
     return value
 
 
 def _rows(path: Path) -> list[tuple[int, list[str]]]:
     """(line number, stripped cells) of every non-empty CSV row."""
-    try:
-        text = path.read_text(encoding="utf-8-sig")
-    except (OSError, UnicodeDecodeError) as exc:
-        raise InputError(f"{path}: cannot read the MorphoMetriX file ({exc})") from exc
     rows = []
-    for line_no, row in enumerate(csv.reader(io.StringIO(text)), start=1):
+    for line_no, row in enumerate(csv.reader(io.StringIO(read_text(path))), start=1):
         cells = [cell.strip() for cell in row]
         if any(cells):
             rows.append((line_no, cells))
@@ -141,7 +135,7 @@ def _read_v2(rows: list[tuple[int, list[str]]], path: Path) -> MorphoMetrixRecor
     pairs, kind_of, measured = {}, {}, []
     for line_no, cells in rows:
         if len(cells) < 3:
-            raise InputError(f"{path}: line {line_no}: expected Object,Value,Value_unit")
+            raise InputError(f"{path}, line {line_no}: expected Object,Value,Value_unit")
         name, value, unit = cells[:3]
         if unit == METADATA:
             pairs[name] = (line_no, value)
@@ -149,7 +143,7 @@ def _read_v2(rows: list[tuple[int, list[str]]], path: Path) -> MorphoMetrixRecor
             kind_of.setdefault(name, unit)  # the metre section, first, tells areas from lengths
             measured.append((name, _float(value, path, line_no, name), unit))
         else:
-            raise InputError(f"{path}: line {line_no}: unknown unit {unit!r}")
+            raise InputError(f"{path}, line {line_no}: unknown unit {unit!r}")
     lengths = {METERS: {}, PIXELS: {}}
     widths = {METERS: {}, PIXELS: {}}
     others = {}
@@ -179,7 +173,7 @@ def _read_v1(rows: list[tuple[int, list[str]]], path: Path) -> MorphoMetrixRecor
         if first == "Object":
             block = second.split(" ")[0].lower()
             if block not in ("length", "angle", "area"):
-                raise InputError(f"{path}: line {line_no}: unknown block {second!r}")
+                raise InputError(f"{path}, line {line_no}: unknown block {second!r}")
             width_columns = _v1_width_columns(cells) if block == "length" else {}
         elif block == "metadata":
             pairs[first] = (line_no, second)
@@ -212,7 +206,7 @@ def read_morphometrix(path: Path) -> MorphoMetrixRecord:
         return _read_v2(rows[1:], path)
     if rows and rows[0][1][0] == "Image ID":
         return _read_v1(rows, path)
-    raise InputError(f"{path}: line 1: not a MorphoMetriX CSV (expected the header "
+    raise InputError(f"{path}, line 1: not a MorphoMetriX CSV (expected the header "
                      f"{','.join(V2_HEADER)} of v2 or the 'Image ID' row of v1)")
 
 

@@ -21,6 +21,7 @@ import numpy as np
 import torch
 
 from core.errors import InputError
+from core.io.text_input import cell_number, read_text
 from core.measure.elliptical import TAIL_IDX, TAIL_SOURCE_IDX
 from core.measure.mesh import station_profile
 from core.model.profile import STATION_FRACTIONS
@@ -70,49 +71,36 @@ def _parse_header(lines: list[str], path: Path) -> dict[str, str]:
         key, sep, value = line.lstrip("#").partition(":")
         key = key.strip().lower()
         if not sep or key not in HEADER_KEYS:
-            raise InputError(f"{path}: line {line_no}: expected '# key: value' with a key "
+            raise InputError(f"{path}, line {line_no}: expected '# key: value' with a key "
                              f"among {', '.join(HEADER_KEYS)}")
         header[key] = value.strip()
     return header
 
 
-def _number(text: str, path: Path, line_no: int, column: str) -> float:
-    """A CSV cell as float (empty → NaN); InputError naming the file, line and column."""
-    if not text.strip():
-        return float("nan")
-    try:
-        return float(text)
-    except ValueError:
-        raise InputError(f"{path}: line {line_no}: {column} {text!r} is not a number") from None
-
-
 def read_hw_csv(path: Path) -> HWRatios:
     """Read an HW table (format in the module docstring); InputError when it is malformed."""
     path = Path(path)
-    try:
-        lines = path.read_text(encoding="utf-8-sig").splitlines()
-    except (OSError, UnicodeDecodeError) as exc:
-        raise InputError(f"{path}: cannot read HW ratios ({exc})") from exc
+    lines = read_text(path).splitlines()
     num_header = next((i for i, line in enumerate(lines) if not line.startswith("#")), len(lines))
     header = _parse_header(lines[:num_header], path)
     rows = list(csv.DictReader(io.StringIO("\n".join(lines[num_header:]))))
     columns = rows[0].keys() if rows else ()
     if any(column not in columns for column in REQUIRED_COLUMNS):
-        raise InputError(f"{path}: line {num_header + 1}: expected the columns "
+        raise InputError(f"{path}, line {num_header + 1}: expected the columns "
                          f"{','.join(REQUIRED_COLUMNS)}[,{SD_COLUMN}]")
     ratios, sd = np.full(len(STATION_PCT), np.nan), np.zeros(len(STATION_PCT))
     seen = set()
     for line_no, row in enumerate(rows, start=num_header + 2):
-        pct = _number(row["station_pct"], path, line_no, "station_pct")
+        pct = cell_number(path, line_no, "station_pct", row["station_pct"])
         matches = np.flatnonzero(np.isclose(STATION_PCT, pct))
         if len(matches) != 1 or pct in seen:
-            raise InputError(f"{path}: line {line_no}: station_pct {row['station_pct']!r} is "
+            raise InputError(f"{path}, line {line_no}: station_pct {row['station_pct']!r} is "
                              f"not one of 5, 10, … 95, or repeats an earlier row")
         seen.add(pct)
-        ratio = _number(row["hw_ratio"], path, line_no, "hw_ratio")
-        spread = _number(row.get(SD_COLUMN) or "0", path, line_no, SD_COLUMN)
+        ratio = cell_number(path, line_no, "hw_ratio", row["hw_ratio"])
+        spread = cell_number(path, line_no, SD_COLUMN, row.get(SD_COLUMN) or "0")
         if ratio <= 0 or not spread >= 0:
-            raise InputError(f"{path}: line {line_no}: hw_ratio must be positive and "
+            raise InputError(f"{path}, line {line_no}: hw_ratio must be positive and "
                              f"{SD_COLUMN} non-negative")
         ratios[matches[0]], sd[matches[0]] = ratio, spread
     missing = [f"{p:g} %" for i, p in enumerate(STATION_PCT)

@@ -120,7 +120,7 @@ def test_off_grid_widths_and_foreign_files_are_input_errors(tmp_path):
         pixel_measurements(record, tmp_path / "r.csv")
     foreign = tmp_path / "foreign.csv"
     foreign.write_text("a,b\n1,2\n", encoding="utf-8")
-    with pytest.raises(InputError, match="foreign.csv: line 1: not a MorphoMetriX CSV"):
+    with pytest.raises(InputError, match="foreign.csv, line 1: not a MorphoMetriX CSV"):
         read_morphometrix(foreign)
     no_scale = tmp_path / "no_scale.csv"
     no_scale.write_text("Object,Value,Value_unit\nTL,10,Pixels\n", encoding="utf-8")
@@ -128,5 +128,5 @@ def test_off_grid_widths_and_foreign_files_are_input_errors(tmp_path):
         read_morphometrix(no_scale)
     bad = tmp_path / "bad.csv"
     bad.write_text("Object,Value,Value_unit\nAltitude,high,Metadata\n", encoding="utf-8")
-    with pytest.raises(InputError, match="bad.csv: line 2: Altitude: 'high' is not a number"):
+    with pytest.raises(InputError, match="bad.csv, line 2: Altitude 'high' is not a number"):
         read_morphometrix(bad)
