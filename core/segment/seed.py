@@ -33,10 +33,12 @@ MIN_FILL = 0.55  # blob area over its moment ellipse's area: 1 for a filled elli
 GRABCUT_ITERATIONS = 5
 BOX_CONTEXT_FRACTION = 0.25  # GrabCut also sees this much of the box's size around it
 RING_INNER_PX, RING_OUTER_PX = 2, 10  # the water ring around a blob, pixels from its outline
-# The animal's colour model comes from a rim just inside its outline (1 to 4 px in): outline
-# pixels blend the rim's colour (lighter flanks, on a dolphin) with the water's, so the
-# coverage scale must run from the water to the rim, not to the darker back.
-RIM_INNER_PX, RIM_OUTER_PX = 1, 4
+# The animal's colour model comes from the ring of pixels just inside its outline (the second
+# pixel in): outline pixels blend that colour (lighter flanks, on a dolphin) with the water's,
+# so the coverage scale must run from the water to the rim, not to the darker back. Measured
+# on the synthetic clips: a 1-px rim gave 0.90–0.93 mean IoU, a 1–4 px rim 0.88–0.92, and a
+# rim that includes the outline pixels themselves was unstable.
+RIM_INNER_PX, RIM_OUTER_PX = 1, 2
 MEDIAN_KSIZE = 3  # detection ignores single-pixel glints and noise
 POINT_SEARCH_FRACTION = 0.1  # a click may miss the blob by this much of the frame's diagonal
 
