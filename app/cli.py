@@ -9,7 +9,7 @@ import sys
 from collections.abc import Sequence
 from types import ModuleType
 
-from app.commands import camera, masks, measure, synth, telemetry, template
+from app.commands import camera, masks, measure, synth, telemetry, template, bench
 from core.errors import InputError
 
 SUBCOMMANDS: dict[str, ModuleType] = {

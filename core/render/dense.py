@@ -71,9 +71,10 @@ def dense_render(verts_world, xy_px, depth, faces, appearance: Appearance, heigh
         covered = face_idx >= 0
         soft_maps.append(dense_soft_mask(tri, tri_depth, points, covered, settings))
         weights = edge_weights(tri[None], points[:, None])                   # (HW, F, 3) grad
-        winner = (torch.arange(faces.shape[0])[None] == face_idx[:, None]).to(xy_px.dtype)
-        w = (weights * winner[..., None]).sum(1)                             # (HW, 3)
-        onehot = winner[..., None, None]
+        is_winner = torch.arange(faces.shape[0])[None] == face_idx[:, None]  # (HW, F)
+        # where, not a product: degenerate faces have non-finite weights, and NaN·0 is NaN
+        w = torch.where(is_winner[..., None], weights, 0.0).sum(1)           # (HW, 3)
+        onehot = is_winner.to(xy_px.dtype)[..., None, None]
 
         def at_winner(corner_values):                                        # (F, 3, D)
             return (w[..., None] * (onehot * corner_values[None]).sum(1)).sum(1)

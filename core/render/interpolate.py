@@ -7,19 +7,20 @@ vertex positions through d(weights)/d(2-D vertex); depth gets none.
 
 import torch
 
-from core.render.rasterize import Fragments, edge_weights
+from core.render.rasterize import Fragments, edge_weights, gather_triangles
 
 
 def barycentrics(xy_px: torch.Tensor, faces: torch.Tensor, frags: Fragments) -> torch.Tensor:
     """(C, 3) weights of the covered pixels in their faces; xy_px: (T, V, 2)."""
-    tri = xy_px[frags.frame[:, None], faces[frags.face]]          # (C, 3, 2)
+    tri = gather_triangles(xy_px, faces, frags.frame, frags.face)  # (C, 3, 2)
     return edge_weights(tri, frags.pixel_centres(xy_px.dtype))
 
 
 def interpolate_vertex_values(values: torch.Tensor, faces: torch.Tensor, frags: Fragments,
                               weights: torch.Tensor) -> torch.Tensor:
     """(C, D) per-vertex ``values`` (T, V, D) interpolated at the covered pixels."""
-    corner = values[frags.frame[:, None], faces[frags.face]]       # (C, 3, D)
+    flat_idx = frags.frame[:, None] * values.shape[1] + faces[frags.face]
+    corner = values.reshape(-1, values.shape[-1])[flat_idx]       # (C, 3, D)
     return (weights[..., None] * corner).sum(-2)
 
 

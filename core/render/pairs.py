@@ -1,4 +1,9 @@
-"""Flat enumeration of the pixels inside many integer boxes (ragged → flat pair lists)."""
+"""Flat enumeration of ragged ranges: (owner, position-within-owner) pairs, chunked.
+
+Both the raster (pixels of each face's box) and the soft mask (uncovered pixels of each face's
+box rows) turn per-owner counts into flat pair lists with one ``repeat_interleave``: cost
+O(N + Σ counts), no Python loop over owners.
+"""
 
 from collections.abc import Iterator
 from dataclasses import dataclass
@@ -7,38 +12,46 @@ import torch
 
 
 @dataclass(frozen=True)
+class RaggedChunk:
+    """Pairs of one chunk: which owner, and the position within that owner's range."""
+
+    owner: torch.Tensor   # (P,) int64, non-decreasing
+    local: torch.Tensor   # (P,) int64, 0 … count[owner] − 1
+
+
+def ragged_chunks(counts: torch.Tensor, max_pairs: int) -> Iterator[RaggedChunk]:
+    """Enumerate ``counts`` (N,) ≥ 0 in owner order, at most ``max_pairs`` per chunk.
+
+    An owner whose count alone exceeds ``max_pairs`` forms a chunk of its own.
+    """
+    ends = torch.cumsum(counts, 0)
+    start, num_owners = 0, counts.shape[0]
+    while start < num_owners:
+        offset = ends[start] - counts[start]
+        stop = max(int(torch.searchsorted(ends, offset + max_pairs, right=True)), start + 1)
+        owner = torch.repeat_interleave(torch.arange(start, stop), counts[start:stop])
+        if owner.numel():
+            yield RaggedChunk(owner=owner,
+                              local=torch.arange(owner.shape[0]) - (ends - counts - offset)[owner])
+        start = stop
+
+
+@dataclass(frozen=True)
 class BoxPairs:
-    """One (box, pixel) pair per pixel of every box."""
+    """One (box, pixel) pair per pixel centre inside every box."""
 
     owner: torch.Tensor   # (P,) int64 index of the box
-    col: torch.Tensor     # (P,) int64 pixel column
-    row: torch.Tensor     # (P,) int64 pixel row
+    col: torch.Tensor     # (P,) int64
+    row: torch.Tensor     # (P,) int64
 
 
 def box_pair_chunks(col_min: torch.Tensor, col_max: torch.Tensor, row_min: torch.Tensor,
                     row_max: torch.Tensor, max_pairs: int) -> Iterator[BoxPairs]:
-    """Pixels of the inclusive integer boxes (N,), in box order, chunked to ≤ ``max_pairs``.
-
-    Cost is O(N + Σ box areas): counts, a cumulative sum and one ``repeat_interleave``. A
-    single box larger than ``max_pairs`` forms a chunk of its own.
-    """
+    """Pixels of the inclusive integer boxes (N,), in box order, chunked."""
     widths = (col_max - col_min + 1).clamp(min=0)
     counts = widths * (row_max - row_min + 1).clamp(min=0)
-    ends = torch.cumsum(counts, 0)
-    start_box = 0
-    num_boxes = counts.shape[0]
-    while start_box < num_boxes:
-        offset = ends[start_box] - counts[start_box]
-        stop_box = int(torch.searchsorted(ends, offset + max_pairs, right=True))
-        stop_box = max(stop_box, start_box + 1)
-        chunk = slice(start_box, stop_box)
-        owner_local = torch.repeat_interleave(torch.arange(stop_box - start_box), counts[chunk])
-        if owner_local.numel():
-            local = (torch.arange(owner_local.shape[0])
-                     - (ends[chunk] - counts[chunk] - offset)[owner_local])
-            w = widths[chunk][owner_local]
-            yield BoxPairs(owner=owner_local + start_box,
-                           col=col_min[chunk][owner_local] + local % w,
-                           row=row_min[chunk][owner_local] + torch.div(local, w,
-                                                                       rounding_mode="floor"))
-        start_box = stop_box
+    for chunk in ragged_chunks(counts, max_pairs):
+        w = widths[chunk.owner]
+        yield BoxPairs(owner=chunk.owner, col=col_min[chunk.owner] + chunk.local % w,
+                       row=row_min[chunk.owner] + torch.div(chunk.local, w,
+                                                            rounding_mode="floor"))

@@ -60,6 +60,9 @@ def sample_texture(texture: torch.Tensor, uv: torch.Tensor) -> torch.Tensor:
     u runs along columns, v along rows from the top; (0, 0) is the top-left corner of the
     top-left texel (``align_corners=False``); outside [0, 1] the border texel repeats.
     """
+    if not bool(torch.isfinite(uv.detach()).all()):
+        raise ValueError("texture coordinates must be finite (grid_sample's backward crashes "
+                         "on NaN)")
     grid = (2.0 * uv - 1.0).reshape(1, 1, -1, 2)
     image = texture.permute(2, 0, 1)[None]
     sampled = F.grid_sample(image, grid.to(image.dtype), mode="bilinear", padding_mode="border",

@@ -1,0 +1,44 @@
+"""Timing and memory helpers for the benchmarks."""
+
+import json
+import subprocess
+import sys
+import time
+from collections.abc import Callable
+
+
+def median_ms(run: Callable[[], object], repeats: int, warmup: int = 1) -> float:
+    """Median wall time of ``run`` in milliseconds after ``warmup`` untimed calls."""
+    for _ in range(warmup):
+        run()
+    times = []
+    for _ in range(repeats):
+        start = time.perf_counter()
+        run()
+        times.append(time.perf_counter() - start)
+    times.sort()
+    return 1e3 * times[len(times) // 2]
+
+
+def peak_rss_mb_of(module: str, function: str, *args: object) -> float:
+    """Peak resident memory (MB) that running ``module.function(*args)()`` adds.
+
+    In a fresh process the set-up ``function(*args)`` runs first; then the kernel's peak-RSS
+    counter is reset (``/proc/self/clear_refs``, Linux) and the returned job runs. The result
+    is the job's peak minus the resident memory just before it.
+    """
+    code = (
+        "import json, sys, importlib\n"
+        "def status(key):\n"
+        "    for line in open('/proc/self/status'):\n"
+        "        if line.startswith(key): return int(line.split()[1]) / 1024\n"
+        f"mod = importlib.import_module({module!r})\n"
+        f"job = getattr(mod, {function!r})(*json.loads(sys.argv[1]))\n"
+        "open('/proc/self/clear_refs', 'w').write('5')\n"
+        "before = status('VmRSS')\n"
+        "job()\n"
+        "print(json.dumps(status('VmHWM') - before))\n"
+    )
+    out = subprocess.run([sys.executable, "-c", code, json.dumps(list(args))],
+                         capture_output=True, text=True, check=True)
+    return float(json.loads(out.stdout.strip().splitlines()[-1]))

@@ -1,0 +1,52 @@
+"""Benchmark plumbing: timing, memory measurement, floor, dense sizing and the CLI."""
+
+import json
+
+import pytest
+import torch
+
+from app.cli import main
+from core.bench import render_bench
+from core.bench.timing import median_ms, peak_rss_mb_of
+
+
+def allocate_job(megabytes: int):
+    """Set-up for the memory test: a job that allocates and touches ``megabytes``."""
+    def job():
+        block = torch.ones(megabytes * 2**20 // 4)
+        return float(block.sum())
+    return job
+
+
+def test_median_ms_takes_the_median():
+    """The median of several runs of a fixed sleep is close to it."""
+    import time
+    assert 4.0 < median_ms(lambda: time.sleep(0.005), repeats=3) < 50.0
+
+
+def test_peak_memory_of_a_job_counts_what_it_allocates():
+    """A job touching 200 MB adds about 200 MB of peak memory, set-up excluded."""
+    added = peak_rss_mb_of(__name__, "allocate_job", 200)
+    assert 190 < added < 260
+
+
+def test_dense_size_respects_the_memory_budget(monkeypatch):
+    """The dense reference runs at the largest size whose pairs fit the budget."""
+    monkeypatch.setattr(render_bench, "DENSE_MEMORY_FRACTION", 1e-12)
+    assert render_bench.dense_size(8000) == render_bench.DENSE_SIZES[-1]
+    monkeypatch.setattr(render_bench, "DENSE_MEMORY_FRACTION", 1e9)
+    assert render_bench.dense_size(8000) == render_bench.DENSE_SIZES[0]
+
+
+def test_bench_render_quick_reports_consistent_ratios(capsys):
+    """`bench render --quick --json` gives positive figures and ratios that match them."""
+    assert main(["bench", "render", "--quick", "--repeats", "1", "--json"]) == 0
+    figures = json.loads(capsys.readouterr().out)
+    for key in ("paper_ms", "paper_floor_ms", "roi_ms", "dense_ms", "peak_memory_mb"):
+        assert figures[key] > 0
+    assert figures["ratio_vs_floor"] == pytest.approx(figures["paper_ms"]
+                                                      / figures["paper_floor_ms"])
+    assert figures["speedup_vs_dense"] == pytest.approx(figures["dense_ms"]
+                                                        / figures["sparse_ms_at_dense_size"])
+    assert figures["speedup_vs_dense"] > 1
+    assert figures["paper_covered_px"] > 300
