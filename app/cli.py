@@ -19,6 +19,7 @@ SUBCOMMANDS: dict[str, ModuleType] = {
     "synth": synth,
     "telemetry": telemetry,
     "masks": masks,
+    "bench": bench,
 }
 
 
