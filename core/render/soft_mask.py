@@ -5,9 +5,10 @@ pixels; σ and the box margin come from :class:`RasterSettings` (softness rule t
 considered at a pixel are all faces (front and back) whose box enlarged by the margin contains
 the pixel centre, at most k of them, the first in face-index order.
 
-Only uncovered pixels are ever paired with faces: in row-major order the uncovered pixels of
-one box row form a contiguous run of the list of all uncovered pixels, so a prefix count over
-the uncovered map gives each (face, box row) segment its run directly.
+Only uncovered pixels are ever paired with faces: a summed-area table first drops the faces
+whose enlarged box holds no uncovered pixel; then, since in row-major order the uncovered
+pixels of one box row form a contiguous run of the list of all uncovered pixels, a prefix count
+over the uncovered map gives each (face, box row) segment its run directly.
 """
 
 import torch
@@ -81,9 +82,12 @@ def candidate_pairs(xy_px: torch.Tensor, depth: torch.Tensor, faces: torch.Tenso
     """(frame, face, flat pixel) of the pairs in the product, sorted by pixel, k cap applied."""
     num_frames, height, width = frags.face_idx.shape
     frame, face = torch.nonzero((depth[:, faces] > 0).all(-1), as_tuple=True)
-    col_min, col_max, row_min, row_max = face_boxes(
-        gather_triangles(xy_px, faces, frame, face), width, height, settings.margin_px)
-    rows = torch.where(col_max >= col_min, (row_max - row_min + 1).clamp(min=0), 0)
+    boxes = face_boxes(gather_triangles(xy_px, faces, frame, face), width, height,
+                       settings.margin_px)
+    near = _uncovered_count(~frags.covered, frame, *boxes) > 0
+    frame, face = frame[near], face[near]
+    col_min, col_max, row_min, row_max = (b[near] for b in boxes)
+    rows = (row_max - row_min + 1).clamp(min=0)
 
     uncovered = ~frags.covered.reshape(-1)
     uncovered_pixels = torch.nonzero(uncovered, as_tuple=True)[0]
@@ -103,10 +107,26 @@ def candidate_pairs(xy_px: torch.Tensor, depth: torch.Tensor, faces: torch.Tenso
         empty = torch.zeros(0, dtype=torch.int64)
         return empty, empty, empty
     owner, pixel = (torch.cat(p) for p in zip(*parts))
-    order = torch.sort(pixel, stable=True).indices
-    owner, pixel = owner[order], pixel[order]
-    keep = _rank_within_runs(pixel) < settings.max_faces_per_pixel
-    return frame[owner[keep]], face[owner[keep]], pixel[keep]
+    # a stable sort keeps each pixel's faces in index order; 32-bit keys sort twice as fast
+    pixel32, order = torch.sort(pixel.to(torch.int32), stable=True)
+    keep = _rank_within_runs(pixel32) < settings.max_faces_per_pixel
+    owner = owner[order[keep]]
+    return frame[owner], face[owner], pixel32[keep].to(torch.int64)
+
+
+def _uncovered_count(uncovered: torch.Tensor, frame: torch.Tensor, col_min: torch.Tensor,
+                     col_max: torch.Tensor, row_min: torch.Tensor,
+                     row_max: torch.Tensor) -> torch.Tensor:
+    """Uncovered pixels inside each clamped, inclusive box, from a summed-area table."""
+    height, width = uncovered.shape[1:]
+    table = torch.nn.functional.pad(uncovered.to(torch.int32).cumsum(1).cumsum(2), (1, 0, 1, 0))
+    flat = table.reshape(-1)
+    base = frame * ((height + 1) * (width + 1))
+    top, bottom = row_min.clamp(max=height), row_max.clamp(min=-1) + 1
+    left, right = col_min.clamp(max=width), col_max.clamp(min=-1) + 1
+    count = (flat[base + bottom * (width + 1) + right] - flat[base + top * (width + 1) + right]
+             - flat[base + bottom * (width + 1) + left] + flat[base + top * (width + 1) + left])
+    return torch.where((col_max >= col_min) & (row_max >= row_min), count, 0)
 
 
 def _rank_within_runs(values: torch.Tensor) -> torch.Tensor:
