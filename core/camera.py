@@ -28,10 +28,8 @@ anything else raises ValueError giving both counts. Everything here is different
 takes its dtype and device from its inputs.
 """
 
-import json
 import math
 import os
-import tempfile
 from collections.abc import Sequence
 from dataclasses import asdict, dataclass, fields, replace
 from pathlib import Path
@@ -40,6 +38,7 @@ from typing import Any, Self
 import torch
 
 from core.errors import InputError
+from core.io.json_file import read_json, write_json
 from core.resources import resource_path
 
 N_WATER = 1.333  # refractive index of (sea) water, DESIGN.md §3
@@ -433,12 +432,7 @@ def _preset_from_json(entry: Any, path: Path, index: int) -> CameraPreset:
 
 def _read_presets_file(path: Path) -> list[CameraPreset]:
     """All presets of one file, in order; InputError naming the file when it is malformed."""
-    try:
-        data = json.loads(path.read_text(encoding="utf-8"))
-    except OSError as exc:
-        raise InputError(f"{path}: cannot read camera presets ({exc.strerror})") from exc
-    except (json.JSONDecodeError, UnicodeDecodeError) as exc:
-        raise InputError(f"{path}: not valid JSON ({exc})") from exc
+    data = read_json(path, "camera presets")
     if not isinstance(data, dict) or set(data) != {"schema_version", "presets"}:
         raise InputError(f"{path}: expected an object with 'schema_version' and 'presets' only")
     if data["schema_version"] != PRESETS_SCHEMA_VERSION:
@@ -478,22 +472,6 @@ def get_preset(name: str, user_path: Path | None = None) -> CameraPreset:
     return presets[name]
 
 
-def _write_json_atomic(path: Path, data: Any) -> None:
-    """Write ``data`` as JSON to a temporary file beside ``path``, then rename it over ``path``."""
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp_name = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
-    try:
-        with os.fdopen(fd, "w", encoding="utf-8") as file:
-            json.dump(data, file, indent=2, ensure_ascii=False)
-            file.write("\n")
-            file.flush()
-            os.fsync(file.fileno())
-        os.replace(tmp_name, path)
-    except BaseException:
-        Path(tmp_name).unlink(missing_ok=True)
-        raise
-
-
 def save_user_preset(preset: CameraPreset, user_path: Path | None = None) -> Path:
     """Add ``preset`` to the user presets file, replacing one of that name; returns the path.
 
@@ -507,6 +485,6 @@ def save_user_preset(preset: CameraPreset, user_path: Path | None = None) -> Pat
         "schema_version": PRESETS_SCHEMA_VERSION,
         "presets": [asdict(p) for p in [*kept, preset]],
     }
-    _write_json_atomic(user_path, data)
+    write_json(user_path, data)
     return user_path
 

@@ -1,1 +1,2 @@
-"""File formats: one module per format (meshes now; video, telemetry, masks and exports later)."""
+"""File formats, one module per format: video, telemetry (DJI SRT, altitude CSV, laser logs),
+masks, annotations, MorphoMetriX / CollatriX tables, meshes; atomic writes."""

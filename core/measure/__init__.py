@@ -1,2 +1,2 @@
-"""Measurements: mesh volume, length and station profiles (and later the elliptical baseline,
-body condition, mass and uncertainty)."""
+"""Measurements: mesh volume, length and station profiles; the elliptical baseline, body
+condition and mass, HW ratios and Monte Carlo uncertainty."""

@@ -9,8 +9,6 @@ the animal's left towards +y, and the root joint at the origin.
 
 import io
 import json
-import os
-import tempfile
 import zipfile
 from dataclasses import dataclass, fields
 from functools import lru_cache
@@ -19,6 +17,7 @@ from pathlib import Path
 import numpy as np
 
 from core.errors import InputError
+from core.io.atomic import atomic_path
 from core.resources import RESOURCES_DIR
 
 FORMAT_VERSION = 1
@@ -81,10 +80,7 @@ def save_template(template: Template, path: Path) -> None:
             arrays[field.name] = value
     arrays["meta"] = np.frombuffer(json.dumps(meta, sort_keys=True).encode(), dtype=np.uint8)
 
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(dir=path.parent, suffix=".tmp")
-    with os.fdopen(fd, "wb") as handle, zipfile.ZipFile(handle, "w", zipfile.ZIP_DEFLATED) as zf:
+    with atomic_path(Path(path)) as tmp, zipfile.ZipFile(tmp, "w", zipfile.ZIP_DEFLATED) as zf:
         for key in sorted(arrays):
             buffer = io.BytesIO()
             np.lib.format.write_array(buffer, np.ascontiguousarray(arrays[key]),
@@ -92,8 +88,6 @@ def save_template(template: Template, path: Path) -> None:
             info = zipfile.ZipInfo(f"{key}.npy", date_time=_ZIP_DATE)
             info.compress_type = zipfile.ZIP_DEFLATED
             zf.writestr(info, buffer.getvalue())
-    os.chmod(tmp, 0o644)
-    os.replace(tmp, path)
 
 
 def load_template(path: Path | None = None) -> Template:

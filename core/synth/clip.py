@@ -1,6 +1,5 @@
 """Making one synthetic clip: video, true masks, altitude CSV, SRT and truth.json."""
 
-import json
 import math
 import threading
 from collections.abc import Callable
@@ -13,7 +12,7 @@ import torch
 
 from core.camera import CameraIntrinsics
 from core.errors import InputError
-from core.io.atomic import atomic_path
+from core.io.json_file import write_json
 from core.measure.condition import body_condition
 from core.measure.mesh import body_length, mesh_volume
 from core.model.model import DolphinModel
@@ -171,5 +170,4 @@ def _write_truth(path: Path, config: SynthConfig, model: DolphinModel, betas: to
              "depth_m": float(motion.depth_m[t]), "visible": bool(visible[t])}
             for t in range(len(visible))],
     }
-    with atomic_path(path) as tmp:
-        tmp.write_text(json.dumps(truth, indent=1), encoding="utf-8")
+    write_json(path, truth)
