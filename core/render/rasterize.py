@@ -55,11 +55,11 @@ def gather_triangles(xy_px: torch.Tensor, faces: torch.Tensor, frame: torch.Tens
                      face: torch.Tensor) -> torch.Tensor:
     """(N, 3, 2) projected corners of faces ``face`` (N,) in frames ``frame`` (N,).
 
-    One flat gather (frame·V + vertex) instead of multi-tensor advanced indexing, which is
-    several times slower on the CPU.
+    One flat ``index_select`` (frame·V + vertex) instead of multi-tensor advanced indexing,
+    which is several times slower on the CPU, and whose backward is a fast ``index_add``.
     """
-    flat_idx = frame[:, None] * xy_px.shape[1] + faces[face]
-    return xy_px.reshape(-1, 2)[flat_idx]
+    flat_idx = (frame[:, None] * xy_px.shape[1] + faces[face]).reshape(-1)
+    return xy_px.reshape(-1, 2).index_select(0, flat_idx).reshape(-1, 3, 2)
 
 
 def face_boxes(tri: torch.Tensor, width_px: int, height_px: int,

@@ -18,6 +18,7 @@ from core.render.rasterize import Fragments, face_boxes, gather_triangles
 from core.render.settings import RasterSettings
 
 MAX_PROBABILITY = 1.0 - 1e-6   # clamp before log1p(−p) (rendering.md §11.8)
+_NEXT_CORNER = [1, 2, 0]       # edge k runs from corner k to corner k + 1
 
 
 def soft_mask(xy_px: torch.Tensor, depth: torch.Tensor, faces: torch.Tensor,
@@ -51,25 +52,30 @@ class BoundaryDistanceSq(torch.autograd.Function):
 
     @staticmethod
     def forward(ctx, tri: torch.Tensor, point: torch.Tensor) -> torch.Tensor:
-        start = tri
-        edge = torch.roll(tri, shifts=-1, dims=-2) - start                # (P, 3, 2)
-        rel = point[:, None, :] - start
-        along = ((rel * edge).sum(-1) / (edge * edge).sum(-1).clamp(min=1e-30)).clamp(0.0, 1.0)
-        offset = rel - along[..., None] * edge
-        dist_sq, nearest = (offset * offset).sum(-1).min(-1)
-        rows = torch.arange(tri.shape[0])
-        ctx.save_for_backward(nearest, along[rows, nearest], offset[rows, nearest])
+        # x and y as separate (P, 3) tensors: reductions over a trailing size-2 axis are slow
+        start_x, start_y = tri[..., 0].contiguous(), tri[..., 1].contiguous()
+        edge_x = start_x[:, _NEXT_CORNER] - start_x
+        edge_y = start_y[:, _NEXT_CORNER] - start_y
+        rel_x = point[:, :1] - start_x
+        rel_y = point[:, 1:] - start_y
+        length_sq = (edge_x * edge_x + edge_y * edge_y).clamp(min=1e-30)
+        along = ((rel_x * edge_x + rel_y * edge_y) / length_sq).clamp(0.0, 1.0)
+        offset_x = rel_x - along * edge_x
+        offset_y = rel_y - along * edge_y
+        dist_sq, nearest = (offset_x * offset_x + offset_y * offset_y).min(dim=1)
+        pick = nearest[:, None]
+        ctx.save_for_backward(nearest, along.gather(1, pick)[:, 0],
+                              torch.cat([offset_x.gather(1, pick), offset_y.gather(1, pick)], 1))
         return dist_sq
 
     @staticmethod
     def backward(ctx, grad_dist_sq: torch.Tensor):
         nearest, along, offset = ctx.saved_tensors
-        scaled = -2.0 * grad_dist_sq[:, None] * offset                     # (P, 2)
-        grad_tri = torch.zeros(nearest.shape[0], 3, 2, dtype=offset.dtype)
-        rows = torch.arange(nearest.shape[0])
-        grad_tri[rows, nearest] = (1.0 - along)[:, None] * scaled
-        grad_tri[rows, (nearest + 1) % 3] += along[:, None] * scaled
-        return grad_tri, None
+        corners = torch.arange(3, device=nearest.device)
+        weight = ((corners == nearest[:, None]) * (1.0 - along)[:, None]
+                  + (corners == ((nearest + 1) % 3)[:, None]) * along[:, None])   # (P, 3)
+        grad_tri = (-2.0 * grad_dist_sq)[:, None, None] * weight[..., None] * offset[:, None, :]
+        return grad_tri.to(offset.dtype), None
 
 
 def boundary_distance_sq(tri: torch.Tensor, point: torch.Tensor) -> torch.Tensor:
