@@ -15,8 +15,7 @@ $(STAMP): pyproject.toml constraints.txt
 	touch $(STAMP)
 
 run: $(STAMP)
-	$(VENV)/bin/dolphinfit --threads $(THREADS) template info
-	$(VENV)/bin/dolphinfit --threads $(THREADS) template export out/dolphin_swimming.glb --length 2.5 --pose tail1=0,12,0 --pose tail3=0,15,0 --pose flippers=0,0,10
+	$(VENV)/bin/dolphinfit --threads $(THREADS) demo --out out/demo
 
 test: $(STAMP)
 	OMP_NUM_THREADS=1 DOLPHINFIT_THREADS=1 $(PY) -m pytest -q

@@ -9,7 +9,7 @@ import sys
 from collections.abc import Sequence
 from types import ModuleType
 
-from app.commands import camera, masks, measure, synth, telemetry, template, bench
+from app.commands import bench, camera, demo, fit, masks, measure, synth, telemetry, template
 from core.errors import InputError
 
 SUBCOMMANDS: dict[str, ModuleType] = {
@@ -20,6 +20,8 @@ SUBCOMMANDS: dict[str, ModuleType] = {
     "telemetry": telemetry,
     "masks": masks,
     "bench": bench,
+    "fit": fit,
+    "demo": demo,
 }
 
 

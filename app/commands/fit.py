@@ -1,0 +1,110 @@
+"""Fit the 3D dolphin model to a clip: metric shape, motion, volume, condition and mass.
+
+  dolphinfit fit CLIP --altitude (METRES | FILE.csv | FILE.srt | LASER_LOG) [--launch-height M]
+                 [--masks DIR|VIDEO|NPZ] [--camera PRESET | --sensor-width-mm X --focal-mm Y]
+                 [--start S] [--end S] [--fps N] [--out DIR] [--no-roi] [--no-refraction]
+                 [--vertical-prior] [--config FILE.json]
+
+Without --masks the built-in tracker finds the dolphin by itself (automatic seed). Writes
+DIR/result.json (volume_m3, length_m, mass_kg, bci, frames, timings, …), DIR/rest_mesh.ply,
+DIR/posed/%06d.ply (one per fitted frame) and DIR/overlays/%06d.png (frame | mask | render).
+--fps sets how many frames per second of video are fitted (default 5). Exit codes: 0 done,
+2 bad input, 1 internal error (a diverged fit still writes its best state).
+"""
+
+import argparse
+import sys
+from dataclasses import replace
+from pathlib import Path
+
+from core.errors import InputError
+from core.fit.config import FitConfig
+from core.fit.engine import FitDiverged, FitProgress
+from core.fit.outputs import write_outputs
+from core.fit.pipeline import CameraChoice, FitRun, run_fit
+from core.io.json_file import read_json
+from core.model.template import load_template
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    """Options of ``fit``."""
+    parser.add_argument("clip", type=Path, help="the drone clip")
+    parser.add_argument("--altitude", required=True,
+                        help="metres above the water, or an altitude CSV, DJI SRT or laser log")
+    parser.add_argument("--launch-height", type=float, default=0.0, metavar="M",
+                        help="take-off height above the water, added to relative SRT altitudes")
+    parser.add_argument("--masks", type=Path, default=None,
+                        help="mask PNG folder, mask video or .npz (default: the built-in tracker)")
+    parser.add_argument("--camera", default=None, metavar="PRESET", help="camera preset name")
+    parser.add_argument("--sensor-width-mm", type=float, default=None)
+    parser.add_argument("--focal-mm", type=float, default=None)
+    parser.add_argument("--start", type=float, default=None, metavar="S", help="start time, s")
+    parser.add_argument("--end", type=float, default=None, metavar="S", help="end time, s")
+    parser.add_argument("--fps", type=float, default=None, help="frames fitted per second")
+    parser.add_argument("--out", type=Path, default=Path("out/fit"), help="output folder")
+    parser.add_argument("--no-roi", action="store_true",
+                        help="whole frames at 720 px wide, as the paper (default: native crops)")
+    parser.add_argument("--no-refraction", action="store_true", help="straight-line projection")
+    parser.add_argument("--vertical-prior", action="store_true",
+                        help="the paper's v_surf/v_dive depth nudge")
+    parser.add_argument("--config", type=Path, default=None, help="a FitConfig JSON")
+
+
+def fit_config(args: argparse.Namespace) -> FitConfig:
+    """The configuration from --config and the flags (flags win)."""
+    config = (FitConfig.from_json(read_json(args.config, "the fit configuration"))
+              if args.config else FitConfig())
+    changes = {"use_roi": config.use_roi and not args.no_roi,
+               "use_refraction": config.use_refraction and not args.no_refraction,
+               "use_vertical_prior": config.use_vertical_prior or args.vertical_prior,
+               "start_s": args.start if args.start is not None else config.start_s,
+               "end_s": args.end if args.end is not None else config.end_s}
+    if args.fps is not None:
+        changes["fps"] = args.fps
+    return replace(config, **changes)
+
+
+def run(args: argparse.Namespace) -> int:
+    """Fit, write the outputs, print the figures."""
+    camera = CameraChoice(args.camera, args.sensor_width_mm, args.focal_mm)
+    altitude = args.altitude
+    if not Path(altitude).exists():
+        try:
+            altitude = float(altitude)
+        except ValueError:
+            raise InputError(f"--altitude {altitude!r}: neither a number of metres nor a file")
+    try:
+        fit_run = run_fit(args.clip, altitude, args.masks, camera, fit_config(args),
+                          args.launch_height, progress=progress_printer())
+    except FitDiverged as exc:
+        print(f"dolphinfit: error: {exc}", file=sys.stderr)
+        return 1
+    report(fit_run, args.out)
+    return 0
+
+
+def report(fit_run: FitRun, out_dir: Path) -> None:
+    """Write the outputs and print the figures and warnings."""
+    result = fit_run.result
+    written = write_outputs(result, fit_run.data, load_template(), out_dir)
+    print(f"fitted {len(result.frame_idx)} frames of {fit_run.clip.path.name} "
+          f"in {result.timings_s.get('total', 0.0):.0f} s, mean IoU {result.iou.mean():.3f}")
+    print(f"length {result.length_m:.3f} m   volume {result.volume_m3:.4f} m³   "
+          f"BCI {result.bci:+.3f}   mass {result.mass_kg:.1f} kg")
+    for warning in fit_run.data.warnings + tuple(w for w in result.warnings
+                                                 if w not in fit_run.data.warnings):
+        print(f"warning: {warning}")
+    print(f"wrote {len(written)} files to {out_dir}")
+
+
+def progress_printer():
+    """A one-line progress bar on a terminal, nothing otherwise."""
+    if not sys.stderr.isatty():
+        return None
+
+    def show(p: FitProgress) -> None:
+        end = "\n" if p.step == p.total_steps else ""
+        print(f"\r{p.stage:8s} step {p.step:4d}/{p.total_steps}  IoU {p.mean_iou:.3f}  "
+              f"ETA {p.eta_s:4.0f} s", end=end, file=sys.stderr, flush=True)
+
+    return show

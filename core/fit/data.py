@@ -1,0 +1,133 @@
+"""What the fit sees: the chosen frames, cut into regions of interest with exact intrinsics.
+
+With ``use_roi`` (default) every frame is cropped at native resolution around its mask, one
+crop size for the clip and the crop's top-left pixel per frame: the camera keeps its focal
+length and the crop only shifts the principal point, so the metric is exact (DESIGN.md §3).
+Without it, whole frames are downscaled to the paper's 720 px width, as the paper did.
+"""
+
+import math
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import cv2
+import numpy as np
+import torch
+
+from core.camera import CameraIntrinsics, NadirCamera
+from core.errors import InputError
+from core.fit.config import FitConfig
+from core.io.masks import MaskTrack
+from core.io.telemetry import Telemetry
+from core.io.video import Clip, crop_roi, frame_range, step_for_fps
+from core.render.settings import Viewport
+
+ROI_MULTIPLE_PX = 8
+
+
+@dataclass(frozen=True, eq=False)
+class FitData:
+    """Frames, masks and cameras of a fit; T frames of a common H × W window."""
+
+    frame_idx: np.ndarray        # (T,) clip frame indices
+    time_s: np.ndarray           # (T,) seconds from the clip's start
+    images: torch.Tensor         # (T, H, W, 3) float32 RGB in [0, 1]
+    masks: torch.Tensor          # (T, H, W) float32, 1 = dolphin
+    camera: NadirCamera          # T altitudes; intrinsics of the (possibly resized) frame
+    viewport: Viewport           # the window of each frame
+    warnings: tuple[str, ...]
+
+    @property
+    def num_frames(self) -> int:
+        """T."""
+        return len(self.frame_idx)
+
+
+def select_frames(clip: Clip, masks: MaskTrack, config: FitConfig) -> tuple[np.ndarray, list[str]]:
+    """Frames to fit: in the time range, at the fit rate, with a visible dolphin inside the frame."""
+    candidates = frame_range(clip, config.start_s, config.end_s, step_for_fps(clip, config.fps))
+    chosen, skipped_border = [], []
+    for idx in candidates:
+        if not masks.is_visible[idx]:
+            continue
+        mask = masks.mask(int(idx))
+        if not mask.any():
+            continue
+        if mask[0].any() or mask[-1].any() or mask[:, 0].any() or mask[:, -1].any():
+            skipped_border.append(int(idx))
+            continue
+        chosen.append(int(idx))
+    warnings = []
+    if skipped_border:
+        warnings.append(f"{len(skipped_border)} frame(s) skipped: the dolphin touches the image "
+                        f"border (first: frame {skipped_border[0]})")
+    if not chosen:
+        raise InputError(f"{clip.path}: no frame with a visible dolphin in the chosen range "
+                         f"({len(candidates)} frames looked at)")
+    return np.asarray(chosen, dtype=np.int64), warnings
+
+
+def frame_altitudes(telemetry: Telemetry, frame_idx: np.ndarray) -> tuple[np.ndarray, list[str]]:
+    """Altitude of each chosen frame, interpolating missing ones (with a warning)."""
+    altitude = telemetry.altitude_m
+    known = ~np.isnan(altitude)
+    if not known.any():
+        raise InputError(f"no altitude for any frame ({telemetry.source.describe()})")
+    missing = frame_idx[~known[frame_idx]]
+    warnings = []
+    if len(missing):
+        warnings.append(f"altitude missing for {len(missing)} fitted frame(s), interpolated "
+                        f"(first: frame {int(missing[0])})")
+    frames = np.arange(len(altitude))
+    return np.interp(frame_idx, frames[known], altitude[known]), warnings
+
+
+def prepare_data(clip: Clip, read_frame: Callable[[int], np.ndarray], masks: MaskTrack,
+                 telemetry: Telemetry, intrinsics: CameraIntrinsics,
+                 config: FitConfig) -> FitData:
+    """Cut the chosen frames and masks for the fit; ``read_frame`` gives (H, W, 3) uint8 RGB."""
+    frame_idx, warnings = select_frames(clip, masks, config)
+    altitude, altitude_warnings = frame_altitudes(telemetry, frame_idx)
+    masks_np = np.stack([masks.mask(int(i)) for i in frame_idx])
+    if config.use_roi:
+        x0, y0, width, height = _roi_windows(masks_np, config.roi_margin_px)
+        images = np.stack([crop_roi(read_frame(int(i)), int(a), int(b), width, height)
+                           for i, a, b in zip(frame_idx, x0, y0)])
+        cut = np.stack([crop_roi(m.astype(np.uint8), int(a), int(b), width, height)
+                        for m, a, b in zip(masks_np, x0, y0)]) > 0
+        viewport = Viewport(torch.as_tensor(x0), torch.as_tensor(y0), width, height)
+    else:
+        width = config.paper_width_px
+        height = 2 * round(intrinsics.height_px * width / intrinsics.width_px / 2)
+        intrinsics = intrinsics.resized(width, height)
+        images = np.stack([cv2.resize(read_frame(int(i)), (width, height),
+                                      interpolation=cv2.INTER_AREA) for i in frame_idx])
+        cut = np.stack([cv2.resize(m.astype(np.float32), (width, height),
+                                   interpolation=cv2.INTER_AREA) for m in masks_np]) >= 0.5
+        viewport = Viewport.full_frame(intrinsics, len(frame_idx))
+    camera = NadirCamera(intrinsics, torch.as_tensor(altitude, dtype=torch.float32),
+                         refraction=config.use_refraction)
+    return FitData(frame_idx=frame_idx, time_s=clip.frame_time_s(frame_idx),
+                   images=torch.as_tensor(images, dtype=torch.float32) / 255.0,
+                   masks=torch.as_tensor(cut, dtype=torch.float32), camera=camera,
+                   viewport=viewport, warnings=tuple(warnings + altitude_warnings))
+
+
+def _roi_windows(masks: np.ndarray, margin_px: int) -> tuple[np.ndarray, np.ndarray, int, int]:
+    """Top-left corners (T,) and the common size of windows around every mask's box."""
+    boxes = []
+    for mask in masks:
+        rows, cols = np.nonzero(mask)
+        boxes.append((cols.min(), rows.min(), cols.max(), rows.max()))
+    boxes = np.asarray(boxes)
+    width = _round_up(int((boxes[:, 2] - boxes[:, 0]).max()) + 1 + 2 * margin_px)
+    height = _round_up(int((boxes[:, 3] - boxes[:, 1]).max()) + 1 + 2 * margin_px)
+    centre_x = (boxes[:, 0] + boxes[:, 2]) / 2
+    centre_y = (boxes[:, 1] + boxes[:, 3]) / 2
+    x0 = np.floor(centre_x - (width - 1) / 2).astype(np.int64)
+    y0 = np.floor(centre_y - (height - 1) / 2).astype(np.int64)
+    return x0, y0, width, height
+
+
+def _round_up(size: int) -> int:
+    return int(math.ceil(size / ROI_MULTIPLE_PX) * ROI_MULTIPLE_PX)

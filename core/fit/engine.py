@@ -1,0 +1,389 @@
+"""The staged fit (DESIGN.md §6): global pose → body pose → shape, texture, water and light.
+
+``fit`` is the one entry point for the CLI, the GUI worker, the benchmarks and the tests. It
+tries both 180°-ambiguous headings for a few steps and keeps the better, fades a wide-basin
+silhouette pyramid out over the first two stages, renders frames in chunks (bounded memory,
+and a cancel request is honoured between chunks), keeps the best state seen, and stops with
+:class:`FitDiverged` carrying that state if the loss turns non-finite.
+"""
+
+import math
+import threading
+import time
+from collections.abc import Callable
+from dataclasses import dataclass, field
+
+import numpy as np
+import torch
+
+from core.fit import losses
+from core.fit.config import FitConfig
+from core.fit.data import FitData
+from core.fit.init import initial_state, root_positions, silhouette_centroid_offset
+from core.fit.result import FitResult
+from core.fit.target import edge_profile, soft_targets
+from core.measure.condition import body_condition
+from core.measure.mesh import body_length, mesh_volume
+from core.model.lbs import axis_angle_to_matrix
+from core.model.model import DolphinModel
+from core.model.template import Template, load_template
+from core.render.pyramid import pyramid_loss
+from core.render.render import Appearance, render
+from core.render.settings import RasterSettings, Viewport
+from core.render.shade import SGLight
+
+STAGES = ("global", "body", "shape")   # what each optimises: see _stage_groups
+V_SURF_M_S = 6.6      # the paper's upward nudge while pointing up
+V_DIVE_M_S = 2.2      # the paper's downward nudge while pointing down
+INITIAL_F_WATER = 0.3
+PROFILE_FRAMES = 4    # frames rendered to measure the renderer's edge profile
+SMOOTH_REFERENCE_S = 1.0 / 25.0   # frame interval the smoothness weights refer to
+
+
+class FitCancelled(Exception):
+    """The caller asked the fit to stop."""
+
+
+class FitDiverged(Exception):
+    """The loss became non-finite; ``result`` holds the best state reached before."""
+
+    def __init__(self, message: str, result: FitResult):
+        super().__init__(message)
+        self.result = result
+
+
+@dataclass(frozen=True)
+class FitProgress:
+    """Where a running fit is."""
+
+    stage: str
+    step: int
+    total_steps: int
+    losses: dict[str, float]
+    mean_iou: float
+    eta_s: float
+
+
+@dataclass
+class SceneParams:
+    """The tensors being optimised (DESIGN.md §6: θ, β, P, albedo, F_water, light)."""
+
+    root_aa: torch.Tensor       # (T, 3)
+    body_pose: torch.Tensor     # (T, M − 1, 3)
+    transl: torch.Tensor        # (T, 3)
+    log_scale: torch.Tensor     # () overall size, added to every part's uniform scale
+    betas: torch.Tensor         # (M, 4) part shape around the overall size
+    albedo: torch.Tensor        # (Ht, Wt)
+    f_water: torch.Tensor       # (3,)
+    light_axes: torch.Tensor    # (K, 3)
+    light_sharpness: torch.Tensor  # (K,)
+    light_amplitude: torch.Tensor  # (K, 3)
+    names: tuple[str, ...] = field(default=("root_aa", "body_pose", "transl", "log_scale",
+                                            "betas", "albedo", "f_water", "light_axes",
+                                            "light_sharpness", "light_amplitude"))
+
+    def tensors(self) -> dict[str, torch.Tensor]:
+        """Name → tensor."""
+        return {name: getattr(self, name) for name in self.names}
+
+    def snapshot(self) -> dict[str, torch.Tensor]:
+        """Detached copies, to restore the best state."""
+        return {name: t.detach().clone() for name, t in self.tensors().items()}
+
+    def restore(self, snapshot: dict[str, torch.Tensor]) -> None:
+        """Copy a snapshot back in place."""
+        with torch.no_grad():
+            for name, tensor in self.tensors().items():
+                tensor.copy_(snapshot[name])
+
+    def pose(self) -> torch.Tensor:
+        """(T, M, 3) axis-angle per part."""
+        return torch.cat([self.root_aa[:, None], self.body_pose], dim=1)
+
+    def full_betas(self) -> torch.Tensor:
+        """(M, 4) part log scales with the overall size."""
+        return self.betas + torch.stack([self.log_scale] + [torch.zeros_like(self.log_scale)] * 3)
+
+    def light(self) -> SGLight:
+        """The light in its physical ranges."""
+        return SGLight(self.light_axes / torch.linalg.vector_norm(self.light_axes, dim=-1,
+                                                                  keepdim=True),
+                       self.light_sharpness, self.light_amplitude)
+
+    def project_to_valid(self) -> None:
+        """Keep parameters in their domains after an optimiser step."""
+        with torch.no_grad():
+            self.albedo.clamp_(0.0, 1.0)
+            self.f_water.clamp_(0.0, 1.0)
+            self.light_sharpness.clamp_(min=0.05)
+            self.light_amplitude.clamp_(min=0.0)
+            self.light_axes.div_(torch.linalg.vector_norm(self.light_axes, dim=-1, keepdim=True))
+
+
+def _initial_params(data: FitData, model: DolphinModel, template: Template, config: FitConfig,
+                    heading: np.ndarray, state) -> SceneParams:
+    offset = silhouette_centroid_offset(model)
+    transl = root_positions(state, heading, offset, config.init_depth_m)
+    num_frames, num_groups = data.num_frames, model.num_groups
+    root = np.zeros((num_frames, 3))
+    root[:, 2] = heading
+    light = SGLight.overhead_sun()
+    tensors = dict(
+        root_aa=torch.tensor(root, dtype=torch.float32),
+        body_pose=torch.zeros(num_frames, num_groups - 1, 3),
+        transl=torch.tensor(transl, dtype=torch.float32),
+        log_scale=torch.tensor(state.log_scale, dtype=torch.float32),
+        betas=torch.zeros(num_groups, 4),
+        albedo=torch.tensor(template.albedo / 255.0, dtype=torch.float32),
+        f_water=torch.full((3,), INITIAL_F_WATER),
+        light_axes=light.axes.clone(), light_sharpness=light.sharpness.clone(),
+        light_amplitude=light.amplitude.clone())
+    return SceneParams(**{k: v.requires_grad_() for k, v in tensors.items()})
+
+
+def _stage_groups(params: SceneParams, stage: str, config: FitConfig) -> list[dict]:
+    """Adam parameter groups active in ``stage``, each with its learning rate."""
+    lr = config.learning_rates
+    groups = [{"params": [params.root_aa], "lr": lr.pose},
+              {"params": [params.transl], "lr": lr.transl}]
+    if stage in ("body", "shape"):
+        groups.append({"params": [params.body_pose], "lr": lr.pose})
+    if stage == "shape":
+        # the overall size stays at its robust estimate from the masks until the frames the
+        # pose stages cannot explain are set aside (dives would otherwise shrink it)
+        groups += [{"params": [params.log_scale, params.betas], "lr": lr.shape},
+                   {"params": [params.albedo], "lr": lr.albedo},
+                   {"params": [params.f_water], "lr": lr.water},
+                   {"params": [params.light_axes, params.light_sharpness,
+                               params.light_amplitude], "lr": lr.light}]
+    return groups
+
+
+class _Problem:
+    """The data, model and fixed inputs one fit evaluates its parameters against."""
+
+    def __init__(self, data: FitData, model: DolphinModel, template: Template,
+                 config: FitConfig, cancel: threading.Event | None):
+        self.data, self.model, self.config, self.cancel = data, model, config, cancel
+        self.template = template
+        self.settings = RasterSettings(max_faces_per_pixel=config.max_faces_per_pixel)
+        self.face_uvs = torch.tensor(template.uvs[template.face_uvs_idx], dtype=torch.float32)
+        self.time_s = torch.as_tensor(data.time_s, dtype=torch.float32)
+        interval = float(np.median(np.diff(data.time_s))) if data.num_frames > 1 else 1.0
+        self.frame_ratio = SMOOTH_REFERENCE_S / interval
+        self.targets = data.masks
+        self.use_all_frames()
+
+    def use_all_frames(self) -> None:
+        """Render every frame in each step."""
+        self.set_frames(torch.arange(self.data.num_frames))
+
+    def set_frames(self, frames: torch.Tensor) -> None:
+        """Render only ``frames`` in each step, in chunks."""
+        size = self.config.frames_per_chunk
+        self.chunks = [frames[s:s + size] for s in range(0, len(frames), size)]
+        self.num_used = len(frames)
+
+    def frame_ious(self, params: SceneParams) -> torch.Tensor:
+        """(T,) hard IoU of every frame at ``params``."""
+        with torch.no_grad():
+            return torch.cat([losses.mask_iou(self.render_chunk(params, c).coverage,
+                                              self.data.masks[c])
+                              for c in torch.arange(self.data.num_frames).split(
+                                  self.config.frames_per_chunk)])
+
+    def restrict_to_explained_frames(self, params: SceneParams) -> list[str]:
+        """Keep for the shape stage the frames the pose stages explain (config doc)."""
+        iou = self.frame_ious(params)
+        keep = iou >= float(iou.median()) - self.config.shape_iou_margin
+        self.set_frames(torch.nonzero(keep)[:, 0])
+        dropped = self.data.frame_idx[(~keep).numpy()]
+        if len(dropped) == 0:
+            return []
+        return [f"{len(dropped)} of {len(iou)} frames left out of the shape stage (IoU after "
+                f"the pose stages below the median {float(iou.median()):.3f} − "
+                f"{self.config.shape_iou_margin}): frames {', '.join(map(str, dropped[:8]))}"
+                + (" …" if len(dropped) > 8 else "")]
+
+    def render_chunk(self, params: SceneParams, chunk: torch.Tensor):
+        out = self.model(params.full_betas(), params.pose()[chunk], params.transl[chunk])
+        appearance = Appearance(params.albedo, self.face_uvs, params.light(), params.f_water)
+        viewport = Viewport(self.data.viewport.x0_px[chunk], self.data.viewport.y0_px[chunk],
+                            self.data.viewport.width_px, self.data.viewport.height_px)
+        return render(out.verts, self.model.faces, appearance,
+                      self.data.camera.select(chunk), viewport, self.settings)
+
+    def step_loss(self, params: SceneParams, pyramid_weight: float) -> tuple[dict, torch.Tensor]:
+        """Accumulate gradients of the total loss; returns term values and per-frame IoU."""
+        weights, config = self.config.weights, self.config
+        num_frames = self.num_used
+        terms = {"mask": 0.0, "rgb": 0.0, "pyramid": 0.0}
+        ious = []
+        for chunk in self.chunks:
+            if self.cancel is not None and self.cancel.is_set():
+                raise FitCancelled("fit cancelled")
+            out = self.render_chunk(params, chunk)
+            target = self.targets[chunk]
+            mask_term = losses.soft_iou_loss(out.soft_mask, target) / num_frames
+            rgb_term = losses.rgb_loss(out.rgb, out.coverage, self.data.images[chunk],
+                                       self.data.masks[chunk]) / num_frames
+            total = weights.mask * mask_term + weights.rgb * rgb_term
+            if pyramid_weight > 0:
+                pyramid_term = pyramid_loss(out.soft_mask, target) * len(chunk) / num_frames
+                total = total + pyramid_weight * pyramid_term
+                terms["pyramid"] += float(pyramid_term.detach())
+            total.backward()
+            terms["mask"] += float(mask_term.detach())
+            terms["rgb"] += float(rgb_term.detach())
+            ious.append(losses.mask_iou(out.coverage, self.data.masks[chunk]))
+        prior_terms = self.prior_terms(params)
+        prior_total = sum(getattr(weights, name) * value for name, value in prior_terms.items())
+        if torch.is_tensor(prior_total):
+            prior_total.backward()
+        terms.update({name: float(value.detach()) for name, value in prior_terms.items()})
+        terms["total"] = (weights.mask * terms["mask"] + weights.rgb * terms["rgb"]
+                          + pyramid_weight * terms["pyramid"] + float(prior_total.detach()))
+        return terms, torch.cat(ious)
+
+    def prior_terms(self, params: SceneParams) -> dict[str, torch.Tensor]:
+        order = self.config.smooth_order
+        ratio = self.frame_ratio
+        rotations = axis_angle_to_matrix(params.root_aa)
+        terms = {
+            "pose": losses.pose_prior(params.body_pose),
+            "scale": losses.scale_prior(params.betas),
+            "scale_axes": losses.scale_axes_prior(params.betas),
+            "scale_smooth": losses.scale_smooth_prior(params.betas, self.model.group_parents),
+            "smooth_pos": losses.smoothness(params.transl, order, ratio),
+            "smooth_rot": losses.rotation_smoothness(rotations, order, ratio),
+            "smooth_pose": losses.smoothness(params.body_pose, order, ratio),
+        }
+        if self.config.use_vertical_prior:
+            terms["vertical"] = losses.vertical_motion(params.transl, rotations[:, 2, 0],
+                                                       self.time_s, V_SURF_M_S, V_DIVE_M_S)
+        if self.config.use_direction_loss:
+            terms["direction"] = losses.direction_loss(rotations[:, :2, 0], params.transl)
+        return terms
+
+
+def fit(data: FitData, config: FitConfig = FitConfig(), template: Template | None = None, *,
+        progress: Callable[[FitProgress], None] | None = None,
+        cancel: threading.Event | None = None) -> FitResult:
+    """Fit the model to ``data``; deterministic for the same inputs and configuration."""
+    started = time.perf_counter()
+    template = template if template is not None else load_template()
+    model = DolphinModel(template)
+    problem = _Problem(data, model, template, config, cancel)
+    state = initial_state(data, model, config.init_depth_m)
+    timings: dict[str, float] = {}
+    history: list[dict] = []
+    tracker = _Tracker(config.total_steps, progress, started)
+
+    params = _initial_params(data, model, template, config, state.heading_rad, state)
+    problem.targets = _debiased_targets(problem, params)
+    timings["setup"] = time.perf_counter() - started
+
+    trial_started = time.perf_counter()
+    trials = []
+    for flip in (0.0, math.pi):
+        candidate = _initial_params(data, model, template, config, state.heading_rad + flip,
+                                    state)
+        terms = _run_stage(problem, candidate, "global", config.heading_trial_steps,
+                           lambda k: 1.0, history, tracker, label="heading")
+        trials.append((terms["total"], candidate))
+    params = min(trials, key=lambda item: item[0])[1]
+    timings["heading"] = time.perf_counter() - trial_started
+
+    fade_steps = max(1, config.steps_global + config.steps_body)
+    done = 0
+    warnings = list(data.warnings)
+    for stage, steps in zip(STAGES, (config.steps_global, config.steps_body, config.steps_shape)):
+        stage_started = time.perf_counter()
+        if stage == "shape":
+            warnings += problem.restrict_to_explained_frames(params)
+        offset = done
+        _run_stage(problem, params, stage, steps,
+                   lambda k, o=offset: max(0.0, 1.0 - (o + k) / fade_steps), history, tracker)
+        done += steps
+        timings[stage] = time.perf_counter() - stage_started
+    timings["total"] = time.perf_counter() - started
+    problem.use_all_frames()
+    return _result(problem, params, history, timings, tuple(warnings))
+
+
+class _Tracker:
+    """Counts steps, keeps the best state, reports progress."""
+
+    def __init__(self, total: int, callback, started: float):
+        self.total, self.callback, self.started = total, callback, started
+        self.step = 0
+        self.best_total = math.inf
+        self.best: dict | None = None
+
+    def record(self, stage: str, terms: dict, iou: torch.Tensor, params: SceneParams) -> None:
+        self.step += 1
+        if terms["total"] < self.best_total:
+            self.best_total, self.best = terms["total"], params.snapshot()
+        if self.callback is not None:
+            elapsed = time.perf_counter() - self.started
+            eta = elapsed / self.step * max(0, self.total - self.step)
+            self.callback(FitProgress(stage, self.step, self.total, dict(terms),
+                                      float(iou.float().mean()), eta))
+
+
+def _run_stage(problem: _Problem, params: SceneParams, stage: str, steps: int,
+               pyramid_fade: Callable[[int], float], history: list[dict], tracker: _Tracker,
+               label: str | None = None) -> dict:
+    optimiser = torch.optim.Adam(_stage_groups(params, stage, problem.config))
+    terms: dict = {"total": math.inf}
+    for k in range(steps):
+        optimiser.zero_grad()
+        weight = problem.config.weights.pyramid * pyramid_fade(k)
+        terms, iou = problem.step_loss(params, weight)
+        if not math.isfinite(terms["total"]):
+            if tracker.best is not None:
+                params.restore(tracker.best)
+            raise FitDiverged(f"the loss became non-finite in stage {stage!r} at step {k}; "
+                              f"the best state reached before is kept",
+                              _result(problem, params, history, {}, problem.data.warnings))
+        optimiser.step()
+        params.project_to_valid()
+        history.append({"stage": label or stage, "step": k, **terms,
+                        "mean_iou": float(iou.float().mean())})
+        tracker.record(label or stage, terms, iou, params)
+    return terms
+
+
+def _debiased_targets(problem: _Problem, params: SceneParams) -> torch.Tensor:
+    """Soft targets with the renderer's edge profile, measured on the initial model."""
+    with torch.no_grad():
+        chunk = torch.arange(min(PROFILE_FRAMES, problem.data.num_frames))
+        out = problem.render_chunk(params, chunk)
+    profile = edge_profile(out.soft_mask, out.coverage)
+    return soft_targets(problem.data.masks, profile, problem.config.target_edge_scale)
+
+
+def _result(problem: _Problem, params: SceneParams, history: list[dict],
+            timings: dict[str, float], warnings: tuple[str, ...]) -> FitResult:
+    model = DolphinModel(problem.template, dtype=torch.float64)
+    with torch.no_grad():
+        betas = params.full_betas().double()
+        rest, _ = model.forward_rest(betas)
+        posed = model(betas, params.pose().double(), params.transl.double()).verts
+        volume = float(mesh_volume(rest, model.faces))
+        length = float(body_length(rest, model.rostrum_idx, model.notch_idx))
+    ious = problem.frame_ious(params)
+    condition = body_condition(np.float64(length), np.float64(volume))
+    return FitResult(
+        betas=betas.numpy(), pose_aa=params.pose().detach().double().numpy(),
+        transl=params.transl.detach().double().numpy(), frame_idx=problem.data.frame_idx,
+        time_s=problem.data.time_s, iou=ious.double().numpy(), rest_verts=rest.numpy(),
+        posed_verts=posed.numpy(), faces=model.faces.numpy(),
+        albedo=params.albedo.detach().numpy(), f_water=params.f_water.detach().numpy(),
+        light={"axes": params.light().axes.detach().numpy(),
+               "sharpness": params.light_sharpness.detach().numpy(),
+               "amplitude": params.light_amplitude.detach().numpy()},
+        volume_m3=volume, length_m=length, bci=float(condition.bci),
+        mass_kg=float(condition.mass_kg), density_kg_m3=float(condition.density_kg_m3),
+        loss_history=tuple(history), timings_s=timings, config=problem.config,
+        warnings=warnings)

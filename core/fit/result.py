@@ -1,0 +1,58 @@
+"""The outcome of a fit: parameters, meshes, volume, length, condition, mass, history."""
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from core.fit.config import FitConfig
+
+RESULT_SCHEMA_VERSION = 1
+
+
+@dataclass(frozen=True, eq=False)
+class FitResult:
+    """A fitted animal over T frames (metres, world frame: z up, water at z = 0)."""
+
+    betas: np.ndarray            # (M, 4) part log scales, overall scale included
+    pose_aa: np.ndarray          # (T, M, 3) axis-angle per part
+    transl: np.ndarray           # (T, 3) root joint positions
+    frame_idx: np.ndarray        # (T,) clip frame indices
+    time_s: np.ndarray           # (T,)
+    iou: np.ndarray              # (T,) hard IoU of render and mask
+    rest_verts: np.ndarray       # (V, 3) the fitted shape in the rest pose
+    posed_verts: np.ndarray      # (T, V, 3)
+    faces: np.ndarray            # (F, 3)
+    albedo: np.ndarray           # (Ht, Wt) fitted grayscale texture in [0, 1]
+    f_water: np.ndarray          # (3,) fitted water filter
+    light: dict[str, np.ndarray]  # fitted SG light: axes (K, 3), sharpness (K,), amplitude (K, 3)
+    volume_m3: float
+    length_m: float
+    bci: float
+    mass_kg: float
+    density_kg_m3: float
+    loss_history: tuple[dict, ...]
+    timings_s: dict[str, float]
+    config: FitConfig
+    warnings: tuple[str, ...]
+
+    def to_json(self) -> dict:
+        """The result file's content (no meshes: they are written beside it)."""
+        return {
+            "schema_version": RESULT_SCHEMA_VERSION,
+            "volume_m3": self.volume_m3,
+            "length_m": self.length_m,
+            "bci": self.bci,
+            "mass_kg": self.mass_kg,
+            "density_kg_m3": self.density_kg_m3,
+            "mean_iou": float(self.iou.mean()),
+            "betas": self.betas.tolist(),
+            "f_water": self.f_water.tolist(),
+            "frames": [{"frame": int(f), "time_s": float(t), "iou": float(i),
+                        "transl_m": p.tolist(), "pose_aa": q.tolist()}
+                       for f, t, i, p, q in zip(self.frame_idx, self.time_s, self.iou,
+                                                self.transl, self.pose_aa)],
+            "timings": self.timings_s,
+            "warnings": list(self.warnings),
+            "config": self.config.to_json(),
+            "loss_history": list(self.loss_history),
+        }

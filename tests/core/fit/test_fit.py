@@ -1,0 +1,149 @@
+"""The fit: end to end on a synthetic clip with known truth, and its controls."""
+
+import json
+import math
+import threading
+from dataclasses import replace
+
+import numpy as np
+import pytest
+import torch
+
+from app.cli import main
+from core.camera import CameraIntrinsics
+from core.fit import engine
+from core.fit.config import FitConfig
+from core.fit.data import prepare_data
+from core.fit.engine import FitCancelled, FitDiverged, fit
+from core.fit.init import initial_state
+from core.io.masks import read_png_folder
+from core.io.telemetry import load_telemetry
+from core.io.video import VideoReader, open_clip
+from core.model.model import DolphinModel
+from core.synth.clip import make_clip
+from core.synth.config import Effects, SynthConfig
+
+# A 2.3 m animal in 1920×1080 footage at 20 m (1.46 cm per pixel), 8 frames.
+# Part shapes vary little (SD 0.02), so the test measures the pipeline, not how much height a
+# top view cannot see.
+CLIP = SynthConfig(seed=21, width_px=1920, height_px=1080, fps=5.0, duration_s=1.6, altitude_m=20.0,
+                   length_m=2.3, shape_sd=0.02, heading_deg=-20.0, speed_m_s=0.8,
+                   dive_depth_m=0.0, effects=Effects(profile_warp=False, scattering=False,
+                                                     ripples=False, glints=False,
+                                                     compression=False))
+QUICK = FitConfig(heading_trial_steps=8, steps_global=20, steps_body=20, steps_shape=40)
+
+
+@pytest.fixture(scope="module")
+def clip_dir(tmp_path_factory):
+    out = tmp_path_factory.mktemp("fitclip")
+    make_clip(CLIP, out)
+    return out
+
+
+def _data(clip_dir, config=QUICK):
+    clip = open_clip(clip_dir / "clip.mkv")
+    masks = read_png_folder(clip_dir / "masks", clip)
+    telemetry = load_telemetry(clip, clip_dir / "altitude.csv")
+    intrinsics = CameraIntrinsics.from_sensor(12.29, 17.27, 1920, 1080)
+    with VideoReader(clip) as frames:
+        return prepare_data(clip, frames.frame, masks, telemetry, intrinsics, config)
+
+
+def _truth(clip_dir):
+    return json.loads((clip_dir / "truth.json").read_text())
+
+
+def test_end_to_end_volume_and_length_within_tolerance(clip_dir):
+    """A synthetic clip's volume comes back within 5 % and its length within 3 %."""
+    truth = _truth(clip_dir)
+    result = fit(_data(clip_dir), QUICK)
+    assert abs(result.volume_m3 / truth["volume_m3"] - 1) < 0.05
+    assert abs(result.length_m / truth["length_m"] - 1) < 0.03
+    assert result.iou.mean() > 0.85
+    assert result.posed_verts.shape == (len(result.frame_idx), 4002, 3)
+    assert set(result.timings_s) >= {"heading", "global", "body", "shape", "total"}
+
+
+def test_initial_state_finds_position_heading_and_length(clip_dir):
+    """From the masks alone: heading within 10° (mod 180°), centre within 15 cm, length 5 %."""
+    truth = _truth(clip_dir)
+    data = _data(clip_dir)
+    state = initial_state(data, DolphinModel(), 0.15)
+    true_heading = math.radians(-20.0)
+    for heading in state.heading_rad:
+        error = (heading - true_heading + math.pi / 2) % math.pi - math.pi / 2
+        assert abs(math.degrees(error)) < 10
+    true_xy = np.array([f["transl_m"][:2] for f in truth["frames"]])[data.frame_idx]
+    assert np.linalg.norm(state.centre_xy - true_xy, axis=1).max() < 0.4
+    assert abs(math.exp(state.log_scale) * 2.6 / truth["length_m"] - 1) < 0.05
+
+
+def test_fit_is_deterministic(clip_dir):
+    """The same data and configuration give the same result."""
+    config = replace(QUICK, heading_trial_steps=2, steps_global=3, steps_body=2, steps_shape=3)
+    data = _data(clip_dir, config)
+    first, second = fit(data, config), fit(data, config)
+    np.testing.assert_array_equal(first.betas, second.betas)
+    np.testing.assert_array_equal(first.transl, second.transl)
+
+
+def test_cancel_stops_the_fit(clip_dir):
+    """Setting the cancel event from the progress callback stops the fit at once."""
+    cancel = threading.Event()
+    steps = []
+
+    def on_progress(progress):
+        steps.append(progress.step)
+        if progress.step == 3:
+            cancel.set()
+
+    with pytest.raises(FitCancelled):
+        fit(_data(clip_dir), QUICK, progress=on_progress, cancel=cancel)
+    assert steps[-1] == 3
+
+
+def test_diverging_fit_keeps_its_best_state(clip_dir, monkeypatch):
+    """A non-finite loss stops the fit with FitDiverged carrying finite, best-so-far values."""
+    real = engine.losses.soft_iou_loss
+    calls = {"n": 0}
+
+    def poisoned(soft, target):
+        calls["n"] += 1
+        value = real(soft, target)
+        return value * torch.nan if calls["n"] > 6 else value
+
+    monkeypatch.setattr(engine.losses, "soft_iou_loss", poisoned)
+    with pytest.raises(FitDiverged, match="non-finite") as caught:
+        fit(_data(clip_dir), QUICK)
+    result = caught.value.result
+    assert np.isfinite(result.volume_m3) and np.isfinite(result.transl).all()
+
+
+def test_config_round_trips_and_rejects_nonsense():
+    """FitConfig survives JSON; bad values are input errors."""
+    from core.errors import InputError
+    assert FitConfig.from_json(json.loads(json.dumps(QUICK.to_json()))) == QUICK
+    with pytest.raises(InputError, match="fps"):
+        replace(QUICK, fps=0.0)
+    with pytest.raises(InputError, match="unknown"):
+        FitConfig.from_json({"steps": 3})
+
+
+def test_cli_fit_writes_result_meshes_and_overlays(clip_dir, tmp_path, capsys):
+    """`dolphinfit fit` writes result.json, the rest mesh, posed meshes and overlays."""
+    config = tmp_path / "quick.json"
+    config.write_text(json.dumps(replace(QUICK, heading_trial_steps=2, steps_global=3,
+                                         steps_body=2, steps_shape=3).to_json()))
+    out = tmp_path / "out"
+    argv = ["fit", str(clip_dir / "clip.mkv"), "--altitude", str(clip_dir / "altitude.csv"),
+            "--masks", str(clip_dir / "masks"), "--sensor-width-mm", "17.27", "--focal-mm",
+            "12.29", "--config", str(config), "--out", str(out)]
+    assert main(argv) == 0
+    result = json.loads((out / "result.json").read_text())
+    for key in ("volume_m3", "length_m", "mass_kg", "bci", "frames", "timings"):
+        assert key in result
+    assert len(list((out / "posed").glob("*.ply"))) == len(result["frames"])
+    assert (out / "rest_mesh.ply").exists() and list((out / "overlays").glob("*.png"))
+    assert main(["fit", str(clip_dir / "clip.mkv"), "--altitude", "high"]) == 2
+    assert "neither a number" in capsys.readouterr().err
