@@ -1,6 +1,7 @@
 """Measure speed (and later accuracy) side by side in one run.
 
   dolphinfit bench render [--json] [--repeats N] [--quick]
+  dolphinfit bench fit (--suite [--clips N] | --speed) [--json]
 
 render: forward+backward time of the differentiable renderer per frame at the paper's setting
 (a full 720×480 frame) and for a batch of 256×256 ROI crops of 1920×1080 footage at 20 m,
@@ -8,28 +9,81 @@ against a forward-only OpenCV fill of the same triangles (ratio_vs_floor) and th
 brute-force reference on the same scene at the largest size it fits in memory
 (speedup_vs_dense), plus the peak memory of a 64-frame batch. --quick shrinks everything for
 a smoke test; its figures are not the benchmark's.
+
+fit --suite: 8 synthetic 1920×1080 clips (shape, length 2.0–2.7 m, dives to 0–1.5 m, altitude
+15–25 m, water, sea state, noise; every unmodelled effect on), each fitted by default, without
+refraction and without ROI crops: relative errors of volume, length and mass per clip, their
+median and worst. fit --speed: a 10 s, 25 fps, 1920×1080 clip fitted with the defaults: wall
+time, seconds of fit per second of video, time by stage, peak memory. Clips are rendered once
+into the cache.
 """
 
 import argparse
 import json
+import sys
 
+from core.bench.fit_bench import bench_speed, bench_suite
 from core.bench.render_bench import RenderBench, bench_render, bench_to_json
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     """Register the benchmarks."""
-    suites = parser.add_subparsers(dest="suite", required=True, metavar="SUITE")
+    suites = parser.add_subparsers(dest="suite_name", required=True, metavar="SUITE")
     render = suites.add_parser("render", help="renderer speed against its floor and reference")
     render.add_argument("--json", action="store_true", help="one JSON object on stdout")
     render.add_argument("--repeats", type=int, default=5, help="timed repeats (median)")
     render.add_argument("--quick", action="store_true", help="tiny run for smoke tests")
+    fit = suites.add_parser("fit", help="fit accuracy over a clip suite, or fit speed")
+    which = fit.add_mutually_exclusive_group(required=True)
+    which.add_argument("--suite", action="store_true", help="accuracy over the clip suite")
+    which.add_argument("--speed", action="store_true", help="speed on a 10 s clip")
+    fit.add_argument("--clips", type=int, default=8, help="suite clips to use (1–8)")
+    fit.add_argument("--json", action="store_true", help="one JSON object on stdout")
 
 
 def run(args: argparse.Namespace) -> int:
     """Run the chosen benchmark and print its figures."""
+    if args.suite_name == "fit":
+        figures = (bench_suite(num_clips=max(1, min(args.clips, 8)), progress=_print_score)
+                   if args.suite else bench_speed())
+        print(json.dumps(figures, indent=2) if args.json
+              else (format_suite(figures) if args.suite else format_speed(figures)))
+        return 0
     result = bench_render(repeats=max(1, args.repeats), quick=args.quick)
     print(json.dumps(bench_to_json(result), indent=2) if args.json else format_render(result))
     return 0
+
+
+def _print_score(score) -> None:
+    print(f"{score.clip} {score.variant:14s} volume {100 * score.volume_error:+6.2f} %  "
+          f"length {100 * score.length_error:+6.2f} %  IoU {score.mean_iou:.3f}  "
+          f"{score.seconds:.0f} s", file=sys.stderr, flush=True)
+
+
+def format_suite(figures: dict) -> str:
+    """Per-clip errors and the summary per variant."""
+    lines = ["clip   variant         volume    length    mass      IoU    frames  s"]
+    for c in figures["clips"]:
+        lines.append(f"{c['clip']:6s} {c['variant']:14s} {100 * c['volume_error']:+6.2f} %  "
+                     f"{100 * c['length_error']:+6.2f} %  {100 * c['mass_error']:+6.2f} %  "
+                     f"{c['mean_iou']:.3f}  {c['frames']:6d}  {c['seconds']:.0f}")
+    lines.append("")
+    for variant, s in figures["summary"].items():
+        lines.append(f"{variant:14s} |volume| median {100 * s['median_abs_volume_error']:.2f} %, "
+                     f"worst {100 * s['worst_abs_volume_error']:.2f} %; |length| median "
+                     f"{100 * s['median_abs_length_error']:.2f} %, worst "
+                     f"{100 * s['worst_abs_length_error']:.2f} %; |mass| median "
+                     f"{100 * s['median_abs_mass_error']:.2f} %")
+    return "\n".join(lines)
+
+
+def format_speed(figures: dict) -> str:
+    """Wall time, rate and stages of the speed run."""
+    stages = ", ".join(f"{k} {v:.0f} s" for k, v in figures["stages_s"].items())
+    return (f"{figures['video_s']:.0f} s of {figures['clip_fps']:.0f} fps video, "
+            f"{figures['frames_fitted']} frames fitted: {figures['wall_s']:.0f} s "
+            f"({figures['fit_s_per_video_s']:.1f} s per second of video); {stages}; "
+            f"peak memory {figures['peak_memory_mb']:.0f} MB")
 
 
 def format_render(r: RenderBench) -> str:
