@@ -105,9 +105,13 @@ def summarize(scores: list[ClipScore]) -> dict[str, dict[str, float]]:
 
 
 def bench_suite(num_clips: int = len(SUITE), variants: tuple[str, ...] = tuple(VARIANTS),
-                progress=None) -> dict:
-    """Fit every clip in every variant; per-clip scores and the summary."""
-    base = replace(FitConfig(), fps=SUITE_FIT_FPS)
+                progress=None, base: FitConfig | None = None) -> dict:
+    """Fit every clip in every variant; per-clip scores and the summary.
+
+    ``base``: the fit configuration the variants modify (default: the defaults at the
+    suite's fitting rate).
+    """
+    base = base if base is not None else replace(FitConfig(), fps=SUITE_FIT_FPS)
     scores = []
     for index, config in enumerate(SUITE[:num_clips]):
         name = f"clip{index + 1}"

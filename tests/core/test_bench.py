@@ -50,3 +50,25 @@ def test_bench_render_quick_reports_consistent_ratios(capsys):
                                                         / figures["sparse_ms_at_dense_size"])
     assert figures["speedup_vs_dense"] > 1
     assert figures["paper_covered_px"] > 300
+
+
+def test_fit_suite_scores_clips_against_their_truth(tmp_path, monkeypatch):
+    """A one-clip suite in two variants reports per-clip errors and a summary per variant."""
+    from dataclasses import replace
+
+    from core.bench import fit_bench
+    from core.fit.config import FitConfig
+    from core.synth import sample
+    from core.synth.config import SynthConfig
+
+    monkeypatch.setenv(sample.CACHE_DIR_ENV, str(tmp_path))
+    tiny = SynthConfig(seed=5, width_px=640, height_px=480, fps=5.0, duration_s=0.8,
+                       altitude_m=8.0, dive_depth_m=0.0)
+    monkeypatch.setattr(fit_bench, "SUITE", (tiny,))
+    quick = FitConfig(heading_trial_steps=2, steps_global=3, steps_body=2, steps_shape=4)
+    figures = fit_bench.bench_suite(num_clips=1, variants=("default", "no_roi"), base=quick)
+    assert [c["variant"] for c in figures["clips"]] == ["default", "no_roi"]
+    for clip in figures["clips"]:
+        assert abs(clip["volume_error"]) < 0.5 and clip["frames"] >= 3
+    summary = figures["summary"]["default"]
+    assert summary["median_abs_volume_error"] == abs(figures["clips"][0]["volume_error"])
