@@ -2,7 +2,7 @@
 
   dolphinfit fit CLIP --altitude (METRES | FILE.csv | FILE.srt | LASER_LOG) [--launch-height M]
                  [--masks DIR|VIDEO|NPZ] [--camera PRESET | --sensor-width-mm X --focal-mm Y]
-                 [--start S] [--end S] [--fps N] [--out DIR] [--no-roi] [--no-refraction]
+                 [--start S] [--end S] [--fps N] [--out DIR] [--no-roi] [--refraction]
                  [--vertical-prior] [--config FILE.json]
 
 Without --masks the built-in tracker finds the dolphin by itself (automatic seed). Writes
@@ -44,7 +44,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--out", type=Path, default=Path("out/fit"), help="output folder")
     parser.add_argument("--no-roi", action="store_true",
                         help="whole frames at 720 px wide, as the paper (default: native crops)")
-    parser.add_argument("--no-refraction", action="store_true", help="straight-line projection")
+    parser.add_argument("--refraction", action="store_true",
+                        help="model flat-water refraction of submerged parts (off by default)")
     parser.add_argument("--vertical-prior", action="store_true",
                         help="the paper's v_surf/v_dive depth nudge")
     parser.add_argument("--config", type=Path, default=None, help="a FitConfig JSON")
@@ -55,7 +56,7 @@ def fit_config(args: argparse.Namespace) -> FitConfig:
     config = (FitConfig.from_json(read_json(args.config, "the fit configuration"))
               if args.config else FitConfig())
     changes = {"use_roi": config.use_roi and not args.no_roi,
-               "use_refraction": config.use_refraction and not args.no_refraction,
+               "use_refraction": config.use_refraction or args.refraction,
                "use_vertical_prior": config.use_vertical_prior or args.vertical_prior,
                "start_s": args.start if args.start is not None else config.start_s,
                "end_s": args.end if args.end is not None else config.end_s}

@@ -3,8 +3,8 @@
 Suite: 8 clips at 1920×1080 that differ in shape (random part scales, SD 0.05), length
 (2.0–2.7 m), dive depth (0–1.5 m), altitude (15–25 m), water colour and clarity, sea state and
 noise, with every effect the fit does not model switched on. Each clip is fitted three times,
-side by side: the default, without refraction, and without ROI crops (whole frames at 720 px,
-as the paper). Masks are the clips' true masks, so the figures measure the fit alone; altitude
+side by side: with ROI crops and refraction, with ROI crops only (the default), and without
+either (whole frames at 720 px, as the paper). Masks are the clips' true masks, so the figures measure the fit alone; altitude
 comes from the DJI SRT sidecar. Clips are rendered once into the cache and reused.
 
 Speed: a 10-second clip at 25 fps, 1920×1080, fitted with the defaults (5 frames per second of
@@ -12,11 +12,9 @@ video): wall time, seconds of fit per second of video, time by stage and peak me
 """
 
 from dataclasses import asdict, dataclass, replace
-from pathlib import Path
-
 import numpy as np
 
-from core.bench.timing import peak_rss_mb_of
+from core.bench.timing import run_with_peak_rss_mb
 from core.fit.config import FitConfig
 from core.fit.pipeline import CameraChoice, run_fit
 from core.io.json_file import read_json
@@ -44,8 +42,9 @@ SUITE: tuple[SynthConfig, ...] = (
     replace(_BASE, seed=108, length_m=2.55, altitude_m=19.0, dive_depth_m=1.2, sea_state=0.6,
             water_rgb=(0.07, 0.29, 0.27), clarity_per_m=(0.55, 0.2, 0.2)),
 )
-VARIANTS: dict[str, dict] = {"default": {}, "no_refraction": {"use_refraction": False},
-                             "no_roi": {"use_roi": False}}
+VARIANTS: dict[str, dict] = {"roi_refraction": {"use_roi": True, "use_refraction": True},
+                             "roi": {"use_roi": True, "use_refraction": False},
+                             "no_roi": {"use_roi": False, "use_refraction": False}}
 SUITE_FIT_FPS = 2.5
 SPEED_CLIP = replace(_BASE, seed=201, fps=25.0, duration_s=10.0, dive_depth_m=0.6)
 
@@ -128,24 +127,16 @@ def bench_suite(num_clips: int = len(SUITE), variants: tuple[str, ...] = tuple(V
                       for i, c in enumerate(SUITE[:num_clips])]}
 
 
-def speed_job(config_json: dict):
-    """Set-up for the memory child: a closure fitting the speed clip."""
-    config = SynthConfig.from_json(config_json)
-    files = _ensure(config, "speed")
-    return lambda: run_fit(files.video, files.srt, files.masks_dir,
-                           CameraChoice(sensor_width_mm=config.sensor_width_mm,
-                                        focal_mm=config.focal_mm),
-                           FitConfig(), config.launch_height_m)
-
-
 def bench_speed(clip: SynthConfig = SPEED_CLIP) -> dict:
-    """Wall time and stages of a default fit of the speed clip, and its peak memory."""
+    """Wall time and stages of a default fit of the speed clip, and the memory it added."""
     files = _ensure(clip, "speed")
-    run = speed_job(clip.to_json())()
+    run, peak_mb = run_with_peak_rss_mb(lambda: run_fit(
+        files.video, files.srt, files.masks_dir,
+        CameraChoice(sensor_width_mm=clip.sensor_width_mm, focal_mm=clip.focal_mm),
+        FitConfig(), clip.launch_height_m))
     timings = run.result.timings_s
     return {"video_s": clip.duration_s, "clip_fps": clip.fps, "fit_fps": FitConfig().fps,
             "frames_fitted": len(run.result.frame_idx), "wall_s": timings["total"],
             "fit_s_per_video_s": timings["total"] / clip.duration_s,
             "stages_s": {k: v for k, v in timings.items() if k != "total"},
-            "peak_memory_mb": peak_rss_mb_of(__name__, "speed_job", clip.to_json()),
-            "clip": str(Path(files.video).name)}
+            "peak_memory_mb": peak_mb, "mean_iou": float(run.result.iou.mean())}

@@ -20,6 +20,27 @@ def median_ms(run: Callable[[], object], repeats: int, warmup: int = 1) -> float
     return 1e3 * times[len(times) // 2]
 
 
+def _status_mb(key: str) -> float:
+    """A memory figure of this process from /proc/self/status (Linux), MB."""
+    with open("/proc/self/status") as status:
+        for line in status:
+            if line.startswith(key):
+                return int(line.split()[1]) / 1024
+    raise OSError(f"{key} not in /proc/self/status")
+
+
+def run_with_peak_rss_mb(job: Callable[[], object]) -> tuple[object, float]:
+    """``job()``'s result and the peak resident memory (MB) it added, in this process.
+
+    Resets the kernel's peak-RSS counter (``/proc/self/clear_refs``, Linux) before the job.
+    """
+    with open("/proc/self/clear_refs", "w") as clear:
+        clear.write("5")
+    before = _status_mb("VmRSS")
+    result = job()
+    return result, _status_mb("VmHWM") - before
+
+
 def peak_rss_mb_of(module: str, function: str, *args: object) -> float:
     """Peak resident memory (MB) that running ``module.function(*args)()`` adds.
 

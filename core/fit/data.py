@@ -43,10 +43,12 @@ class FitData:
         return len(self.frame_idx)
 
 
-def select_frames(clip: Clip, masks: MaskTrack, config: FitConfig) -> tuple[np.ndarray, list[str]]:
-    """Frames to fit: in the time range, at the fit rate, with a visible dolphin inside the frame."""
+def select_frames(clip: Clip, masks: MaskTrack,
+                  config: FitConfig) -> tuple[np.ndarray, np.ndarray, list[str]]:
+    """Frames to fit (in the time range, at the fit rate, with a visible dolphin inside the
+    frame): their indices (T,), their masks (T, H, W) bool, and warnings."""
     candidates = frame_range(clip, config.start_s, config.end_s, step_for_fps(clip, config.fps))
-    chosen, skipped_border = [], []
+    chosen, chosen_masks, skipped_border = [], [], []
     for idx in candidates:
         if not masks.is_visible[idx]:
             continue
@@ -57,6 +59,7 @@ def select_frames(clip: Clip, masks: MaskTrack, config: FitConfig) -> tuple[np.n
             skipped_border.append(int(idx))
             continue
         chosen.append(int(idx))
+        chosen_masks.append(mask)
     warnings = []
     if skipped_border:
         warnings.append(f"{len(skipped_border)} frame(s) skipped: the dolphin touches the image "
@@ -64,7 +67,7 @@ def select_frames(clip: Clip, masks: MaskTrack, config: FitConfig) -> tuple[np.n
     if not chosen:
         raise InputError(f"{clip.path}: no frame with a visible dolphin in the chosen range "
                          f"({len(candidates)} frames looked at)")
-    return np.asarray(chosen, dtype=np.int64), warnings
+    return np.asarray(chosen, dtype=np.int64), np.stack(chosen_masks), warnings
 
 
 def frame_altitudes(telemetry: Telemetry, frame_idx: np.ndarray) -> tuple[np.ndarray, list[str]]:
@@ -86,9 +89,8 @@ def prepare_data(clip: Clip, read_frame: Callable[[int], np.ndarray], masks: Mas
                  telemetry: Telemetry, intrinsics: CameraIntrinsics,
                  config: FitConfig) -> FitData:
     """Cut the chosen frames and masks for the fit; ``read_frame`` gives (H, W, 3) uint8 RGB."""
-    frame_idx, warnings = select_frames(clip, masks, config)
+    frame_idx, masks_np, warnings = select_frames(clip, masks, config)
     altitude, altitude_warnings = frame_altitudes(telemetry, frame_idx)
-    masks_np = np.stack([masks.mask(int(i)) for i in frame_idx])
     if config.use_roi:
         x0, y0, width, height = _roi_windows(masks_np, config.roi_margin_px)
         images = np.stack([crop_roi(read_frame(int(i)), int(a), int(b), width, height)

@@ -66,9 +66,9 @@ def test_fit_suite_scores_clips_against_their_truth(tmp_path, monkeypatch):
                        altitude_m=8.0, dive_depth_m=0.0)
     monkeypatch.setattr(fit_bench, "SUITE", (tiny,))
     quick = FitConfig(heading_trial_steps=2, steps_global=3, steps_body=2, steps_shape=4)
-    figures = fit_bench.bench_suite(num_clips=1, variants=("default", "no_roi"), base=quick)
-    assert [c["variant"] for c in figures["clips"]] == ["default", "no_roi"]
+    figures = fit_bench.bench_suite(num_clips=1, variants=("roi", "no_roi"), base=quick)
+    assert [c["variant"] for c in figures["clips"]] == ["roi", "no_roi"]
     for clip in figures["clips"]:
         assert abs(clip["volume_error"]) < 0.5 and clip["frames"] >= 3
-    summary = figures["summary"]["default"]
+    summary = figures["summary"]["roi"]
     assert summary["median_abs_volume_error"] == abs(figures["clips"][0]["volume_error"])
