@@ -147,3 +147,15 @@ def test_cli_fit_writes_result_meshes_and_overlays(clip_dir, tmp_path, capsys):
     assert (out / "rest_mesh.ply").exists() and list((out / "overlays").glob("*.png"))
     assert main(["fit", str(clip_dir / "clip.mkv"), "--altitude", "high"]) == 2
     assert "neither a number" in capsys.readouterr().err
+
+
+def test_without_masks_the_tracker_finds_the_dolphin(clip_dir):
+    """run_fit with no mask files tracks the dolphin itself and fits it."""
+    from core.fit.pipeline import CameraChoice, run_fit
+
+    config = replace(QUICK, heading_trial_steps=2, steps_global=3, steps_body=2, steps_shape=3)
+    run = run_fit(clip_dir / "clip.mkv", clip_dir / "altitude.csv", None,
+                  CameraChoice(sensor_width_mm=17.27, focal_mm=12.29), config)
+    assert run.masks.source.startswith("built-in tracker")
+    assert run.masks.is_visible.sum() >= 6
+    assert run.result.iou.mean() > 0.6
