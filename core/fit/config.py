@@ -5,9 +5,10 @@ it gives them; every other default says why. Round-trips through JSON so each re
 how it was made.
 """
 
-from dataclasses import asdict, dataclass, field, fields
+from dataclasses import asdict, dataclass, field
 
 from core.errors import InputError
+from core.io.json_file import dataclass_from_json
 
 
 @dataclass(frozen=True)
@@ -104,12 +105,4 @@ class FitConfig:
     @classmethod
     def from_json(cls, data: dict) -> "FitConfig":
         """Inverse of :meth:`to_json`; unknown keys are an InputError."""
-        unknown = sorted(set(data) - {f.name for f in fields(cls)})
-        if unknown:
-            raise InputError(f"fit config: unknown options {unknown}")
-        values = dict(data)
-        if "weights" in values:
-            values["weights"] = LossWeights(**values["weights"])
-        if "learning_rates" in values:
-            values["learning_rates"] = LearningRates(**values["learning_rates"])
-        return cls(**values)
+        return dataclass_from_json(cls, data, "fit config")

@@ -1,11 +1,14 @@
 """JSON files: reading with errors that name the file, writing atomically."""
 
 import json
+from dataclasses import fields, is_dataclass
 from pathlib import Path
-from typing import Any
+from typing import Any, TypeVar, get_origin
 
 from core.errors import InputError
 from core.io.atomic import atomic_path
+
+T = TypeVar("T")
 
 
 def read_json(path: Path, what: str) -> Any:
@@ -25,3 +28,23 @@ def write_json(path: Path, data: Any) -> None:
     """Write ``data`` as indented UTF-8 JSON, atomically (temporary file, then rename)."""
     with atomic_path(Path(path)) as tmp:
         tmp.write_text(json.dumps(data, indent=2, ensure_ascii=False) + "\n", encoding="utf-8")
+
+
+def dataclass_from_json(cls: type[T], data: Any, what: str) -> T:
+    """Rebuild dataclass ``cls`` from its ``asdict`` JSON: nested dataclasses and tuples come
+    back as such; unknown keys raise InputError naming ``what``."""
+    if not isinstance(data, dict):
+        raise InputError(f"{what}: expected an object, got {type(data).__name__}")
+    known = {field.name: field.type for field in fields(cls)}
+    unknown = sorted(set(data) - set(known))
+    if unknown:
+        raise InputError(f"{what}: unknown options {unknown}")
+    values = {}
+    for name, value in data.items():
+        kind = known[name]
+        if is_dataclass(kind):
+            value = dataclass_from_json(kind, value, f"{what}.{name}")
+        elif get_origin(kind) is tuple and isinstance(value, list):
+            value = tuple(value)
+        values[name] = value
+    return cls(**values)

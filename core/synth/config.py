@@ -4,9 +4,10 @@ Every field has a unit in its name and a default; ``SynthConfig`` round-trips th
 ``truth.json`` records exactly how its clip was made.
 """
 
-from dataclasses import asdict, dataclass, field, fields
+from dataclasses import asdict, dataclass, field
 
 from core.errors import InputError
+from core.io.json_file import dataclass_from_json
 
 
 @dataclass(frozen=True)
@@ -80,14 +81,4 @@ class SynthConfig:
     @classmethod
     def from_json(cls, data: dict) -> "SynthConfig":
         """Inverse of :meth:`to_json`; unknown keys are an InputError."""
-        known = {f.name for f in fields(cls)}
-        unknown = sorted(set(data) - known)
-        if unknown:
-            raise InputError(f"synth config: unknown options {unknown}")
-        values = dict(data)
-        if "effects" in values:
-            values["effects"] = Effects(**values["effects"])
-        for key in ("water_rgb", "clarity_per_m"):
-            if key in values:
-                values[key] = tuple(values[key])
-        return cls(**values)
+        return dataclass_from_json(cls, data, "synth config")
