@@ -11,7 +11,7 @@ import math
 import threading
 import time
 from collections.abc import Callable
-from dataclasses import dataclass, field
+from dataclasses import dataclass, fields
 
 import numpy as np
 import torch
@@ -78,13 +78,10 @@ class SceneParams:
     light_axes: torch.Tensor    # (K, 3)
     light_sharpness: torch.Tensor  # (K,)
     light_amplitude: torch.Tensor  # (K, 3)
-    names: tuple[str, ...] = field(default=("root_aa", "body_pose", "transl", "log_scale",
-                                            "betas", "albedo", "f_water", "light_axes",
-                                            "light_sharpness", "light_amplitude"))
 
     def tensors(self) -> dict[str, torch.Tensor]:
         """Name → tensor."""
-        return {name: getattr(self, name) for name in self.names}
+        return {f.name: getattr(self, f.name) for f in fields(self)}
 
     def snapshot(self) -> dict[str, torch.Tensor]:
         """Detached copies, to restore the best state."""
@@ -121,9 +118,8 @@ class SceneParams:
 
 
 def _initial_params(data: FitData, model: DolphinModel, template: Template, config: FitConfig,
-                    heading: np.ndarray, state) -> SceneParams:
-    offset = silhouette_centroid_offset(model)
-    transl = root_positions(state, heading, offset, config.init_depth_m)
+                    heading: np.ndarray, state, offset_xy: np.ndarray) -> SceneParams:
+    transl = root_positions(state, heading, offset_xy, config.init_depth_m)
     num_frames, num_groups = data.num_frames, model.num_groups
     root = np.zeros((num_frames, 3))
     root[:, 2] = heading
@@ -217,7 +213,7 @@ class _Problem:
         """Accumulate gradients of the total loss; returns term values and per-frame IoU."""
         weights, config = self.config.weights, self.config
         num_frames = self.num_used
-        terms = {"mask": 0.0, "rgb": 0.0, "pyramid": 0.0}
+        terms = {"mask": 0.0, "rgb": 0.0, "pyramid": 0.0, "total": 0.0}
         ious = []
         for chunk in self.chunks:
             if self.cancel is not None and self.cancel.is_set():
@@ -235,14 +231,13 @@ class _Problem:
             total.backward()
             terms["mask"] += float(mask_term.detach())
             terms["rgb"] += float(rgb_term.detach())
+            terms["total"] += float(total.detach())
             ious.append(losses.mask_iou(out.coverage, self.data.masks[chunk]))
         prior_terms = self.prior_terms(params)
         prior_total = sum(getattr(weights, name) * value for name, value in prior_terms.items())
-        if torch.is_tensor(prior_total):
-            prior_total.backward()
+        prior_total.backward()
         terms.update({name: float(value.detach()) for name, value in prior_terms.items()})
-        terms["total"] = (weights.mask * terms["mask"] + weights.rgb * terms["rgb"]
-                          + pyramid_weight * terms["pyramid"] + float(prior_total.detach()))
+        terms["total"] += float(prior_total.detach())
         return terms, torch.cat(ious)
 
     def prior_terms(self, params: SceneParams) -> dict[str, torch.Tensor]:
@@ -279,15 +274,15 @@ def fit(data: FitData, config: FitConfig = FitConfig(), template: Template | Non
     history: list[dict] = []
     tracker = _Tracker(config.total_steps, progress, started)
 
-    params = _initial_params(data, model, template, config, state.heading_rad, state)
-    problem.targets = _debiased_targets(problem, params)
+    offset_xy = silhouette_centroid_offset(model)
+    candidates = [_initial_params(data, model, template, config, state.heading_rad + flip,
+                                  state, offset_xy) for flip in (0.0, math.pi)]
+    problem.targets = _debiased_targets(problem, candidates[0])
     timings["setup"] = time.perf_counter() - started
 
     trial_started = time.perf_counter()
     trials = []
-    for flip in (0.0, math.pi):
-        candidate = _initial_params(data, model, template, config, state.heading_rad + flip,
-                                    state)
+    for candidate in candidates:
         terms = _run_stage(problem, candidate, "global", config.heading_trial_steps,
                            lambda k: 1.0, history, tracker, label="heading")
         trials.append((terms["total"], candidate))
@@ -312,18 +307,14 @@ def fit(data: FitData, config: FitConfig = FitConfig(), template: Template | Non
 
 
 class _Tracker:
-    """Counts steps, keeps the best state, reports progress."""
+    """Counts steps and reports progress."""
 
     def __init__(self, total: int, callback, started: float):
         self.total, self.callback, self.started = total, callback, started
         self.step = 0
-        self.best_total = math.inf
-        self.best: dict | None = None
 
-    def record(self, stage: str, terms: dict, iou: torch.Tensor, params: SceneParams) -> None:
+    def record(self, stage: str, terms: dict, iou: torch.Tensor) -> None:
         self.step += 1
-        if terms["total"] < self.best_total:
-            self.best_total, self.best = terms["total"], params.snapshot()
         if self.callback is not None:
             elapsed = time.perf_counter() - self.started
             eta = elapsed / self.step * max(0, self.total - self.step)
@@ -334,23 +325,27 @@ class _Tracker:
 def _run_stage(problem: _Problem, params: SceneParams, stage: str, steps: int,
                pyramid_fade: Callable[[int], float], history: list[dict], tracker: _Tracker,
                label: str | None = None) -> dict:
+    """Optimise ``stage``'s parameters for ``steps``; on a non-finite loss restore the best
+    state of this run (losses of one run share their weights and frames, so they compare)."""
     optimiser = torch.optim.Adam(_stage_groups(params, stage, problem.config))
     terms: dict = {"total": math.inf}
+    best_total, best = math.inf, params.snapshot()
     for k in range(steps):
         optimiser.zero_grad()
         weight = problem.config.weights.pyramid * pyramid_fade(k)
         terms, iou = problem.step_loss(params, weight)
         if not math.isfinite(terms["total"]):
-            if tracker.best is not None:
-                params.restore(tracker.best)
+            params.restore(best)
             raise FitDiverged(f"the loss became non-finite in stage {stage!r} at step {k}; "
                               f"the best state reached before is kept",
                               _result(problem, params, history, {}, problem.data.warnings))
+        if terms["total"] < best_total:
+            best_total, best = terms["total"], params.snapshot()
         optimiser.step()
         params.project_to_valid()
         history.append({"stage": label or stage, "step": k, **terms,
                         "mean_iou": float(iou.float().mean())})
-        tracker.record(label or stage, terms, iou, params)
+        tracker.record(label or stage, terms, iou)
     return terms
 
 
