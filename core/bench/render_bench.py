@@ -23,6 +23,7 @@ import torch
 
 from core.bench.timing import median_ms, peak_rss_mb_of
 from core.camera import CameraIntrinsics, NadirCamera
+from core.fit.losses import soft_iou_loss
 from core.model.model import DolphinModel
 from core.model.template import load_template
 from core.render.dense import dense_render
@@ -107,26 +108,24 @@ def _roi_viewport(camera: NadirCamera, verts: torch.Tensor) -> Viewport:
     return Viewport(corner[:, 0], corner[:, 1], ROI_PX, ROI_PX)
 
 
-def _forward_backward(verts, faces, appearance, camera, viewport, renderer=render):
-    """Closures timing the forward alone and forward + backward of a fit-like loss."""
-    target = None
+def _sparse_renderer(verts, faces, appearance, camera, viewport):
+    out = render(verts, faces, appearance, camera, viewport)
+    return out.soft_mask, out.rgb
 
-    def loss_of(out_soft, out_rgb):
-        inter = (out_soft * target).sum()
-        union = (out_soft + target - out_soft * target).sum()
-        return 1.0 - inter / union + (out_rgb ** 2).mean()
 
+def _forward_backward(verts, faces, appearance, camera, viewport, renderer=_sparse_renderer):
+    """Closures timing the forward alone and forward + backward of a fit-like loss.
+
+    ``renderer`` returns (soft mask, colour) of meshes (T, V, 3).
+    """
     def forward():
         return renderer(verts.detach().requires_grad_(), faces, appearance, camera, viewport)
 
-    first = forward()
-    target = first[0].detach() if isinstance(first, tuple) else first.soft_mask.detach()
+    target = forward()[0].detach()
 
     def both():
-        leaf = verts.detach().requires_grad_()
-        out = renderer(leaf, faces, appearance, camera, viewport)
-        soft, rgb = out if isinstance(out, tuple) else (out.soft_mask, out.rgb)
-        loss_of(soft, rgb).backward()
+        soft, rgb = forward()
+        (soft_iou_loss(soft, target) + (rgb ** 2).mean()).backward()
 
     return forward, both
 
@@ -195,7 +194,8 @@ def bench_render(repeats: int = 5, quick: bool = False) -> RenderBench:
     paper_fwd = median_ms(forward, repeats)
     paper_both = median_ms(both, repeats)
     paper_floor = opencv_floor_ms(paper_verts, faces, paper_cam, paper_view, repeats * 4)
-    covered = int(forward().coverage.sum())
+    with torch.no_grad():
+        covered = int(render(paper_verts, faces, appearance, paper_cam, paper_view).coverage.sum())
 
     roi_verts = swimming_verts(model, roi_batch)
     _, roi_cam = _camera(FOOTAGE_SIZE, roi_batch)
