@@ -133,12 +133,8 @@ def _open_writer(path: Path, config: SynthConfig) -> cv2.VideoWriter:
 def _appearance(template, config: SynthConfig) -> Appearance:
     """The template's albedo under a sun at the configured elevation and azimuth."""
     light = SGLight.overhead_sun(torch.float32)
-    elevation, azimuth = math.radians(config.sun_elevation_deg), math.radians(
-        config.sun_azimuth_deg)
-    sun = torch.tensor([math.cos(elevation) * math.cos(azimuth),
-                        math.cos(elevation) * math.sin(azimuth), math.sin(elevation)])
     axes = light.axes.clone()
-    axes[0] = sun
+    axes[0] = torch.as_tensor(config.sun_direction(), dtype=axes.dtype)
     f_water = (torch.zeros(3) if config.effects.scattering
                else torch.tensor(config.clarity_per_m, dtype=torch.float32))
     return Appearance(albedo=torch.tensor(template.albedo / 255.0, dtype=torch.float32),

@@ -4,7 +4,10 @@ Every field has a unit in its name and a default; ``SynthConfig`` round-trips th
 ``truth.json`` records exactly how its clip was made.
 """
 
+import math
 from dataclasses import asdict, dataclass, field
+
+import numpy as np
 
 from core.errors import InputError
 from core.io.json_file import dataclass_from_json
@@ -68,6 +71,13 @@ class SynthConfig:
                              f"width and height must be even for the video encoder")
         if not 0.0 <= self.sea_state <= 1.0:
             raise InputError(f"synth option sea_state: must lie in [0, 1], got {self.sea_state}")
+
+    def sun_direction(self) -> np.ndarray:
+        """(3,) unit vector towards the sun, world frame (z up)."""
+        elevation = math.radians(self.sun_elevation_deg)
+        azimuth = math.radians(self.sun_azimuth_deg)
+        return np.array([math.cos(elevation) * math.cos(azimuth),
+                         math.cos(elevation) * math.sin(azimuth), math.sin(elevation)])
 
     @property
     def num_frames(self) -> int:

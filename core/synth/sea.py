@@ -52,10 +52,7 @@ class Sea:
                              interpolation=cv2.INTER_CUBIC)
         self.colour = (np.asarray(config.water_rgb, dtype=np.float32)
                        * (1.0 + COLOUR_VARIATION * patches[..., None]))
-        elevation = math.radians(config.sun_elevation_deg)
-        azimuth = math.radians(config.sun_azimuth_deg)
-        self.sun = np.array([math.cos(elevation) * math.cos(azimuth),
-                             math.cos(elevation) * math.sin(azimuth), math.sin(elevation)])
+        self.sun = config.sun_direction()
 
     def frame(self, time_s: float, altitude_m: float) -> SeaFrame:
         """The sea at ``time_s`` seen from ``altitude_m`` (camera over the world origin)."""
