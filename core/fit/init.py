@@ -14,6 +14,7 @@ import numpy as np
 import torch
 
 from core.fit.data import FitData
+from core.measure.mesh import body_length
 from core.model.model import DolphinModel
 
 # Bending, pitch and dives only ever shorten the silhouette: the length comes from the upper
@@ -39,11 +40,15 @@ def silhouette_centroid_offset(model: DolphinModel) -> np.ndarray:
     return ((centre * area_up[:, None]).sum(0) / area_up.sum()).numpy() - model.rest_joints[0, :2].double().numpy()
 
 
+def template_length_m(model: DolphinModel) -> float:
+    """Body length of the unshaped template, metres."""
+    return float(body_length(model.rest_verts, model.rostrum_idx, model.notch_idx))
+
+
 def template_extent_ratio(model: DolphinModel) -> float:
     """Top-view extent along the body (rostrum to fluke tips) / body length."""
     x = model.rest_verts[:, 0]
-    length = float(x[model.rostrum_idx] - x[model.notch_idx])
-    return float(x.max() - x.min()) / length
+    return float(x.max() - x.min()) / template_length_m(model)
 
 
 def initial_state(data: FitData, model: DolphinModel, depth_m: float) -> InitialState:
@@ -65,11 +70,9 @@ def initial_state(data: FitData, model: DolphinModel, depth_m: float) -> Initial
     plane = torch.full((data.num_frames,), -depth_m, dtype=torch.float64)
     world = unproject_frames(data, centre_px, plane)
     length_m = float(np.percentile(extents_m, EXTENT_PERCENTILE)) / template_extent_ratio(model)
-    template_length = float(model.rest_verts[model.rostrum_idx, 0]
-                            - model.rest_verts[model.notch_idx, 0])
     return InitialState(heading_rad=_continuous(np.asarray(headings)),
                         centre_xy=world[:, 0, :2].numpy(),
-                        log_scale=math.log(length_m / template_length))
+                        log_scale=math.log(length_m / template_length_m(model)))
 
 
 def unproject_frames(data: FitData, xy_px: torch.Tensor, plane_z: torch.Tensor) -> torch.Tensor:
