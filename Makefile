@@ -1,12 +1,14 @@
 # Two commands do all set-up on a fresh machine:
-#   make run    installs into .venv (first time only) and runs the main job
+#   make run    installs into .venv (first time only) and opens the app on the sample project
 #   make test   installs into .venv (first time only) and runs the test suite
+#   make demo   the headless main job (fit the sample clip), for machines without a screen
+#   make screenshot   the README's screenshot of the app (under Xvfb when there is no display)
 VENV ?= .venv
 PY := $(VENV)/bin/python
 STAMP := $(VENV)/.installed
 THREADS ?= 2
 
-.PHONY: run test clean-venv
+.PHONY: run test demo screenshot clean-venv
 
 $(STAMP): pyproject.toml constraints.txt
 	python3 -m venv $(VENV)
@@ -15,7 +17,14 @@ $(STAMP): pyproject.toml constraints.txt
 	touch $(STAMP)
 
 run: $(STAMP)
+	$(VENV)/bin/dolphinfit --threads $(THREADS) gui --sample
+
+demo: $(STAMP)
 	$(VENV)/bin/dolphinfit --threads $(THREADS) demo --out out/demo
+
+screenshot: $(STAMP)
+	$(if $(DISPLAY),,xvfb-run -a -s "-screen 0 1920x1200x24") \
+	  $(VENV)/bin/dolphinfit --threads $(THREADS) gui --sample --screenshot docs/app.png
 
 test: $(STAMP)
 	OMP_NUM_THREADS=1 DOLPHINFIT_THREADS=1 $(PY) -m pytest -q

@@ -2,31 +2,44 @@
 
 Exit codes (DESIGN.md §8): 0 success, 2 bad input (the message names the file and the
 problem), 1 internal error.
+
+Only the chosen subcommand's module is imported, so ``dolphinfit gui`` opens without loading
+the fitting stack (torch) that other commands need.
 """
 
 import argparse
+import importlib
 import sys
 from collections.abc import Sequence
 from types import ModuleType
 
-from app.commands import bench, camera, demo, fit, masks, measure, synth, telemetry, template
 from core.errors import InputError
 
-SUBCOMMANDS: dict[str, ModuleType] = {
-    "template": template,
-    "camera": camera,
-    "measure": measure,
-    "synth": synth,
-    "telemetry": telemetry,
-    "masks": masks,
-    "bench": bench,
-    "fit": fit,
-    "demo": demo,
+SUBCOMMANDS: dict[str, str] = {  # name → the first line of its module's docstring
+    "gui": "The desktop app: measure length and widths by hand, see volume, BCI and mass at once.",
+    "template": "Build, inspect and export the procedural dolphin template.",
+    "camera": "Camera presets: list them, show one's geometry on the water, add your own.",
+    "measure": "Elliptical baseline: length, volume, BCI and mass with 95 % intervals, and "
+               "the exports.",
+    "synth": "Make a synthetic drone clip of a dolphin with known truth.",
+    "telemetry": "Read an altitude source, summarise it and optionally write it as CSV.",
+    "masks": "Track the dolphin through a clip with the built-in tracker and write its masks.",
+    "bench": "Measure speed (and later accuracy) side by side in one run.",
+    "fit": "Fit the 3D dolphin model to a clip: metric shape, motion, volume, condition and "
+           "mass.",
+    "demo": "The headless main job: fit the bundled sample clip and compare with its known "
+            "truth.",
 }
 
 
-def build_parser() -> argparse.ArgumentParser:
-    """The full parser; each subcommand module's docstring is its help text."""
+def command_module(name: str) -> ModuleType:
+    """The module of subcommand ``name`` (``app/commands/NAME.py``)."""
+    return importlib.import_module(f"app.commands.{name}")
+
+
+def build_parser(command: str | None = None) -> argparse.ArgumentParser:
+    """The parser with every subcommand; only ``command``'s options are added (all of them
+    when None), so only its module is imported."""
     parser = argparse.ArgumentParser(
         prog="dolphinfit",
         description="Size, body condition and mass of dolphins from nadir drone video.",
@@ -36,24 +49,33 @@ def build_parser() -> argparse.ArgumentParser:
         help="torch CPU threads (default: $DOLPHINFIT_THREADS or 2)",
     )
     subparsers = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
-    for name, module in SUBCOMMANDS.items():
-        doc = (module.__doc__ or "").strip()
+    for name, summary in SUBCOMMANDS.items():
+        summary = summary.replace("%", "%%")  # argparse formats help text with %
+        if command not in (None, name):
+            subparsers.add_parser(name, help=summary)
+            continue
+        module = command_module(name)
         sub = subparsers.add_parser(
-            name, help=doc.splitlines()[0] if doc else None, description=doc,
+            name, help=summary, description=(module.__doc__ or "").strip(),
             formatter_class=argparse.RawDescriptionHelpFormatter,
         )
         module.add_arguments(sub)
-        sub.set_defaults(run=module.run)
+        sub.set_defaults(run=module.run, module=module)
     return parser
 
 
 def main(argv: Sequence[str] | None = None) -> int:
     """Parse ``argv``, run the subcommand and return its exit code."""
-    from core.runtime import configure_threads
-
-    args = build_parser().parse_args(argv)
+    argv = list(sys.argv[1:] if argv is None else argv)
+    command = next((arg for arg in argv if arg in SUBCOMMANDS), None)
+    args = build_parser(command).parse_args(argv)
     try:
-        configure_threads(args.threads)
+        if getattr(args.module, "LOADS_TORCH", True):
+            from core.runtime import configure_threads
+            try:
+                configure_threads(args.threads)
+            except ValueError as exc:
+                raise InputError(f"--threads / $DOLPHINFIT_THREADS: {exc}") from exc
         return args.run(args)
     except InputError as exc:
         print(f"dolphinfit: error: {exc}", file=sys.stderr)

@@ -1,4 +1,7 @@
-"""The nadir drone camera: intrinsics, presets, crops, per-frame altitude and refraction.
+"""The nadir drone camera: intrinsics, crops, per-frame altitude and refraction.
+
+Named cameras (presets) and the user's presets file are in core/camera_presets.py; pinhole
+intrinsics (focal length in pixels, crops, GSD) in core/intrinsics.py, which needs no torch.
 
 Frames (DESIGN.md §3):
 
@@ -28,18 +31,13 @@ anything else raises ValueError giving both counts. Everything here is different
 takes its dtype and device from its inputs.
 """
 
-import math
-import os
 from collections.abc import Sequence
-from dataclasses import asdict, dataclass, fields, replace
-from pathlib import Path
-from typing import Any, Self
+from dataclasses import dataclass, replace
+from typing import Self
 
 import torch
 
-from core.errors import InputError
-from core.io.json_file import read_json, write_json
-from core.resources import resource_path
+from core.intrinsics import CameraIntrinsics
 
 N_WATER = 1.333  # refractive index of (sea) water, DESIGN.md §3
 N_AIR = 1.0  # air taken as 1: DESIGN.md §3's n_water is relative to air
@@ -48,110 +46,6 @@ N_AIR = 1.0  # air taken as 1: DESIGN.md §3's n_water is relative to air
 # way from the camera nadir to the point's horizontal position, so tolerances are relative.
 SURFACE_SOLVE_TOL = 1e-13  # stop when every Newton step is below this (float64 spacing ~1e-16)
 SURFACE_SOLVE_MAX_ITER = 64  # bisection fallback halves a [0, 1] bracket: 64 halvings < 1e-19
-
-PRESETS_FILE = "cameras.json"  # bundled in resources/, and the user file's name
-PRESETS_SCHEMA_VERSION = 1
-DEFAULT_PRESET = "dji-mavic3-5.1k"  # the paper's camera and video mode (arXiv 2504.15782)
-CONFIG_DIR_ENV = "DOLPHINFIT_CONFIG_DIR"  # overrides the XDG location of the user presets
-XDG_CONFIG_ENV = "XDG_CONFIG_HOME"
-XDG_CONFIG_DEFAULT = Path("~/.config")  # XDG Base Directory specification default
-CONFIG_SUBDIR = "dolphinfit"
-
-
-# --------------------------------------------------------------------------------------------
-# Intrinsics
-
-
-def _require_positive(name: str, value: float) -> None:
-    """Raise ValueError naming ``name`` unless ``value`` is a finite number > 0."""
-    if not (math.isfinite(value) and value > 0):
-        raise ValueError(f"{name} must be a positive finite number, got {value!r}")
-
-
-@dataclass(frozen=True)
-class CameraIntrinsics:
-    """Pinhole intrinsics in pixels, square pixels (fx = fy), no distortion.
-
-    ``focal_px``: focal length in pixels; ``cx_px``, ``cy_px``: principal point (pixel frame,
-    may lie outside the image for a crop); ``width_px``, ``height_px``: image size.
-    """
-
-    focal_px: float
-    cx_px: float
-    cy_px: float
-    width_px: int
-    height_px: int
-
-    def __post_init__(self) -> None:
-        _require_positive("focal_px", self.focal_px)
-        _require_positive("width_px", self.width_px)
-        _require_positive("height_px", self.height_px)
-        for name in ("cx_px", "cy_px"):
-            if not math.isfinite(getattr(self, name)):
-                raise ValueError(f"{name} must be finite, got {getattr(self, name)!r}")
-
-    @classmethod
-    def from_sensor(
-        cls, focal_mm: float, sensor_width_mm: float, image_width_px: int, image_height_px: int
-    ) -> Self:
-        """f = focal_mm / sensor_width_mm × image_width_px (DESIGN.md §3), centred principal point.
-
-        ``sensor_width_mm`` is the width of the sensor area the video mode reads.
-        """
-        _require_positive("focal_mm", focal_mm)
-        _require_positive("sensor_width_mm", sensor_width_mm)
-        _require_positive("image_width_px", image_width_px)
-        _require_positive("image_height_px", image_height_px)
-        return cls(
-            focal_px=focal_mm / sensor_width_mm * image_width_px,
-            cx_px=(image_width_px - 1) / 2,
-            cy_px=(image_height_px - 1) / 2,
-            width_px=image_width_px,
-            height_px=image_height_px,
-        )
-
-    @property
-    def fov_x_rad(self) -> float:
-        """Horizontal field of view, 2·atan(W / 2f), radians (the paper's 2·atan(γ / 2ω))."""
-        return 2 * math.atan(self.width_px / (2 * self.focal_px))
-
-    @property
-    def fov_y_rad(self) -> float:
-        """Vertical field of view, 2·atan(H / 2f), radians."""
-        return 2 * math.atan(self.height_px / (2 * self.focal_px))
-
-    def gsd_m_per_px(self, altitude_m: float) -> float:
-        """Ground sampling distance on the water plane at ``altitude_m``: h / f, metres/pixel."""
-        return altitude_m / self.focal_px
-
-    def crop(self, x0_px: int, y0_px: int, width_px: int, height_px: int) -> Self:
-        """The region with top-left pixel (x0, y0) and the given size; it may exceed the image."""
-        return replace(
-            self, cx_px=self.cx_px - x0_px, cy_px=self.cy_px - y0_px,
-            width_px=width_px, height_px=height_px,
-        )
-
-    def resized(self, width_px: int, height_px: int) -> Self:
-        """Intrinsics of the whole image rescaled to ``width_px`` × ``height_px``.
-
-        With s = new / old width, pixel centres map as c' = (c + 0.5)·s − 0.5 and f' = f·s. Square
-        pixels need one scale for both axes, so the new height must match the old aspect within
-        1 px (the rounding of the height is then at most half a pixel at the border).
-        """
-        scale = width_px / self.width_px
-        if abs(height_px - self.height_px * scale) > 1:
-            raise ValueError(
-                f"resizing {self.width_px}×{self.height_px} px to {width_px}×{height_px} px "
-                f"changes the aspect ratio by more than 1 px"
-            )
-        return replace(
-            self,
-            focal_px=self.focal_px * scale,
-            cx_px=(self.cx_px + 0.5) * scale - 0.5,
-            cy_px=(self.cy_px + 0.5) * scale - 0.5,
-            width_px=width_px,
-            height_px=height_px,
-        )
 
 
 # --------------------------------------------------------------------------------------------
@@ -356,135 +250,3 @@ class NadirCamera:
     def gsd_m_per_px(self) -> torch.Tensor:
         """(T,) ground sampling distance on the water plane per frame, metres per pixel."""
         return self.altitude_m / self.intrinsics.focal_px
-
-
-# --------------------------------------------------------------------------------------------
-# Presets
-
-
-@dataclass(frozen=True)
-class CameraPreset:
-    """A named drone camera and video mode: sensor width read in that mode, real focal length.
-
-    ``approximate``: the values are not verified for this mode (e.g. nominal specifications).
-    """
-
-    name: str
-    description: str
-    focal_mm: float
-    sensor_width_mm: float
-    image_width_px: int
-    image_height_px: int
-    source: str
-    approximate: bool
-
-    def __post_init__(self) -> None:
-        if not self.name.strip():
-            raise ValueError("name must not be empty")
-        for name in ("focal_mm", "sensor_width_mm", "image_width_px", "image_height_px"):
-            _require_positive(name, getattr(self, name))
-
-    def intrinsics(self) -> CameraIntrinsics:
-        """Full-frame intrinsics of this mode (centred principal point)."""
-        return CameraIntrinsics.from_sensor(
-            self.focal_mm, self.sensor_width_mm, self.image_width_px, self.image_height_px
-        )
-
-
-# JSON types accepted per field (a JSON number such as 12 is fine for a float field)
-_PRESET_TYPES: dict[str, tuple[type, ...]] = {
-    f.name: (int, float) if f.type is float else (f.type,) for f in fields(CameraPreset)
-}
-
-
-def user_presets_path() -> Path:
-    """``$DOLPHINFIT_CONFIG_DIR/cameras.json``, else ``$XDG_CONFIG_HOME/dolphinfit/cameras.json``.
-
-    ``XDG_CONFIG_HOME`` defaults to ``~/.config``.
-    """
-    config_dir = os.environ.get(CONFIG_DIR_ENV)
-    if config_dir:
-        return Path(config_dir) / PRESETS_FILE
-    xdg_home = os.environ.get(XDG_CONFIG_ENV) or str(XDG_CONFIG_DEFAULT)
-    return Path(xdg_home).expanduser() / CONFIG_SUBDIR / PRESETS_FILE
-
-
-def _preset_from_json(entry: Any, path: Path, index: int) -> CameraPreset:
-    """One preset object of a presets file; InputError naming the file and entry otherwise."""
-    where = f"{path}: preset #{index}"
-    if not isinstance(entry, dict):
-        raise InputError(f"{where}: expected an object, got {type(entry).__name__}")
-    if isinstance(entry.get("name"), str):
-        where += f" ({entry['name']!r})"
-    missing = [key for key in _PRESET_TYPES if key not in entry]
-    unknown = sorted(set(entry) - set(_PRESET_TYPES))
-    if missing or unknown:
-        raise InputError(f"{where}: missing fields {missing}, unknown fields {unknown}")
-    for key, types in _PRESET_TYPES.items():
-        value = entry[key]
-        if not isinstance(value, types) or (isinstance(value, bool) and bool not in types):
-            raise InputError(f"{where}: field {key!r} has the wrong type ({value!r})")
-    try:
-        return CameraPreset(**entry)
-    except ValueError as exc:
-        raise InputError(f"{where}: {exc}") from exc
-
-
-def _read_presets_file(path: Path) -> list[CameraPreset]:
-    """All presets of one file, in order; InputError naming the file when it is malformed."""
-    data = read_json(path, "camera presets")
-    if not isinstance(data, dict) or set(data) != {"schema_version", "presets"}:
-        raise InputError(f"{path}: expected an object with 'schema_version' and 'presets' only")
-    if data["schema_version"] != PRESETS_SCHEMA_VERSION:
-        raise InputError(
-            f"{path}: schema_version {data['schema_version']!r} is not supported "
-            f"(expected {PRESETS_SCHEMA_VERSION})"
-        )
-    if not isinstance(data["presets"], list):
-        raise InputError(f"{path}: 'presets' must be a list")
-    presets = [_preset_from_json(entry, path, i) for i, entry in enumerate(data["presets"])]
-    names = [preset.name for preset in presets]
-    duplicates = sorted({name for name in names if names.count(name) > 1})
-    if duplicates:
-        raise InputError(f"{path}: duplicate preset names {duplicates}")
-    return presets
-
-
-def load_presets(user_path: Path | None = None) -> dict[str, CameraPreset]:
-    """Bundled presets merged with the user's (``user_presets_path()`` by default).
-
-    User entries override bundled ones of the same name; a missing user file is no error.
-    """
-    user_path = user_presets_path() if user_path is None else user_path
-    presets = {p.name: p for p in _read_presets_file(resource_path(PRESETS_FILE))}
-    if user_path.exists():
-        presets.update((p.name, p) for p in _read_presets_file(user_path))
-    return presets
-
-
-def get_preset(name: str, user_path: Path | None = None) -> CameraPreset:
-    """The preset called ``name``; InputError listing the available names otherwise."""
-    presets = load_presets(user_path)
-    if name not in presets:
-        raise InputError(
-            f"unknown camera preset {name!r}; available: {', '.join(sorted(presets))}"
-        )
-    return presets[name]
-
-
-def save_user_preset(preset: CameraPreset, user_path: Path | None = None) -> Path:
-    """Add ``preset`` to the user presets file, replacing one of that name; returns the path.
-
-    The file is rewritten atomically (temporary file, then rename); a malformed existing file
-    raises InputError and is left untouched.
-    """
-    user_path = user_presets_path() if user_path is None else user_path
-    existing = _read_presets_file(user_path) if user_path.exists() else []
-    kept = [p for p in existing if p.name != preset.name]
-    data = {
-        "schema_version": PRESETS_SCHEMA_VERSION,
-        "presets": [asdict(p) for p in [*kept, preset]],
-    }
-    write_json(user_path, data)
-    return user_path
-

@@ -2,6 +2,7 @@
 
   dolphinfit bench render [--json] [--repeats N] [--quick]
   dolphinfit bench fit (--suite [--clips N] | --speed) [--json]
+  dolphinfit bench app [--repeats N] [--json]
 
 render: forward+backward time of the differentiable renderer per frame at the paper's setting
 (a full 720×480 frame) and for a batch of 256×256 ROI crops of 1920×1080 footage at 20 m,
@@ -16,14 +17,29 @@ refraction and without ROI crops: relative errors of volume, length and mass per
 median and worst. fit --speed: a 10 s, 25 fps, 1920×1080 clip fitted with the defaults: wall
 time, seconds of fit per second of video, time by stage, peak memory. Clips are rendered once
 into the cache.
+
+app: how long the desktop app takes from the command to the sample project's first frame on
+screen (``dolphinfit gui --sample --quit-when-shown``), beside the floor of an empty PySide6
+window in a fresh Python; min, median and max over --repeats runs. Needs a display (run it
+under xvfb-run on a server).
 """
 
 import argparse
 import json
+import os
+import statistics
 import sys
 
 from core.bench.fit_bench import bench_speed, bench_suite
 from core.bench.render_bench import RenderBench, bench_render, bench_to_json
+from core.bench.timing import command_seconds
+from core.errors import InputError
+
+# The floor of the app's start-up: Python, PySide6 and one empty window shown, then quit
+EMPTY_WINDOW = ("from PySide6.QtCore import QTimer\n"
+                "from PySide6.QtWidgets import QApplication, QMainWindow\n"
+                "app = QApplication([])\nwindow = QMainWindow()\nwindow.show()\n"
+                "QTimer.singleShot(0, app.quit)\napp.exec()\n")
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -39,10 +55,17 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     which.add_argument("--speed", action="store_true", help="speed on a 10 s clip")
     fit.add_argument("--clips", type=int, default=8, help="suite clips to use (1–8)")
     fit.add_argument("--json", action="store_true", help="one JSON object on stdout")
+    app = suites.add_parser("app", help="desktop app start-up against an empty Qt window")
+    app.add_argument("--repeats", type=int, default=5, help="timed runs of each command")
+    app.add_argument("--json", action="store_true", help="one JSON object on stdout")
 
 
 def run(args: argparse.Namespace) -> int:
     """Run the chosen benchmark and print its figures."""
+    if args.suite_name == "app":
+        figures = bench_app(max(1, args.repeats))
+        print(json.dumps(figures, indent=2) if args.json else format_app(figures))
+        return 0
     if args.suite_name == "fit":
         figures = (bench_suite(num_clips=max(1, min(args.clips, 8)), progress=_print_score)
                    if args.suite else bench_speed())
@@ -52,6 +75,36 @@ def run(args: argparse.Namespace) -> int:
     result = bench_render(repeats=max(1, args.repeats), quick=args.quick)
     print(json.dumps(bench_to_json(result), indent=2) if args.json else format_render(result))
     return 0
+
+
+def bench_app(repeats: int) -> dict:
+    """Start-up seconds of the app on the sample and of an empty window, and their ratio."""
+    if not (os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY")):
+        raise InputError("bench app needs a display: run it under xvfb-run -a")
+    from core.project.sample import ensure_sample_project
+    ensure_sample_project()  # rendered once, outside the timing
+    commands = {
+        "app_to_first_frame_s": [sys.executable, "-m", "app.cli", "gui", "--sample",
+                                 "--quit-when-shown"],
+        "empty_window_s": [sys.executable, "-c", EMPTY_WINDOW],
+    }
+    figures: dict = {"repeats": repeats}
+    for name, argv in commands.items():
+        times = command_seconds(argv, repeats)
+        figures[name] = {"min": min(times), "median": statistics.median(times),
+                         "max": max(times)}
+    figures["ratio_vs_empty_window"] = (figures["app_to_first_frame_s"]["median"]
+                                        / figures["empty_window_s"]["median"])
+    return figures
+
+
+def format_app(figures: dict) -> str:
+    """The start-up figures, one line each."""
+    lines = [f"{name:22s} min {t['min']:.2f} s  median {t['median']:.2f} s  "
+             f"max {t['max']:.2f} s" for name, t in figures.items() if isinstance(t, dict)]
+    lines.append(f"app / empty window: {figures['ratio_vs_empty_window']:.1f}× "
+                 f"({figures['repeats']} runs each)")
+    return "\n".join(lines)
 
 
 def _print_score(score) -> None:

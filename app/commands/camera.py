@@ -11,7 +11,7 @@ import json
 import math
 from dataclasses import asdict
 
-from core.camera import (
+from core.camera_presets import (
     DEFAULT_PRESET,
     CameraPreset,
     get_preset,

@@ -17,40 +17,31 @@ N Monte Carlo samples (0: none) over altitude, camera, digitisation and HW-ratio
 defaults by altitude source (laser 1 %, barometer 5 %, manual 10 %).
 
 Writes DIR/<name>_measure.json, DIR/<name>_mmx.csv (MorphoMetriX v2 long) and
-DIR/<name>_wide.csv (CollatriX / Xcertainty); DIR defaults to the input's folder.
+DIR/<name>_wide.csv (CollatriX / Xcertainty); DIR defaults to the input's folder. The records
+are built by core/measure/records.py, shared with the GUI.
 """
 
 import argparse
 import math
-from dataclasses import dataclass, fields, replace
+from dataclasses import fields, replace
 from pathlib import Path
 
 import numpy as np
 
 from core.errors import InputError
-from core.io.annotation_json import AnnotationFile, read_annotation_json
-from core.io.collatrix import wide_row, write_wide_csv
-from core.io.json_file import read_json, write_json
-from core.io.masks import read_masks
-from core.io.morphometrix import (
-    LENGTH_NAME, MorphoMetrixRecord, read_morphometrix, record_from_pixels,
-    write_morphometrix_v2,
-)
-from core.io.morphometrix import pixel_measurements as record_pixels
-from core.measure.annotation import (
-    ALTITUDE_SOURCES, PixelMeasurements, pixel_measurements, place_stations, suggest_edges,
-)
-from core.measure.baseline import (
-    SUMMARISED, BaselineEstimate, BaselineSettings, estimate_baseline,
-)
+from core.io.annotation_json import read_annotation_json
+from core.measure.annotation import ALTITUDE_SOURCES
+from core.measure.baseline import BaselineEstimate, BaselineSettings, estimate_baseline
 from core.measure.condition import MassModel
 from core.measure.elliptical import TAIL_EXTRAPOLATED, TAIL_OPTIONS
 from core.measure.hw_ratios import DEFAULT_PRESET, FROM_MODEL, resolve_hw
+from core.measure.records import (
+    MeasureInput, annotated_frame_mask, default_error_model, default_image_id,
+    mass_model_from_json, measured_image_from_annotation, measured_image_from_morphometrix,
+    result_record, with_mask_widths, write_exports,
+)
 from core.measure.uncertainty import DEFAULT_NUM_DRAWS, ErrorModel
-from core.model.profile import STATION_FRACTIONS
 
-RESULT_SCHEMA_VERSION = 1
-MMX_ALTITUDE_SOURCE = "manual"  # MorphoMetriX altitudes are typed in; the source is unknown
 ROWS = (  # printed quantity, unit, format
     ("length_m", "m", ".3f"), ("volume_m3", "m³", ".4f"), ("volume_circular_m3", "m³", ".4f"),
     ("bai", "", ".2f"), ("bci", "", "+.3f"), ("mass_kg", "kg", ".1f"),
@@ -89,40 +80,24 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                              f"({', '.join(f.name for f in fields(MassModel))})")
 
 
-@dataclass(frozen=True)
-class MeasureInput:
-    """An input file brought to pixels, calibration and export metadata."""
-
-    pixels: PixelMeasurements
-    record: MorphoMetrixRecord      # metadata and measurements as exported
-    focal_px: float
-    altitude_source: str
-    is_camera_approximate: bool
-    notes: list[str]                # printed above the table
-    image_width_px: int | None = None   # Xcertainty's Iw, Sw and uas (annotations only)
-    sensor_width_mm: float | None = None
-    uas: str = ""
-
-
 def run(args: argparse.Namespace) -> int:
     """Measure, print the table and write the exports."""
     _check_options(args)
     source = (_from_annotation(args) if args.input.suffix.lower() == ".json"
               else _from_morphometrix(args))
-    settings = BaselineSettings(hw=resolve_hw(args.hw), tail=args.tail,
-                                mass_model=_mass_model(args.mass_model))
+    mass_model = (MassModel() if args.mass_model is None
+                  else mass_model_from_json(args.mass_model))
+    settings = BaselineSettings(hw=resolve_hw(args.hw), tail=args.tail, mass_model=mass_model)
     try:
         estimate = estimate_baseline(source.pixels, source.focal_px, source.record.altitude_m,
                                      settings, _error_model(args, source), args.mc,
                                      np.random.default_rng(args.seed))
     except ValueError as exc:
         raise InputError(f"{args.input}: {exc}") from exc
-    result = {"schema_version": RESULT_SCHEMA_VERSION, "input": str(args.input),
-              "altitude_m": source.record.altitude_m, "altitude_source": source.altitude_source,
-              "focal_px": source.focal_px, "seed": args.seed, **estimate.to_json()}
+    result = result_record(source, estimate, input_name=str(args.input), seed=args.seed)
     print(format_report(args.input, source, estimate, result))
     out_dir = args.out if args.out is not None else args.input.parent
-    for path in _write_exports(out_dir / args.input.stem, source, estimate, result):
+    for path in write_exports(out_dir / args.input.stem, source, estimate, result):
         print(f"wrote {path}")
     return 0
 
@@ -142,99 +117,40 @@ def _check_options(args: argparse.Namespace) -> None:
 
 
 def _from_annotation(args: argparse.Namespace) -> MeasureInput:
-    """Pixels and metadata of an annotation file (widths from a mask if asked)."""
+    """An annotation file with the altitude options applied (widths from a mask if asked)."""
     doc = read_annotation_json(args.input)
-    calibration = doc.calibration
     if args.altitude_m is not None or args.altitude_source is not None:
-        calibration = replace(calibration,
-                              altitude_m=args.altitude_m or calibration.altitude_m,
-                              altitude_source=args.altitude_source or calibration.altitude_source)
-    annotation = doc.annotation
+        calibration = doc.calibration
+        doc = replace(doc, calibration=replace(
+            calibration, altitude_m=args.altitude_m or calibration.altitude_m,
+            altitude_source=args.altitude_source or calibration.altitude_source))
+    notes = []
     if args.from_mask is not None:
-        mask = _frame_mask(args.from_mask, annotation.frame_idx,
-                           calibration.camera.image_height_px, calibration.camera.image_width_px)
-        edges = suggest_edges(mask, place_stations(annotation.midline_px))
-        annotation = replace(annotation, edges_px=edges)
-    pixels = pixel_measurements(annotation)
-    camera = calibration.camera
-    record = record_from_pixels(
-        pixels, image_id=_image_id(doc, args.input), image_path=doc.media_path,
-        focal_mm=camera.focal_mm, pixel_dimension_mm=camera.sensor_width_mm
-        / camera.image_width_px, altitude_m=calibration.altitude_m,
-        mirror_side=annotation.mirror_side, notes=doc.notes)
-    return MeasureInput(
-        pixels=pixels, record=record, focal_px=calibration.focal_px,
-        altitude_source=calibration.altitude_source, is_camera_approximate=camera.approximate,
-        notes=[f"frame {annotation.frame_idx}, camera {calibration.preset_name or 'explicit'}"
-               f" (focal {calibration.focal_px:.1f} px)"]
-        + ([f"widths from the mask {args.from_mask}"] if args.from_mask else []),
-        image_width_px=camera.image_width_px, sensor_width_mm=camera.sensor_width_mm,
-        uas=calibration.preset_name or "")
-
-
-def _image_id(doc: AnnotationFile, path: Path) -> str:
-    return doc.image_id or f"{path.stem} frame {doc.annotation.frame_idx}"
+        doc = with_mask_widths(doc, annotated_frame_mask(args.from_mask, doc))
+        notes.append(f"widths from the mask {args.from_mask}")
+    return measured_image_from_annotation(doc, image_id=default_image_id(doc, args.input),
+                                          notes=notes)
 
 
 def _from_morphometrix(args: argparse.Namespace) -> MeasureInput:
-    """Pixels and metadata of a MorphoMetriX CSV."""
+    """A MorphoMetriX CSV with the altitude options applied."""
     if args.from_mask is not None:
         raise InputError("--from-mask needs an annotation (.json) with a midline")
-    record = read_morphometrix(args.input)
-    pixels = record_pixels(record, args.input)
-    if args.altitude_m is not None:
-        record = replace(record, altitude_m=args.altitude_m)
-    notes = [f"MorphoMetriX v{record.version} file, focal {record.focal_px:.1f} px"]
+    source = measured_image_from_morphometrix(args.input, altitude_m=args.altitude_m,
+                                              altitude_source=args.altitude_source)
     if args.altitude_source is None:
-        notes.append(f"altitude source unknown: taken as {MMX_ALTITUDE_SOURCE} "
-                     f"(use --altitude-source)")
-    if record.version == 1:
-        notes.append("v1 files hold metres rounded to cm only: pixels derived from them")
-    if pixels.is_mirrored:
-        notes.append("mirror-side widths: MorphoMetriX v2 may store one side undoubled; check")
-    exported = record_from_pixels(
-        pixels, image_id=record.image_id, image_path=record.image_path,
-        focal_mm=record.focal_mm, pixel_dimension_mm=record.pixel_dimension_mm,
-        altitude_m=record.altitude_m, mirror_side=record.mirror_side, notes=record.notes)
-    return MeasureInput(pixels=pixels, record=exported, focal_px=record.focal_px,
-                        altitude_source=args.altitude_source or MMX_ALTITUDE_SOURCE,
-                        is_camera_approximate=False, notes=notes)
-
-
-def _frame_mask(path: Path, frame_idx: int, height_px: int, width_px: int) -> np.ndarray:
-    """(H, W) bool mask of the annotated frame from a mask source (core.io.masks formats)."""
-    track = read_masks(path)
-    if (track.height_px, track.width_px) != (height_px, width_px):
-        raise InputError(f"{path}: masks are {track.width_px}×{track.height_px} px but the "
-                         f"camera's frames are {width_px}×{height_px} px")
-    if not (0 <= frame_idx < track.num_frames and track.is_visible[frame_idx]):
-        raise InputError(f"{path}: no dolphin in the mask of frame {frame_idx}")
-    return track.mask(frame_idx)
-
-
-def _mass_model(path: Path | None) -> MassModel:
-    """Mass-model constants: the paper's, overridden by a JSON object's entries."""
-    if path is None:
-        return MassModel()
-    data = read_json(path, "the mass model")
-    names = {f.name for f in fields(MassModel)}
-    if not isinstance(data, dict) or not set(data) <= names:
-        raise InputError(f"{path}: expected an object with keys among {', '.join(sorted(names))}")
-    if "bci_fit_range" in data:
-        data["bci_fit_range"] = tuple(data["bci_fit_range"])
-    try:
-        return MassModel(**data)
-    except (TypeError, ValueError) as exc:
-        raise InputError(f"{path}: {exc}") from exc
+        source = replace(source, notes=[*source.notes,
+                                        "set the altitude source with --altitude-source"])
+    return source
 
 
 def _error_model(args: argparse.Namespace, source: MeasureInput) -> ErrorModel:
     """Defaults by altitude source and camera, overridden by the options given."""
-    errors = ErrorModel.default(source.altitude_source, source.is_camera_approximate)
     overrides = {name: getattr(args, name) for name in
                  ("altitude_sd_fraction", "focal_sd_fraction", "digitisation_sd_px")
                  if getattr(args, name) is not None}
-    return replace(errors, **overrides)
+    return default_error_model(source.altitude_source, source.is_camera_approximate,
+                               **overrides)
 
 
 def format_report(path: Path, source: MeasureInput, estimate: BaselineEstimate,
@@ -263,34 +179,3 @@ def format_report(path: Path, source: MeasureInput, estimate: BaselineEstimate,
                   for name, r in estimate.budget.items()]
     lines += [f"warning: {text}" for text in result["warnings"]]
     return "\n".join(lines)
-
-
-def _write_exports(stem: Path, source: MeasureInput, estimate: BaselineEstimate,
-                   result: dict) -> list[Path]:
-    """Write STEM_measure.json, STEM_mmx.csv (MorphoMetriX v2) and STEM_wide.csv."""
-    paths = [stem.with_name(f"{stem.name}{suffix}")
-             for suffix in ("_measure.json", "_mmx.csv", "_wide.csv")]
-    write_json(paths[0], result)
-    write_morphometrix_v2(paths[1], source.record)
-    write_wide_csv(paths[2], [wide_row(
-        source.record, image=paths[1].name, altitude_source=source.altitude_source,
-        image_width_px=source.image_width_px, sensor_width_mm=source.sensor_width_mm,
-        uas=source.uas, extras=_result_columns(estimate, result))])
-    return paths
-
-
-def _result_columns(estimate: BaselineEstimate, result: dict) -> dict[str, object]:
-    """Wide-CSV result columns: HW ratios used (CollatriX names), values and intervals."""
-    ratios, _ = estimate.settings.hw.completed()
-    columns: dict[str, object] = {f"{LENGTH_NAME}_ratio{pct:.2f}": float(r)
-                                  for pct, r in zip(STATION_FRACTIONS * 100, ratios)}
-    columns.update({"tail": estimate.settings.tail, "hw_ratios": estimate.settings.hw.name})
-    if estimate.settings.tail == TAIL_EXTRAPOLATED:
-        columns["BVell_5perc"] = result["volume_m3"]  # CollatriX's elliptical volume, same method
-    for name in SUMMARISED:
-        columns[name] = result[name]
-        if estimate.interval is not None:
-            s = getattr(estimate.interval, name)
-            columns.update({f"{name}_sd": float(s.sd), f"{name}_lo95": float(s.low),
-                            f"{name}_hi95": float(s.high)})
-    return columns

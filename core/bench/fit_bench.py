@@ -18,7 +18,8 @@ from core.bench.timing import run_with_peak_rss_mb
 from core.fit.config import FitConfig
 from core.fit.pipeline import CameraChoice, run_fit
 from core.io.json_file import read_json
-from core.synth.clip import ClipFiles, clip_files, make_clip
+from core.synth.clip import make_clip
+from core.synth.files import ClipFiles, clip_files
 from core.synth.config import SynthConfig
 from core.synth.sample import cache_dir
 

@@ -22,7 +22,8 @@ import numpy as np
 import torch
 
 from core.bench.timing import median_ms, peak_rss_mb_of
-from core.camera import CameraIntrinsics, NadirCamera
+from core.camera import NadirCamera
+from core.intrinsics import CameraIntrinsics
 from core.fit.losses import soft_iou_loss
 from core.model.model import DolphinModel
 from core.model.template import load_template

@@ -4,7 +4,7 @@ import json
 import subprocess
 import sys
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 
 
 def median_ms(run: Callable[[], object], repeats: int, warmup: int = 1) -> float:
@@ -63,3 +63,19 @@ def peak_rss_mb_of(module: str, function: str, *args: object) -> float:
     out = subprocess.run([sys.executable, "-c", code, json.dumps(list(args))],
                          capture_output=True, text=True, check=True)
     return float(json.loads(out.stdout.strip().splitlines()[-1]))
+
+
+def command_seconds(argv: Sequence[str], repeats: int) -> list[float]:
+    """Wall time (s) of each of ``repeats`` runs of the command ``argv``, start to exit.
+
+    Raises RuntimeError with the command's error output when a run fails.
+    """
+    times = []
+    for _ in range(repeats):
+        start = time.perf_counter()
+        done = subprocess.run(list(argv), capture_output=True, text=True)
+        times.append(time.perf_counter() - start)
+        if done.returncode != 0:
+            raise RuntimeError(f"{' '.join(argv)} exited {done.returncode}: "
+                               f"{done.stderr.strip()[-500:]}")
+    return times

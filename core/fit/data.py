@@ -14,7 +14,8 @@ import cv2
 import numpy as np
 import torch
 
-from core.camera import CameraIntrinsics, NadirCamera
+from core.camera import NadirCamera
+from core.intrinsics import CameraIntrinsics
 from core.errors import InputError
 from core.fit.config import FitConfig
 from core.io.masks import MaskTrack

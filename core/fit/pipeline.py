@@ -8,7 +8,8 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 
-from core.camera import DEFAULT_PRESET, CameraIntrinsics, get_preset
+from core.intrinsics import CameraIntrinsics
+from core.camera_presets import DEFAULT_PRESET, get_preset
 from core.errors import InputError
 from core.fit.config import FitConfig
 from core.fit.data import FitData, prepare_data

@@ -17,7 +17,7 @@ Schema version 1::
       "notes": ""
     }
 
-``camera`` is either a preset name (resolved through core.camera, so correcting a preset
+``camera`` is either a preset name (resolved through core.camera_presets, so correcting a preset
 corrects every annotation using it) or explicit ``focal_mm``, ``sensor_width_mm``,
 ``image_width_px`` and ``image_height_px``. ``altitude.source`` is laser, barometer or manual.
 ``midline_px`` runs from the rostrum tip to the fluke notch. ``stations`` lists the 19 stations
@@ -32,16 +32,15 @@ from typing import Any
 
 import numpy as np
 
-from core.camera import CameraPreset, get_preset
+from core.camera_presets import CameraPreset, get_preset
 from core.errors import InputError
-from core.io.json_file import read_json, write_json
+from core.io.json_file import check_schema_version, read_json, write_json
 from core.measure.annotation import (
-    ALTITUDE_SOURCES, NUM_STATIONS, SIDES, Annotation, Calibration,
+    ALTITUDE_SOURCES, SIDES, Annotation, Calibration,
 )
-from core.model.profile import STATION_FRACTIONS
+from core.measure.stations import NUM_STATIONS, STATION_PCT
 
 SCHEMA_VERSION = 1
-STATION_PCT = [round(float(p) * 100, 6) for p in STATION_FRACTIONS]
 SIDE_KEYS = ("side_a_px", "side_b_px")
 EXPLICIT_CAMERA_KEYS = ("focal_mm", "sensor_width_mm", "image_width_px", "image_height_px")
 TOP_KEYS = {"schema_version", "image", "camera", "altitude", "midline_px", "mirror_side",
@@ -101,7 +100,7 @@ def _stations(data: Any, mirror_side: str | None, where: str) -> np.ndarray:
         raise InputError(f"{where}: expected a list of the {NUM_STATIONS} stations")
     edges = np.full((NUM_STATIONS, 2, 2), np.nan)
     needed = SIDE_KEYS if mirror_side is None else (SIDE_KEYS[SIDES.index(mirror_side)],)
-    for idx, (entry, pct) in enumerate(zip(data, STATION_PCT)):
+    for idx, (entry, pct) in enumerate(zip(data, STATION_PCT.tolist())):
         at = f"{where}[{idx}]"
         if _field(entry, "station_pct", (int, float), at) != pct:
             raise InputError(f"{at}: station_pct {entry['station_pct']!r}, expected {pct:g} "
@@ -119,11 +118,7 @@ def _stations(data: Any, mirror_side: str | None, where: str) -> np.ndarray:
 
 def annotation_from_json(data: Any, where: str) -> AnnotationFile:
     """Parse the JSON object of an annotation file; ``where`` names it in errors."""
-    if not isinstance(data, dict):
-        raise InputError(f"{where}: expected a JSON object")
-    if data.get("schema_version") != SCHEMA_VERSION:
-        raise InputError(f"{where}: schema_version {data.get('schema_version')!r} is not "
-                         f"supported (expected {SCHEMA_VERSION})")
+    check_schema_version(data, SCHEMA_VERSION, where)
     unknown = sorted(set(data) - TOP_KEYS)
     if unknown:
         raise InputError(f"{where}: unknown keys {unknown}")
@@ -163,7 +158,7 @@ def annotation_to_json(doc: AnnotationFile) -> dict[str, Any]:
               else {key: getattr(cal.camera, key) for key in EXPLICIT_CAMERA_KEYS})
     needed = [0, 1] if ann.mirror_side is None else [SIDES.index(ann.mirror_side)]
     stations = []
-    for pct, sides in zip(STATION_PCT, ann.edges_px):
+    for pct, sides in zip(STATION_PCT.tolist(), ann.edges_px):
         entry: dict[str, Any] = {"station_pct": pct}
         if np.isnan(sides[needed]).any():
             entry["skipped"] = True

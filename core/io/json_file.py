@@ -30,6 +30,15 @@ def write_json(path: Path, data: Any) -> None:
         tmp.write_text(json.dumps(data, indent=2, ensure_ascii=False) + "\n", encoding="utf-8")
 
 
+def check_schema_version(data: Any, version: int, where: str) -> None:
+    """InputError naming ``where`` unless ``data`` is an object of schema ``version``."""
+    if not isinstance(data, dict):
+        raise InputError(f"{where}: expected a JSON object")
+    if data.get("schema_version") != version:
+        raise InputError(f"{where}: schema_version {data.get('schema_version')!r} is not "
+                         f"supported (expected {version})")
+
+
 def dataclass_from_json(cls: type[T], data: Any, what: str) -> T:
     """Rebuild dataclass ``cls`` from its ``asdict`` JSON: nested dataclasses and tuples come
     back as such; unknown keys raise InputError naming ``what``."""

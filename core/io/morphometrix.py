@@ -30,7 +30,7 @@ from core.errors import InputError
 from core.io.atomic import atomic_path
 from core.io.text_input import cell_number, read_text
 from core.measure.annotation import PixelMeasurements
-from core.model.profile import STATION_FRACTIONS
+from core.measure.stations import STATION_PCT
 
 LENGTH_NAME = "TL"  # MorphoMetriX / CollatriX name of total length (rostrum tip to fluke notch)
 V2_HEADER = ["Object", "Value", "Value_unit"]
@@ -45,7 +45,6 @@ METADATA_FIELDS = {"Image ID": "image_id", "Image Path": "image_path",
 NUMERIC_FIELDS = ("focal_mm", "altitude_m", "pixel_dimension_mm")
 WIDTH_NAME = re.compile(r"^(?P<length>.+)_w(?P<pct>\d+(?:\.\d*)?)$")
 V1_WIDTH_HEADER = re.compile(r"^(?P<pct>\d+(?:\.\d*)?)\s*%\s*Width$")
-STATION_PCT = np.round(STATION_FRACTIONS * 100, 6)
 
 
 @dataclass(frozen=True)

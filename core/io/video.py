@@ -17,24 +17,20 @@ serial: give each worker its own reader to decode in parallel.
 """
 
 import threading
-from collections import OrderedDict
-from collections.abc import Iterable, Iterator
 from dataclasses import dataclass
 from pathlib import Path
-from types import TracebackType
-from typing import Self
 
 import cv2
 import numpy as np
 
 from core.errors import InputError
+from core.io.frame_source import DEFAULT_CACHE_BYTES, FrameCache, FrameSource
 
 # FFmpeg's interrupt callback aborts opening or reading after this long, so a bogus or
 # unreachable file cannot hang (the timeouts are capture parameters of OpenCV's FFmpeg back-end).
 OPEN_TIMEOUT_MS = 10_000
 READ_TIMEOUT_MS = 10_000
 
-DEFAULT_CACHE_BYTES = 512 * 2**20  # ~20 decoded 4K frames or ~90 at 1080p: smooth scrubbing
 # A jump forward of up to this many frames decodes forward instead of seeking: a seek decodes
 # from the preceding keyframe anyway, and camera GOPs are 12–60 frames long.
 MAX_DECODE_FORWARD = 16
@@ -170,35 +166,22 @@ def crop_roi(frame: np.ndarray, x0_px: int, y0_px: int, width_px: int, height_px
     return out
 
 
-class VideoReader:
+class VideoReader(FrameSource):
     """Exact frame access to one clip, with a bounded least-recently-used frame cache.
 
     ``reader[k]`` or ``reader.frame(k)`` gives frame k as (H, W, 3) uint8 RGB, read-only.
     ``len(reader)`` is the clip's frame count. Use as a context manager, or call ``close``.
     """
 
+    kind = "video"
+
     def __init__(self, clip: Clip | Path | str, cache_bytes: int = DEFAULT_CACHE_BYTES) -> None:
         self.clip = clip if isinstance(clip, Clip) else open_clip(clip)
-        frame_bytes = self.clip.width_px * self.clip.height_px * 3
-        self._cache_frames = max(1, cache_bytes // frame_bytes)
-        self._cache: OrderedDict[int, np.ndarray] = OrderedDict()
+        self._cache = FrameCache(cache_bytes, self.clip.width_px * self.clip.height_px * 3)
         self._lock = threading.Lock()
         self._seek_is_exact = True
         self._capture = _open_capture(self.clip.path)
         self._next_idx = 0  # the frame that the capture's next read returns
-
-    def __len__(self) -> int:
-        return self.clip.num_frames
-
-    def __getitem__(self, frame_idx: int) -> np.ndarray:
-        return self.frame(frame_idx)
-
-    def __enter__(self) -> Self:
-        return self
-
-    def __exit__(self, exc_type: type[BaseException] | None, exc: BaseException | None,
-                 traceback: TracebackType | None) -> None:
-        self.close()
 
     def close(self) -> None:
         """Release the decoder and drop the cache."""
@@ -212,27 +195,14 @@ class VideoReader:
         return self._seek_is_exact
 
     def frame(self, frame_idx: int) -> np.ndarray:
-        """Frame ``frame_idx`` (0-based) as (H, W, 3) uint8 RGB, read-only."""
-        frame_idx = int(frame_idx)
-        if not 0 <= frame_idx < self.clip.num_frames:
-            raise IndexError(f"{self.clip.path}: frame {frame_idx} is outside the clip "
-                             f"(0…{self.clip.num_frames - 1})")
-        with self._lock:
-            cached = self._cache.get(frame_idx)
-            if cached is not None:
-                self._cache.move_to_end(frame_idx)
-                return cached
-            rgb = cv2.cvtColor(self._decode(frame_idx), cv2.COLOR_BGR2RGB)
-            rgb.flags.writeable = False
-            self._cache[frame_idx] = rgb
-            if len(self._cache) > self._cache_frames:
-                self._cache.popitem(last=False)
-            return rgb
+        """Frame ``frame_idx`` (0-based) as (H, W, 3) uint8 RGB, read-only.
 
-    def frames(self, frame_idx: Iterable[int]) -> Iterator[tuple[int, np.ndarray]]:
-        """(index, frame) for each index in order; ascending indices decode without seeking."""
-        for idx in frame_idx:
-            yield int(idx), self.frame(idx)
+        Ascending indices (``frames``) decode without seeking.
+        """
+        frame_idx = self._checked_index(frame_idx)
+        with self._lock:
+            return self._cache.get_or_load(
+                frame_idx, lambda idx: cv2.cvtColor(self._decode(idx), cv2.COLOR_BGR2RGB))
 
     def roi(self, frame_idx: int, x0_px: int, y0_px: int, width_px: int,
             height_px: int) -> np.ndarray:

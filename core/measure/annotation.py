@@ -27,10 +27,9 @@ from scipy.integrate import cumulative_simpson
 from scipy.interpolate import CubicSpline
 from scipy.ndimage import map_coordinates
 
-from core.camera import CameraPreset
-from core.model.profile import STATION_FRACTIONS
+from core.camera_presets import CameraPreset
+from core.measure.stations import NUM_STATIONS, STATION_FRACTIONS
 
-NUM_STATIONS = len(STATION_FRACTIONS)  # S = 19: 5 %, 10 %, … 95 % of body length (DESIGN §1)
 SIDES = ("A", "B")
 ALTITUDE_SOURCES = ("laser", "barometer", "manual")  # recorded with the result (DESIGN §8)
 

@@ -18,10 +18,10 @@ from core.measure.elliptical import (
     measure_elliptical,
 )
 from core.measure.hw_ratios import HWRatios
+from core.measure.stations import STATION_PCT
 from core.measure.uncertainty import (
     ErrorModel, MonteCarloResult, Summary, monte_carlo, uncertainty_budget,
 )
-from core.model.profile import STATION_FRACTIONS
 
 # Scalar outputs summarised in the JSON's "uncertainty" (MonteCarloResult field names)
 SUMMARISED = ("length_m", "volume_m3", "volume_circular_m3", "bai", "bci", "mass_kg")
@@ -65,7 +65,7 @@ class BaselineEstimate:
         if self.settings.tail != TAIL_EXTRAPOLATED and hw.carries_tail_ratio:
             notes.append("no HW data at 90 % and 95 %: the 85 % ratio is carried (provisional)")
         if self.is_filled.any():
-            pct = ", ".join(f"{p:g} %" for p in STATION_FRACTIONS[self.is_filled] * 100)
+            pct = ", ".join(f"{p:g} %" for p in STATION_PCT[self.is_filled])
             notes.append(f"stations not measured, filled by linear interpolation: {pct}")
         if bool(self.point.condition.is_outside_fit_range):
             low, high = self.settings.mass_model.bci_fit_range
@@ -78,12 +78,12 @@ class BaselineEstimate:
         p, c = self.point, self.point.condition
         ratios, _ = self.settings.hw.completed()
         stations = [{
-            "station_pct": round(float(frac) * 100, 6),
+            "station_pct": pct,
             "width_px": None if np.isnan(w_px) else float(w_px),
             "width_m": float(w_m), "height_m": float(h_m), "hw_ratio": float(ratio),
             "is_filled": bool(filled),
-        } for frac, w_px, w_m, h_m, ratio, filled in zip(
-            STATION_FRACTIONS, self.measured.widths_px, p.widths_m, p.heights_m, ratios,
+        } for pct, w_px, w_m, h_m, ratio, filled in zip(
+            STATION_PCT.tolist(), self.measured.widths_px, p.widths_m, p.heights_m, ratios,
             self.is_filled)]
         hw = self.settings.hw
         return {

@@ -18,7 +18,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from core.measure.condition import BodyCondition, MassModel, body_condition
-from core.model.profile import STATION_FRACTIONS
+from core.measure.stations import STATION_FRACTIONS
 
 SEGMENT_FRACTION = 0.05  # Δx / BL: 20 segments (DESIGN §7)
 TAIL_MEASURED = "measured"

@@ -18,20 +18,16 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
-import torch
 
 from core.errors import InputError
 from core.io.text_input import cell_number, read_text
 from core.measure.elliptical import TAIL_IDX, TAIL_SOURCE_IDX
-from core.measure.mesh import station_profile
-from core.model.profile import STATION_FRACTIONS
-from core.model.template import Template, load_template
+from core.measure.stations import STATION_PCT
 from core.resources import RESOURCES_DIR
 
 PRESETS_DIR = RESOURCES_DIR / "hw_ratios"
 DEFAULT_PRESET = "tursiops-provisional"
 FROM_MODEL = "model"  # the --hw value that takes the ratios from the 3D model
-STATION_PCT = np.round(STATION_FRACTIONS * 100, 6)
 REQUIRED_COLUMNS = ("station_pct", "hw_ratio")
 SD_COLUMN = "hw_ratio_sd"
 HEADER_KEYS = ("name", "description", "source", "provisional")
@@ -130,36 +126,11 @@ def load_hw_preset(name: str = DEFAULT_PRESET) -> HWRatios:
     return read_hw_csv(path)
 
 
-def hw_from_mesh(verts: np.ndarray, rings: np.ndarray, name: str, source: str,
-                 is_provisional: bool) -> HWRatios:
-    """HW ratios of a body mesh at its station rings (fins excluded), with no stated SD.
-
-    verts: (V, 3) float metres; rings: (S, R) int64 station rings (see
-    core.measure.mesh.station_profile).
-    """
-    profile = station_profile(torch.as_tensor(verts, dtype=torch.float64),
-                              torch.as_tensor(rings))
-    ratios = (profile.height / profile.width).numpy()
-    return HWRatios(name=name, ratios=ratios, sd=np.zeros_like(ratios), source=source,
-                    is_provisional=is_provisional)
-
-
-def hw_from_template(template: Template | None = None) -> HWRatios:
-    """HW ratios of the procedural template's rest mesh (the bundled one by default).
-
-    Provisional: the template's profile follows the provisional trends of
-    reference/morphometrics.md §4. A fitted mesh goes through :func:`hw_from_mesh`.
-    """
-    template = load_template() if template is None else template
-    return hw_from_mesh(template.verts, template.station_rings, name=FROM_MODEL,
-                        source="station heights / widths of the dolphinfit template mesh "
-                               "(core/model, built from the provisional trends of "
-                               "reference/morphometrics.md §4)", is_provisional=True)
-
-
 def resolve_hw(spec: str) -> HWRatios:
     """``--hw`` value → table: "model" (the template), a CSV path, or a preset name."""
     if spec == FROM_MODEL:
+        # The model's table needs the mesh stack (torch); preset and CSV tables never load it.
+        from core.measure.hw_from_model import hw_from_template
         return hw_from_template()
     path = Path(spec)
     if path.suffix.lower() == ".csv" or path.exists():

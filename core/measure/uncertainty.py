@@ -31,7 +31,7 @@ from core.measure.annotation import PixelMeasurements
 from core.measure.condition import MassModel
 from core.measure.elliptical import BAI_RANGE, EllipticalResult, measure_elliptical
 from core.measure.hw_ratios import HWRatios
-from core.model.profile import STATION_FRACTIONS
+from core.measure.stations import STATION_FRACTIONS
 
 # Altitude error, relative SD by source. Provisional defaults; calibrate per drone and flight
 # where possible (Bierlich et al. 2021a, Xcertainty).

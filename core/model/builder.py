@@ -9,13 +9,14 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from core.measure.stations import STATION_FRACTIONS
 from core.model.body import (
     RING_SIZE, VENTRAL, BodyTube, body_faces, build_body, mirrored_quad, ring_angles_deg,
 )
 from core.model.fins import (
     DORSAL_FIN, FLIPPER, FLUKE, FinSpec, fin_frame, layer_positions, strip_faces,
 )
-from core.model.profile import STATION_FRACTIONS, ring_fractions, station_rows
+from core.model.profile import ring_fractions, station_rows
 from core.model.skeleton import (
     JOINTS, ROOT_T, fin_weights, group_names, joint_index, spine_weights,
 )

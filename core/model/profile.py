@@ -13,6 +13,8 @@ band the paper's data allow (§3.1: BV_exp / BL³ = 0.0122 at 2.6 m).
 import numpy as np
 from scipy.interpolate import PchipInterpolator
 
+from core.measure.stations import STATION_FRACTIONS
+
 # Width / BL at t (morphometrics.md §4 table, with a rounded rostrum tip and a tail cone
 # towards the notch added here).
 _WIDTH_T = (0.0, 0.002, 0.006, 0.015, 0.035, 0.05, 0.07, 0.10, 0.15, 0.20, 0.25, 0.30, 0.35, 0.40,
@@ -35,8 +37,6 @@ _LIFT_V = (0.0, 0.15, 0.30, 0.28, 0.12, 0.0, 0.0)
 _width = PchipInterpolator(_WIDTH_T, np.asarray(_WIDTH_V) * WIDTH_SCALE)
 _hw = PchipInterpolator(_HW_T, _HW_V)
 _lift = PchipInterpolator(_LIFT_T, _LIFT_V)
-
-STATION_FRACTIONS = np.arange(1, 20) * 0.05  # 5 %, 10 %, … 95 % of BL (DESIGN.md §1)
 
 # Ring positions (fractions of BL). Every 1/80 BL between 5 % and 95 % so that each
 # station is a ring; finer near the rounded rostrum tip and the tail cone.

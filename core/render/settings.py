@@ -16,7 +16,7 @@ from dataclasses import dataclass
 
 import torch
 
-from core.camera import CameraIntrinsics
+from core.intrinsics import CameraIntrinsics
 
 # The paper's DIB-R settings (arXiv 2504.15782, appendix; reference/rendering.md §3.2).
 PAPER_SIGMA_INV = 1e5

@@ -10,8 +10,8 @@ import cv2
 import numpy as np
 import torch
 
-from core.camera import CameraIntrinsics
 from core.errors import InputError
+from core.intrinsics import CameraIntrinsics
 from core.io.json_file import write_json
 from core.measure.condition import body_condition
 from core.measure.mesh import body_length, mesh_volume
@@ -23,14 +23,13 @@ from core.synth.compose import (
     VISIBLE_CONTRAST, composite, finish, layer_mask, render_layer, ripple,
 )
 from core.synth.config import SynthConfig
+from core.synth.files import LOSSLESS_CODEC, LOSSY_CODEC, ClipFiles, clip_files
 from core.synth.motion import swim
 from core.synth.sea import Sea
 from core.synth.shape import random_betas, subdivide, warp_profiles
 from core.synth.telemetry import write_altitude, write_dji_srt
 
 TRUTH_SCHEMA_VERSION = 1
-LOSSY_CODEC = ("mp4v", ".mp4")       # OpenCV's writable lossy codec (reference/platform.md §5)
-LOSSLESS_CODEC = ("FFV1", ".mkv")
 
 
 @dataclass(frozen=True)
@@ -39,17 +38,6 @@ class SynthProgress:
 
     frame: int
     num_frames: int
-
-
-@dataclass(frozen=True)
-class ClipFiles:
-    """Where a synthetic clip's files are."""
-
-    video: Path
-    masks_dir: Path
-    altitude_csv: Path
-    srt: Path
-    truth_json: Path
 
 
 def make_clip(config: SynthConfig, out_dir: Path,
@@ -110,14 +98,6 @@ def make_clip(config: SynthConfig, out_dir: Path,
     write_dji_srt(files.srt, motion.time_s, altitude, config.fps, config.launch_height_m)
     _write_truth(files.truth_json, config, model, betas, motion, altitude, visible)
     return files
-
-
-def clip_files(out_dir: Path, config: SynthConfig) -> ClipFiles:
-    """The file names of a clip made from ``config`` in ``out_dir``."""
-    suffix = (LOSSY_CODEC if config.effects.compression else LOSSLESS_CODEC)[1]
-    return ClipFiles(video=out_dir / f"clip{suffix}", masks_dir=out_dir / "masks",
-                     altitude_csv=out_dir / "altitude.csv", srt=out_dir / "clip.SRT",
-                     truth_json=out_dir / "truth.json")
 
 
 def _open_writer(path: Path, config: SynthConfig) -> cv2.VideoWriter:

@@ -15,7 +15,8 @@ import numpy as np
 import torch
 import torch.nn.functional as F
 
-from core.camera import N_WATER, CameraIntrinsics, NadirCamera
+from core.camera import N_WATER, NadirCamera
+from core.intrinsics import CameraIntrinsics
 from core.render.render import Appearance, render
 from core.render.settings import Viewport
 

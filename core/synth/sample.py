@@ -10,9 +10,13 @@ import json
 import os
 from collections.abc import Callable
 from pathlib import Path
+from typing import TYPE_CHECKING
 
-from core.synth.clip import ClipFiles, SynthProgress, clip_files, make_clip
 from core.synth.config import SynthConfig
+from core.synth.files import ClipFiles, clip_files
+
+if TYPE_CHECKING:
+    from core.synth.clip import SynthProgress
 
 CACHE_DIR_ENV = "DOLPHINFIT_CACHE_DIR"
 SAMPLE_NAME = "sample-v1"
@@ -29,12 +33,14 @@ def cache_dir() -> Path:
     return Path(xdg) / "dolphinfit"
 
 
-def ensure_sample(progress: Callable[[SynthProgress], None] | None = None) -> ClipFiles:
-    """The sample clip's files, rendering them first if they are missing or stale."""
+def ensure_sample(progress: Callable[["SynthProgress"], None] | None = None) -> ClipFiles:
+    """The sample clip's files, rendering them first if they are missing or stale (only
+    rendering loads the model stack, torch)."""
     out_dir = cache_dir() / SAMPLE_NAME
     files = clip_files(out_dir, SAMPLE_CONFIG)
     if files.truth_json.exists() and files.video.exists():
         recorded = json.loads(files.truth_json.read_text(encoding="utf-8")).get("config")
         if recorded == json.loads(json.dumps(SAMPLE_CONFIG.to_json())):
             return files
+    from core.synth.clip import make_clip
     return make_clip(SAMPLE_CONFIG, out_dir, progress=progress)

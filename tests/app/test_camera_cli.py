@@ -5,7 +5,7 @@ import json
 import pytest
 
 from app.cli import main
-from core.camera import CONFIG_DIR_ENV, DEFAULT_PRESET, load_presets
+from core.camera_presets import CONFIG_DIR_ENV, DEFAULT_PRESET, load_presets
 
 
 @pytest.fixture(autouse=True)

@@ -9,13 +9,13 @@ import numpy as np
 import pytest
 
 from app.cli import main
-from core.camera import CameraPreset
+from core.camera_presets import CameraPreset
 from core.io.annotation_json import AnnotationFile, write_annotation_json
 from core.io.morphometrix import read_morphometrix
 from core.measure.annotation import Annotation, Calibration
 from core.measure.elliptical import TAIL_EXTRAPOLATED, TAIL_MEASURED, elliptical_volume
 from core.measure.hw_ratios import load_hw_preset
-from core.model.profile import STATION_FRACTIONS
+from core.measure.stations import STATION_FRACTIONS
 
 V2_DEMO = Path(__file__).resolve().parents[1] / "data" / "morphometrix" / \
     "mmx_v2_demo-annotated.csv"

@@ -1,6 +1,5 @@
-"""Tests for core/camera.py: intrinsics, projection round trips, crops, refraction, presets."""
+"""Tests for core/camera.py: intrinsics, projection round trips, crops, refraction."""
 
-import json
 import math
 
 import numpy as np
@@ -8,30 +7,12 @@ import pytest
 import torch
 from scipy.optimize import minimize, root
 
-from core.camera import (
-    CONFIG_DIR_ENV,
-    DEFAULT_PRESET,
-    N_WATER,
-    CameraIntrinsics,
-    CameraPreset,
-    NadirCamera,
-    apparent_surface_point,
-    get_preset,
-    load_presets,
-    save_user_preset,
-    user_presets_path,
-)
-from core.errors import InputError
+from core.camera import N_WATER, NadirCamera, apparent_surface_point
+from core.intrinsics import CameraIntrinsics
 
 PAPER_SENSOR_WIDTH_MM = 17.27  # γ, Baieri et al. arXiv 2504.15782, table of constants
 PAPER_FOCAL_MM = 12.29  # ω, same table
 F64 = torch.float64
-
-
-@pytest.fixture(autouse=True)
-def isolated_user_config(tmp_path, monkeypatch):
-    """Point the user presets at an empty temporary folder."""
-    monkeypatch.setenv(CONFIG_DIR_ENV, str(tmp_path / "config"))
 
 
 @pytest.fixture
@@ -319,79 +300,3 @@ def test_gradcheck_project_with_refraction():
     altitude = torch.tensor([8.0, 15.0], dtype=F64, requires_grad=True)
     project = lambda p, h: NadirCamera(intrinsics, h, refraction=True).project(p)
     assert torch.autograd.gradcheck(project, (points, altitude), atol=1e-6)
-
-
-# --- presets ---------------------------------------------------------------------------------
-
-
-def test_bundled_presets_load_with_paper_default():
-    """The bundled file loads; the default is the paper's 5.1K mode, γ = 17.27, ω = 12.29."""
-    presets = load_presets()
-    default = presets[DEFAULT_PRESET]
-    assert (default.sensor_width_mm, default.focal_mm) == (17.27, 12.29)
-    assert (default.image_width_px, default.image_height_px) == (5120, 2700)
-    assert default.approximate is False
-    assert default.intrinsics().focal_px == pytest.approx(12.29 / 17.27 * 5120, rel=1e-12)
-    mavic3 = [p for p in presets.values() if p.name.startswith("dji-mavic3-")]
-    assert len(mavic3) == 5
-    assert sum(p.approximate for p in mavic3) == 4
-
-
-def test_user_presets_path_follows_environment(tmp_path, monkeypatch):
-    """$DOLPHINFIT_CONFIG_DIR wins; otherwise $XDG_CONFIG_HOME/dolphinfit/cameras.json."""
-    assert user_presets_path() == tmp_path / "config" / "cameras.json"
-    monkeypatch.delenv(CONFIG_DIR_ENV)
-    monkeypatch.setenv("XDG_CONFIG_HOME", str(tmp_path / "xdg"))
-    assert user_presets_path() == tmp_path / "xdg" / "dolphinfit" / "cameras.json"
-
-
-def test_user_preset_is_saved_and_overrides_bundled():
-    """A saved user preset is found by load_presets and replaces a bundled one of that name."""
-    mine = CameraPreset(name="my-drone", description="calibrated", focal_mm=8.8,
-                        sensor_width_mm=13.2, image_width_px=3840, image_height_px=2160,
-                        source="chessboard calibration 2024-05", approximate=False)
-    override = CameraPreset(name=DEFAULT_PRESET, description="re-measured", focal_mm=12.3,
-                            sensor_width_mm=17.3, image_width_px=5120, image_height_px=2700,
-                            source="my lab", approximate=False)
-    path = save_user_preset(mine)
-    save_user_preset(override)
-    assert path == user_presets_path() and path.exists()
-    assert not list(path.parent.glob("*.tmp"))
-    presets = load_presets()
-    assert presets["my-drone"] == mine
-    assert presets[DEFAULT_PRESET].focal_mm == 12.3
-    assert presets[DEFAULT_PRESET].source == "my lab"
-    assert get_preset("my-drone").intrinsics().focal_px == pytest.approx(2560.0, rel=1e-12)
-    assert len(json.loads(path.read_text())["presets"]) == 2
-
-
-def test_malformed_json_raises_input_error_naming_file(tmp_path):
-    """A user file that is not JSON raises InputError naming the file."""
-    path = tmp_path / "cameras.json"
-    path.write_text("{ not json")
-    with pytest.raises(InputError, match="cameras.json.*not valid JSON"):
-        load_presets(path)
-
-
-def test_missing_field_and_bad_value_raise_input_error(tmp_path):
-    """A preset without focal_mm, or with a negative width, raises InputError saying so."""
-    entry = {"name": "x", "description": "", "focal_mm": 8.8, "sensor_width_mm": 13.2,
-             "image_width_px": 3840, "image_height_px": 2160, "source": "", "approximate": True}
-    path = tmp_path / "cameras.json"
-    path.write_text(json.dumps({"schema_version": 1, "presets": [{**entry, "focal_mm": None}]}))
-    with pytest.raises(InputError, match="'focal_mm' has the wrong type"):
-        load_presets(path)
-    del entry["focal_mm"]
-    path.write_text(json.dumps({"schema_version": 1, "presets": [entry]}))
-    with pytest.raises(InputError, match=r"missing fields \['focal_mm'\]"):
-        load_presets(path)
-    path.write_text(json.dumps({"schema_version": 1, "presets": [
-        {**entry, "focal_mm": 8.8, "image_width_px": -3840}]}))
-    with pytest.raises(InputError, match=r"cameras.json.*'x'.*image_width_px.*-3840"):
-        load_presets(path)
-
-
-def test_unknown_preset_lists_available_names():
-    """get_preset with an unknown name raises InputError listing the presets."""
-    with pytest.raises(InputError, match=f"no-such-camera.*{DEFAULT_PRESET}"):
-        get_preset("no-such-camera")

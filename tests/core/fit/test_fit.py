@@ -10,7 +10,7 @@ import pytest
 import torch
 
 from app.cli import main
-from core.camera import CameraIntrinsics
+from core.intrinsics import CameraIntrinsics
 from core.fit import engine
 from core.fit.config import FitConfig
 from core.fit.data import prepare_data

@@ -6,7 +6,7 @@ import json
 import numpy as np
 import pytest
 
-from core.camera import CameraPreset, get_preset
+from core.camera_presets import CameraPreset, get_preset
 from core.errors import InputError
 from core.io.annotation_json import (
     AnnotationFile, annotation_from_json, annotation_to_json, read_annotation_json,

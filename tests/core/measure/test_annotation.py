@@ -5,12 +5,12 @@ import math
 import numpy as np
 import pytest
 
-from core.camera import CameraPreset
+from core.camera_presets import CameraPreset
 from core.measure.annotation import (
     Annotation, Calibration, midline_spline, pixel_measurements, place_stations,
     station_widths, suggest_edges,
 )
-from core.model.profile import STATION_FRACTIONS
+from core.measure.stations import STATION_FRACTIONS
 
 NO_EDGES = np.full((19, 2, 2), np.nan)
 

@@ -10,7 +10,7 @@ from core.measure.elliptical import (
     TAIL_EXTRAPOLATED, TAIL_MEASURED, apply_tail, body_area_index, circular_volume,
     elliptical_volume, fill_skipped, segment_volumes,
 )
-from core.model.profile import STATION_FRACTIONS
+from core.measure.stations import STATION_FRACTIONS
 
 BL_M = 2.5
 WIDTH_M = 0.4

@@ -5,8 +5,9 @@ import pytest
 import torch
 
 from core.errors import InputError
+from core.measure.hw_from_model import hw_from_template
 from core.measure.hw_ratios import (
-    FROM_MODEL, hw_from_template, load_hw_preset, preset_names, read_hw_csv, resolve_hw,
+    FROM_MODEL, load_hw_preset, preset_names, read_hw_csv, resolve_hw,
 )
 from core.measure.mesh import station_profile
 from core.model.template import load_template

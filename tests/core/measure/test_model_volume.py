@@ -5,7 +5,8 @@ import pytest
 import torch
 import trimesh
 
-from core.camera import DEFAULT_PRESET, NadirCamera, get_preset
+from core.camera import NadirCamera
+from core.camera_presets import DEFAULT_PRESET, get_preset
 from core.measure.annotation import Annotation, pixel_measurements
 from core.measure.elliptical import TAIL_MEASURED, elliptical_volume
 from core.measure.hw_ratios import FROM_MODEL, resolve_hw

@@ -11,8 +11,8 @@ from core.measure.baseline import BaselineSettings, estimate_baseline
 from core.measure.condition import body_condition
 from core.measure.elliptical import TAIL_EXTRAPOLATED, elliptical_volume
 from core.measure.hw_ratios import HWRatios, load_hw_preset
+from core.measure.stations import STATION_FRACTIONS
 from core.measure.uncertainty import ErrorModel, draw_pixels, monte_carlo
-from core.model.profile import STATION_FRACTIONS
 
 # Provisional template widths / BL (reference/morphometrics.md §4)
 W_BL = np.array([.045, .085, .13, .15, .165, .175, .18, .18, .175, .16, .14, .125, .11, .09,

@@ -6,7 +6,8 @@ import numpy as np
 import torch
 import trimesh
 
-from core.camera import CameraIntrinsics, NadirCamera
+from core.camera import NadirCamera
+from core.intrinsics import CameraIntrinsics
 from core.render.render import Appearance
 from core.render.shade import SGLight
 

@@ -4,7 +4,8 @@ import math
 
 import torch
 
-from core.camera import CameraIntrinsics, NadirCamera
+from core.camera import NadirCamera
+from core.intrinsics import CameraIntrinsics
 from core.model.model import DolphinModel
 from core.model.template import load_template
 from core.render.render import Appearance, render

@@ -9,7 +9,8 @@ import pytest
 import torch
 
 from app.cli import main
-from core.camera import CameraIntrinsics, NadirCamera
+from core.camera import NadirCamera
+from core.intrinsics import CameraIntrinsics
 from core.errors import InputError
 from core.io.telemetry import load_telemetry
 from core.io.video import open_clip

@@ -1,0 +1,172 @@
+"""Named drone cameras and video modes (presets): the bundled table and the user's own.
+
+Bundled presets are in resources/cameras.json; the user's are saved to ``cameras.json`` in
+:func:`config_dir` and override bundled presets of the same name. Both files share one schema::
+
+    {"schema_version": 1, "presets": [{"name": …, "description": …, "focal_mm": …,
+      "sensor_width_mm": …, "image_width_px": …, "image_height_px": …, "source": …,
+      "approximate": …}, …]}
+"""
+
+import os
+from dataclasses import asdict, dataclass, fields
+from pathlib import Path
+from typing import Any
+
+from core.intrinsics import CameraIntrinsics, require_positive
+from core.errors import InputError
+from core.io.json_file import read_json, write_json
+from core.resources import resource_path
+
+PRESETS_FILE = "cameras.json"  # bundled in resources/, and the user file's name
+PRESETS_SCHEMA_VERSION = 1
+DEFAULT_PRESET = "dji-mavic3-5.1k"  # the paper's camera and video mode (arXiv 2504.15782)
+CONFIG_DIR_ENV = "DOLPHINFIT_CONFIG_DIR"  # overrides the XDG location of the user config
+XDG_CONFIG_ENV = "XDG_CONFIG_HOME"
+XDG_CONFIG_DEFAULT = Path("~/.config")  # XDG Base Directory specification default
+CONFIG_SUBDIR = "dolphinfit"
+
+
+@dataclass(frozen=True)
+class CameraPreset:
+    """A named drone camera and video mode: sensor width read in that mode, real focal length.
+
+    ``approximate``: the values are not verified for this mode (e.g. nominal specifications).
+    """
+
+    name: str
+    description: str
+    focal_mm: float
+    sensor_width_mm: float
+    image_width_px: int
+    image_height_px: int
+    source: str
+    approximate: bool
+
+    def __post_init__(self) -> None:
+        if not self.name.strip():
+            raise ValueError("name must not be empty")
+        for name in ("focal_mm", "sensor_width_mm", "image_width_px", "image_height_px"):
+            require_positive(name, getattr(self, name))
+
+    def intrinsics(self) -> CameraIntrinsics:
+        """Full-frame intrinsics of this mode (centred principal point)."""
+        return CameraIntrinsics.from_sensor(
+            self.focal_mm, self.sensor_width_mm, self.image_width_px, self.image_height_px
+        )
+
+
+# JSON types accepted per field (a JSON number such as 12 is fine for a float field)
+_PRESET_TYPES: dict[str, tuple[type, ...]] = {
+    f.name: (int, float) if f.type is float else (f.type,) for f in fields(CameraPreset)
+}
+
+
+def preset_resolution_mismatch(preset: CameraPreset, width_px: int, height_px: int) -> str | None:
+    """A warning sentence when ``preset``'s image size is not the clip's; None when it is.
+
+    The focal length in pixels, hence every length, holds only at the preset's image size.
+    """
+    if (preset.image_width_px, preset.image_height_px) == (width_px, height_px):
+        return None
+    return (f"camera preset {preset.name!r} is for {preset.image_width_px}×"
+            f"{preset.image_height_px} px images but the clip is {width_px}×{height_px} px: "
+            f"choose the preset of the clip's video mode, or lengths will be wrong")
+
+
+def config_dir() -> Path:
+    """The folder of the user's configuration (camera presets, recent files).
+
+    ``$DOLPHINFIT_CONFIG_DIR``, else ``$XDG_CONFIG_HOME/dolphinfit``; ``XDG_CONFIG_HOME``
+    defaults to ``~/.config``.
+    """
+    configured = os.environ.get(CONFIG_DIR_ENV)
+    if configured:
+        return Path(configured)
+    xdg_home = os.environ.get(XDG_CONFIG_ENV) or str(XDG_CONFIG_DEFAULT)
+    return Path(xdg_home).expanduser() / CONFIG_SUBDIR
+
+
+def user_presets_path() -> Path:
+    """The user's presets file: ``cameras.json`` in :func:`config_dir`."""
+    return config_dir() / PRESETS_FILE
+
+
+def _preset_from_json(entry: Any, path: Path, index: int) -> CameraPreset:
+    """One preset object of a presets file; InputError naming the file and entry otherwise."""
+    where = f"{path}: preset #{index}"
+    if not isinstance(entry, dict):
+        raise InputError(f"{where}: expected an object, got {type(entry).__name__}")
+    if isinstance(entry.get("name"), str):
+        where += f" ({entry['name']!r})"
+    missing = [key for key in _PRESET_TYPES if key not in entry]
+    unknown = sorted(set(entry) - set(_PRESET_TYPES))
+    if missing or unknown:
+        raise InputError(f"{where}: missing fields {missing}, unknown fields {unknown}")
+    for key, types in _PRESET_TYPES.items():
+        value = entry[key]
+        if not isinstance(value, types) or (isinstance(value, bool) and bool not in types):
+            raise InputError(f"{where}: field {key!r} has the wrong type ({value!r})")
+    try:
+        return CameraPreset(**entry)
+    except ValueError as exc:
+        raise InputError(f"{where}: {exc}") from exc
+
+
+def _read_presets_file(path: Path) -> list[CameraPreset]:
+    """All presets of one file, in order; InputError naming the file when it is malformed."""
+    data = read_json(path, "camera presets")
+    if not isinstance(data, dict) or set(data) != {"schema_version", "presets"}:
+        raise InputError(f"{path}: expected an object with 'schema_version' and 'presets' only")
+    if data["schema_version"] != PRESETS_SCHEMA_VERSION:
+        raise InputError(
+            f"{path}: schema_version {data['schema_version']!r} is not supported "
+            f"(expected {PRESETS_SCHEMA_VERSION})"
+        )
+    if not isinstance(data["presets"], list):
+        raise InputError(f"{path}: 'presets' must be a list")
+    presets = [_preset_from_json(entry, path, i) for i, entry in enumerate(data["presets"])]
+    names = [preset.name for preset in presets]
+    duplicates = sorted({name for name in names if names.count(name) > 1})
+    if duplicates:
+        raise InputError(f"{path}: duplicate preset names {duplicates}")
+    return presets
+
+
+def load_presets(user_path: Path | None = None) -> dict[str, CameraPreset]:
+    """Bundled presets merged with the user's (``user_presets_path()`` by default).
+
+    User entries override bundled ones of the same name; a missing user file is no error.
+    """
+    user_path = user_presets_path() if user_path is None else user_path
+    presets = {p.name: p for p in _read_presets_file(resource_path(PRESETS_FILE))}
+    if user_path.exists():
+        presets.update((p.name, p) for p in _read_presets_file(user_path))
+    return presets
+
+
+def get_preset(name: str, user_path: Path | None = None) -> CameraPreset:
+    """The preset called ``name``; InputError listing the available names otherwise."""
+    presets = load_presets(user_path)
+    if name not in presets:
+        raise InputError(
+            f"unknown camera preset {name!r}; available: {', '.join(sorted(presets))}"
+        )
+    return presets[name]
+
+
+def save_user_preset(preset: CameraPreset, user_path: Path | None = None) -> Path:
+    """Add ``preset`` to the user presets file, replacing one of that name; returns the path.
+
+    The file is rewritten atomically (temporary file, then rename); a malformed existing file
+    raises InputError and is left untouched.
+    """
+    user_path = user_presets_path() if user_path is None else user_path
+    existing = _read_presets_file(user_path) if user_path.exists() else []
+    kept = [p for p in existing if p.name != preset.name]
+    data = {
+        "schema_version": PRESETS_SCHEMA_VERSION,
+        "presets": [asdict(p) for p in [*kept, preset]],
+    }
+    write_json(user_path, data)
+    return user_path

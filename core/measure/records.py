@@ -1,0 +1,198 @@
+"""One measured image as records: its inputs, the result JSON, the wide CSV row, the exports.
+
+The CLI (`dolphinfit measure`) and the GUI build the same records with these functions:
+
+1. a :class:`MeasureInput` from an annotation (:func:`measured_image_from_annotation`) or a
+   MorphoMetriX CSV (:func:`measured_image_from_morphometrix`);
+2. ``core.measure.baseline.estimate_baseline`` on its pixels, focal length and altitude;
+3. :func:`result_record` (the result JSON), then :func:`write_exports`: STEM_measure.json,
+   STEM_mmx.csv (MorphoMetriX v2, long) and STEM_wide.csv (CollatriX / Xcertainty, one row).
+"""
+
+from dataclasses import dataclass, fields, replace
+from pathlib import Path
+
+import numpy as np
+
+from core.errors import InputError
+from core.io.annotation_json import AnnotationFile
+from core.io.collatrix import wide_row, write_wide_csv
+from core.io.json_file import read_json, write_json
+from core.io.masks import read_masks
+from core.io.morphometrix import (
+    LENGTH_NAME, MorphoMetrixRecord, read_morphometrix, record_from_pixels,
+    write_morphometrix_v2,
+)
+from core.io.morphometrix import pixel_measurements as record_pixels
+from core.measure.annotation import (
+    PixelMeasurements, pixel_measurements, place_stations, suggest_edges,
+)
+from core.measure.baseline import SUMMARISED, BaselineEstimate
+from core.measure.condition import MassModel
+from core.measure.elliptical import TAIL_EXTRAPOLATED
+from core.measure.stations import STATION_PCT
+from core.measure.uncertainty import ErrorModel
+
+RESULT_SCHEMA_VERSION = 1
+MMX_ALTITUDE_SOURCE = "manual"  # MorphoMetriX altitudes are typed in; the source is unknown
+EXPORT_SUFFIXES = ("_measure.json", "_mmx.csv", "_wide.csv")  # appended to the export stem
+
+
+@dataclass(frozen=True)
+class MeasureInput:
+    """One measured image brought to pixels, calibration and export metadata."""
+
+    pixels: PixelMeasurements
+    record: MorphoMetrixRecord      # metadata and measurements as exported
+    focal_px: float
+    altitude_source: str
+    is_camera_approximate: bool
+    notes: list[str]                # for the user, one line each
+    image_width_px: int | None = None   # Xcertainty's Iw, Sw and uas (annotations only)
+    sensor_width_mm: float | None = None
+    uas: str = ""
+
+
+def default_image_id(doc: AnnotationFile, path: Path) -> str:
+    """The annotation's image ID, else "<file stem> frame <index>"."""
+    return doc.image_id or f"{path.stem} frame {doc.annotation.frame_idx}"
+
+
+def annotated_frame_mask(masks: Path, doc: AnnotationFile) -> np.ndarray:
+    """(H, W) bool mask of the annotated frame from a mask source (core.io.masks formats).
+
+    InputError naming ``masks`` when its size is not the camera's or the frame has no dolphin.
+    """
+    camera, frame_idx = doc.calibration.camera, doc.annotation.frame_idx
+    track = read_masks(masks)
+    if (track.height_px, track.width_px) != (camera.image_height_px, camera.image_width_px):
+        raise InputError(f"{masks}: masks are {track.width_px}×{track.height_px} px but the "
+                         f"camera's frames are {camera.image_width_px}×{camera.image_height_px}"
+                         f" px")
+    if not (0 <= frame_idx < track.num_frames and track.is_visible[frame_idx]):
+        raise InputError(f"{masks}: no dolphin in the mask of frame {frame_idx}")
+    return track.mask(frame_idx)
+
+
+def with_mask_widths(doc: AnnotationFile, mask: np.ndarray) -> AnnotationFile:
+    """``doc`` with each station's edges where its perpendicular leaves ``mask`` (H, W)."""
+    annotation = doc.annotation
+    edges = suggest_edges(mask, place_stations(annotation.midline_px))
+    return replace(doc, annotation=replace(annotation, edges_px=edges))
+
+
+def measured_image_from_annotation(doc: AnnotationFile, *, image_id: str,
+                                   notes: list[str] | None = None) -> MeasureInput:
+    """The calibrated pixels, MorphoMetriX record and Xcertainty fields of an annotated frame.
+
+    ``notes`` are appended to the line naming the frame and camera.
+    """
+    annotation, calibration = doc.annotation, doc.calibration
+    camera = calibration.camera
+    pixels = pixel_measurements(annotation)
+    record = record_from_pixels(
+        pixels, image_id=image_id, image_path=doc.media_path, focal_mm=camera.focal_mm,
+        pixel_dimension_mm=camera.sensor_width_mm / camera.image_width_px,
+        altitude_m=calibration.altitude_m, mirror_side=annotation.mirror_side, notes=doc.notes)
+    return MeasureInput(
+        pixels=pixels, record=record, focal_px=calibration.focal_px,
+        altitude_source=calibration.altitude_source, is_camera_approximate=camera.approximate,
+        notes=[f"frame {annotation.frame_idx}, camera {calibration.preset_name or 'explicit'}"
+               f" (focal {calibration.focal_px:.1f} px)", *(notes or [])],
+        image_width_px=camera.image_width_px, sensor_width_mm=camera.sensor_width_mm,
+        uas=calibration.preset_name or "")
+
+
+def measured_image_from_morphometrix(path: Path, *, altitude_m: float | None = None,
+                                     altitude_source: str | None = None) -> MeasureInput:
+    """The pixels and metadata of a MorphoMetriX v1/v2 CSV.
+
+    ``altitude_m`` replaces the file's altitude (the pixels stay those of the file's altitude);
+    without ``altitude_source`` the source is taken as MMX_ALTITUDE_SOURCE, with a note.
+    """
+    record = read_morphometrix(path)
+    pixels = record_pixels(record, path)
+    if altitude_m is not None:
+        record = replace(record, altitude_m=altitude_m)
+    notes = [f"MorphoMetriX v{record.version} file, focal {record.focal_px:.1f} px"]
+    if altitude_source is None:
+        notes.append(f"altitude source unknown: taken as {MMX_ALTITUDE_SOURCE}")
+    if record.version == 1:
+        notes.append("v1 files hold metres rounded to cm only: pixels derived from them")
+    if pixels.is_mirrored:
+        notes.append("mirror-side widths: MorphoMetriX v2 may store one side undoubled; check")
+    exported = record_from_pixels(
+        pixels, image_id=record.image_id, image_path=record.image_path,
+        focal_mm=record.focal_mm, pixel_dimension_mm=record.pixel_dimension_mm,
+        altitude_m=record.altitude_m, mirror_side=record.mirror_side, notes=record.notes)
+    return MeasureInput(pixels=pixels, record=exported, focal_px=record.focal_px,
+                        altitude_source=altitude_source or MMX_ALTITUDE_SOURCE,
+                        is_camera_approximate=False, notes=notes)
+
+
+def mass_model_from_json(path: Path) -> MassModel:
+    """The paper's mass-model constants overridden by a JSON object's entries."""
+    data = read_json(path, "the mass model")
+    names = {f.name for f in fields(MassModel)}
+    if not isinstance(data, dict) or not set(data) <= names:
+        raise InputError(f"{path}: expected an object with keys among {', '.join(sorted(names))}")
+    if "bci_fit_range" in data:
+        data["bci_fit_range"] = tuple(data["bci_fit_range"])
+    try:
+        return MassModel(**data)
+    except (TypeError, ValueError) as exc:
+        raise InputError(f"{path}: {exc}") from exc
+
+
+def default_error_model(altitude_source: str, is_camera_approximate: bool,
+                        **overrides: float) -> ErrorModel:
+    """The documented error SDs for an altitude source and camera, with ``overrides`` (ErrorModel
+    field names) replacing some."""
+    return replace(ErrorModel.default(altitude_source, is_camera_approximate), **overrides)
+
+
+def result_record(source: MeasureInput, estimate: BaselineEstimate, *, input_name: str,
+                  seed: int) -> dict:
+    """The result JSON: schema version, input, calibration, Monte Carlo seed and the estimate."""
+    return {"schema_version": RESULT_SCHEMA_VERSION, "input": input_name,
+            "altitude_m": source.record.altitude_m, "altitude_source": source.altitude_source,
+            "focal_px": source.focal_px, "seed": seed, **estimate.to_json()}
+
+
+def wide_csv_row(source: MeasureInput, estimate: BaselineEstimate, result: dict, *,
+                 image: str) -> dict[str, str]:
+    """The CollatriX / Xcertainty row: measurements, calibration and the result columns.
+
+    ``image``: the ``Image`` column (the exports name the MorphoMetriX file).
+    """
+    return wide_row(source.record, image=image, altitude_source=source.altitude_source,
+                    image_width_px=source.image_width_px,
+                    sensor_width_mm=source.sensor_width_mm, uas=source.uas,
+                    extras=_result_columns(estimate, result))
+
+
+def write_exports(stem: Path, source: MeasureInput, estimate: BaselineEstimate,
+                  result: dict) -> list[Path]:
+    """Write STEM_measure.json, STEM_mmx.csv (MorphoMetriX v2) and STEM_wide.csv; their paths."""
+    paths = [stem.with_name(f"{stem.name}{suffix}") for suffix in EXPORT_SUFFIXES]
+    write_json(paths[0], result)
+    write_morphometrix_v2(paths[1], source.record)
+    write_wide_csv(paths[2], [wide_csv_row(source, estimate, result, image=paths[1].name)])
+    return paths
+
+
+def _result_columns(estimate: BaselineEstimate, result: dict) -> dict[str, object]:
+    """Wide-CSV result columns: HW ratios used (CollatriX names), values and intervals."""
+    ratios, _ = estimate.settings.hw.completed()
+    columns: dict[str, object] = {f"{LENGTH_NAME}_ratio{pct:.2f}": float(r)
+                                  for pct, r in zip(STATION_PCT, ratios)}
+    columns.update({"tail": estimate.settings.tail, "hw_ratios": estimate.settings.hw.name})
+    if estimate.settings.tail == TAIL_EXTRAPOLATED:
+        columns["BVell_5perc"] = result["volume_m3"]  # CollatriX's elliptical volume, same method
+    for name in SUMMARISED:
+        columns[name] = result[name]
+        if estimate.interval is not None:
+            s = getattr(estimate.interval, name)
+            columns.update({f"{name}_sd": float(s.sd), f"{name}_lo95": float(s.low),
+                            f"{name}_hi95": float(s.high)})
+    return columns

@@ -1,0 +1,1 @@
+"""Projects: clips, animals and measured frames, their file, edits and per-animal results."""

@@ -1,0 +1,50 @@
+"""Results of many measured frames at once (exports of an animal or a whole project): each
+clip's media is opened once for its frame timing, its altitude aligned, then every frame is
+measured with the Monte Carlo."""
+
+import threading
+from collections.abc import Callable, Sequence
+from pathlib import Path
+
+from core.errors import InputError
+from core.io.media import open_media
+from core.measure.hw_ratios import resolve_hw
+from core.progress import check_cancel
+from core.project.model import MeasurementKey, Project, get_measurement
+from core.project.project_file import media_path
+from core.project.results import FrameResult, clip_telemetry, frame_altitude, measure_frame
+
+
+def frame_results(project: Project, project_path: Path, keys: Sequence[MeasurementKey],
+                  num_draws: int, progress: Callable[[int, int], None] | None = None,
+                  cancel: threading.Event | None = None) -> tuple[list[FrameResult], list[str]]:
+    """The results of ``keys`` and, for the frames that could not be measured, why."""
+    hw = resolve_hw(project.hw_ratios)
+    results, skipped = [], []
+    telemetry = {}
+    for done, key in enumerate(keys):
+        check_cancel(cancel)
+        clip = project.clips[key.clip]
+        frame_idx = get_measurement(project, key).frame_idx
+        where = f"{clip.name} frame {frame_idx}"
+        try:
+            if key.clip not in telemetry:
+                with open_media(media_path(project_path, clip)) as source:
+                    telemetry[key.clip] = clip_telemetry(project_path.parent, clip, source.clip)
+            altitude = frame_altitude(telemetry[key.clip], frame_idx)
+            results.append(measure_frame(project, key, altitude, clip.altitude.source, hw,
+                                         num_draws))
+        except (InputError, ValueError) as exc:
+            skipped.append(f"{where}: {exc}")
+        if progress is not None:
+            progress(done + 1, len(keys))
+    return results, skipped
+
+
+def all_keys(project: Project, clip: int | None = None,
+             animal: int | None = None) -> list[MeasurementKey]:
+    """Keys of every measured frame of the project, of one clip, or of one animal."""
+    return [MeasurementKey(c, a, m)
+            for c, clip_entry in enumerate(project.clips) if clip in (None, c)
+            for a, animal_entry in enumerate(clip_entry.animals) if animal in (None, a)
+            for m in range(len(animal_entry.measurements))]

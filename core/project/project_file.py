@@ -1,0 +1,302 @@
+"""Project files: the project tree as JSON, media paths relative to the file, atomic writes.
+
+Schema version 1 (``*.dolphinfit``)::
+
+    {
+      "schema_version": 1,
+      "settings": {"hw_ratios": "tursiops-provisional", "tail": "extrapolated"},
+      "clips": [{
+        "media": "DJI_0042.MP4", "kind": "video", "masks": "DJI_0042_masks",
+        "camera": {"preset": "dji-mavic3-5.1k", "focal_mm": 12.29, "sensor_width_mm": 17.27,
+                   "image_width_px": 5120, "image_height_px": 2700, "approximate": false},
+        "altitude": {"path": "DJI_0042.SRT", "constant_m": null, "launch_height_m": 1.5,
+                     "time_offset_s": 0.0, "source": "barometer"},
+        "animals": [{"id": "dolphin 1", "notes": "", "measurements": [{
+          "frame_idx": 120, "midline_px": [[u, v], ...], "mirror_side": null, "notes": "",
+          "stations": [{"station_pct": 5, "side_a_px": 12.5, "side_b_px": -12.1,
+                        "skipped": false}, ...]}]}]
+      }]
+    }
+
+Pixels (midline clicks; each edge as its signed distance from the midline along the station's
+normal, side A positive) are kept apart from the calibration (camera, altitude), so a corrected
+altitude rescales everything without re-annotation. The camera's values are stored with the
+preset's name, so a project opens unchanged where that preset is unknown.
+
+The autosave file is the project file's sibling ``NAME.autosave``; it is written after edits
+and removed on save, so one that is newer than its project marks unsaved work (a crash).
+"""
+
+import math
+import os
+from dataclasses import replace
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from core.camera_presets import CameraPreset
+from core.errors import InputError
+from core.io.json_file import check_schema_version, read_json, write_json
+from core.measure.stations import NUM_STATIONS, STATION_PCT
+from core.project.model import (
+    AltitudeSpec, Animal, ClipEntry, Measurement, Project,
+)
+
+SCHEMA_VERSION = 1
+PROJECT_SUFFIX = ".dolphinfit"
+AUTOSAVE_SUFFIX = ".autosave"
+RELINK_MAX_MATCHES = 20  # stop searching a project's folder after this many same-name files
+
+
+def _get(data: Any, key: str, types: type | tuple[type, ...], where: str,
+         optional: bool = False) -> Any:
+    """``data[key]`` checked against ``types`` (a JSON true is no number); InputError naming
+    ``where`` and the key otherwise. ``optional``: a missing key or null gives None."""
+    if not isinstance(data, dict):
+        raise InputError(f"{where}: expected an object")
+    value = data.get(key)
+    if value is None and optional:
+        return None
+    if key not in data:
+        raise InputError(f"{where}: missing {key!r}")
+    if isinstance(value, bool) and bool not in (types if isinstance(types, tuple) else (types,)):
+        raise InputError(f"{where}: {key!r} has the wrong type ({value!r})")
+    if not isinstance(value, types):
+        raise InputError(f"{where}: {key!r} has the wrong type ({value!r})")
+    if isinstance(value, float) and not math.isfinite(value):
+        raise InputError(f"{where}: {key!r} is not a finite number")
+    return value
+
+
+NUMBER = (int, float)
+
+
+def _camera_from_json(data: Any, where: str) -> tuple[CameraPreset, str | None]:
+    preset = _get(data, "preset", str, where, optional=True)
+    values = {key: _get(data, key, int if key.endswith("_px") else NUMBER, where)
+              for key in ("focal_mm", "sensor_width_mm", "image_width_px", "image_height_px")}
+    approximate = _get(data, "approximate", bool, where, optional=True) or False
+    try:
+        camera = CameraPreset(name=preset or "explicit",
+                              description=preset or "camera values of the project",
+                              source=where, approximate=approximate, **values)
+    except ValueError as exc:
+        raise InputError(f"{where}: {exc}") from exc
+    return camera, preset
+
+
+def _camera_to_json(camera: CameraPreset, preset_name: str | None) -> dict[str, Any]:
+    return {"preset": preset_name, "focal_mm": camera.focal_mm,
+            "sensor_width_mm": camera.sensor_width_mm, "image_width_px": camera.image_width_px,
+            "image_height_px": camera.image_height_px, "approximate": camera.approximate}
+
+
+def _altitude_from_json(data: Any, where: str) -> AltitudeSpec | None:
+    if data is None:
+        return None
+    try:
+        return AltitudeSpec(
+            path=_get(data, "path", str, where, optional=True),
+            constant_m=_get(data, "constant_m", NUMBER, where, optional=True),
+            launch_height_m=float(_get(data, "launch_height_m", NUMBER, where)),
+            time_offset_s=float(_get(data, "time_offset_s", NUMBER, where)),
+            source=_get(data, "source", str, where))
+    except ValueError as exc:
+        raise InputError(f"{where}: {exc}") from exc
+
+
+def _altitude_to_json(spec: AltitudeSpec | None) -> dict[str, Any] | None:
+    if spec is None:
+        return None
+    return {"path": spec.path, "constant_m": spec.constant_m,
+            "launch_height_m": spec.launch_height_m, "time_offset_s": spec.time_offset_s,
+            "source": spec.source}
+
+
+def _point_list(data: Any, where: str) -> np.ndarray:
+    if not isinstance(data, list):
+        raise InputError(f"{where}: expected a list of [u, v] points")
+    for i, p in enumerate(data):
+        if (not isinstance(p, list) or len(p) != 2 or any(
+                isinstance(x, bool) or not isinstance(x, NUMBER) or not math.isfinite(x)
+                for x in p)):
+            raise InputError(f"{where}[{i}]: expected [u, v] in pixels, got {p!r}")
+    return np.asarray(data, dtype=np.float64).reshape(-1, 2)
+
+
+def _measurement_from_json(data: Any, where: str) -> Measurement:
+    stations = _get(data, "stations", list, where)
+    if len(stations) != NUM_STATIONS:
+        raise InputError(f"{where}: expected the {NUM_STATIONS} stations, got {len(stations)}")
+    offsets = np.full((NUM_STATIONS, 2), np.nan)
+    skipped = np.zeros(NUM_STATIONS, bool)
+    for idx, (entry, pct) in enumerate(zip(stations, STATION_PCT)):
+        at = f"{where}: stations[{idx}]"
+        if _get(entry, "station_pct", NUMBER, at) != pct:
+            raise InputError(f"{at}: station_pct {entry['station_pct']!r}, expected {pct:g}")
+        for side, key in enumerate(("side_a_px", "side_b_px")):
+            value = _get(entry, key, NUMBER, at, optional=True)
+            offsets[idx, side] = np.nan if value is None else value
+        skipped[idx] = bool(_get(entry, "skipped", bool, at, optional=True))
+    frame_idx = _get(data, "frame_idx", int, where)
+    try:
+        return Measurement(
+            frame_idx=frame_idx, midline_px=_point_list(_get(data, "midline_px", list, where),
+                                                        f"{where}: midline_px"),
+            offsets_px=offsets, skipped=skipped,
+            mirror_side=_get(data, "mirror_side", str, where, optional=True),
+            notes=_get(data, "notes", str, where, optional=True) or "")
+    except ValueError as exc:
+        raise InputError(f"{where}: {exc}") from exc
+
+
+def _measurement_to_json(m: Measurement) -> dict[str, Any]:
+    stations = [{"station_pct": pct,
+                 "side_a_px": None if np.isnan(a) else float(a),
+                 "side_b_px": None if np.isnan(b) else float(b),
+                 "skipped": bool(skip)}
+                for pct, (a, b), skip in zip(STATION_PCT, m.offsets_px, m.skipped)]
+    return {"frame_idx": m.frame_idx, "midline_px": m.midline_px.tolist(),
+            "mirror_side": m.mirror_side, "notes": m.notes, "stations": stations}
+
+
+def _animal_from_json(data: Any, where: str) -> Animal:
+    measurements = [_measurement_from_json(m, f"{where}: measurements[{i}]")
+                    for i, m in enumerate(_get(data, "measurements", list, where))]
+    frames = [m.frame_idx for m in measurements]
+    if len(set(frames)) != len(frames):
+        raise InputError(f"{where}: the same frame is measured twice")
+    return Animal(animal_id=_get(data, "id", str, where),
+                  notes=_get(data, "notes", str, where, optional=True) or "",
+                  measurements=tuple(sorted(measurements, key=lambda m: m.frame_idx)))
+
+
+def _clip_from_json(data: Any, where: str) -> ClipEntry:
+    camera, preset = _camera_from_json(_get(data, "camera", dict, where), f"{where}: camera")
+    animals = tuple(_animal_from_json(a, f"{where}: animals[{i}]")
+                    for i, a in enumerate(_get(data, "animals", list, where)))
+    try:
+        return ClipEntry(media_path=_get(data, "media", str, where),
+                         kind=_get(data, "kind", str, where), camera=camera, preset_name=preset,
+                         altitude=_altitude_from_json(data.get("altitude"),
+                                                      f"{where}: altitude"),
+                         animals=animals,
+                         masks_path=_get(data, "masks", str, where, optional=True))
+    except ValueError as exc:
+        raise InputError(f"{where}: {exc}") from exc
+
+
+def project_from_json(data: Any, where: str) -> Project:
+    """Parse a project file's JSON object; ``where`` names the file in errors."""
+    check_schema_version(data, SCHEMA_VERSION, where)
+    settings = _get(data, "settings", dict, where)
+    clips = tuple(_clip_from_json(c, f"{where}: clips[{i}]")
+                  for i, c in enumerate(_get(data, "clips", list, where)))
+    try:
+        return Project(clips=clips,
+                       hw_ratios=_get(settings, "hw_ratios", str, f"{where}: settings"),
+                       tail=_get(settings, "tail", str, f"{where}: settings"))
+    except ValueError as exc:
+        raise InputError(f"{where}: {exc}") from exc
+
+
+def project_to_json(project: Project) -> dict[str, Any]:
+    """The JSON object of a project file (inverse of ``project_from_json``)."""
+    return {
+        "schema_version": SCHEMA_VERSION,
+        "settings": {"hw_ratios": project.hw_ratios, "tail": project.tail},
+        "clips": [{
+            "media": clip.media_path, "kind": clip.kind, "masks": clip.masks_path,
+            "camera": _camera_to_json(clip.camera, clip.preset_name),
+            "altitude": _altitude_to_json(clip.altitude),
+            "animals": [{"id": a.animal_id, "notes": a.notes,
+                         "measurements": [_measurement_to_json(m) for m in a.measurements]}
+                        for a in clip.animals],
+        } for clip in project.clips],
+    }
+
+
+def read_project(path: Path) -> Project:
+    """Read a project (or autosave) file; InputError naming the file and the faulty entry."""
+    return project_from_json(read_json(path, "the project"), str(path))
+
+
+def write_project(path: Path, project: Project) -> None:
+    """Write a project file atomically (temporary file, then rename)."""
+    write_json(path, project_to_json(project))
+
+
+def autosave_path(project_path: Path) -> Path:
+    """The autosave sibling of a project file: ``NAME.autosave``."""
+    return project_path.with_name(project_path.name + AUTOSAVE_SUFFIX)
+
+
+def has_newer_autosave(project_path: Path) -> bool:
+    """Whether unsaved work from an earlier session waits beside ``project_path``."""
+    autosave = autosave_path(project_path)
+    if not autosave.exists():
+        return False
+    return not project_path.exists() or autosave.stat().st_mtime >= project_path.stat().st_mtime
+
+
+def relative_media_path(project_dir: Path, media: Path) -> str:
+    """``media`` relative to the project's folder, with POSIX separators."""
+    return Path(os.path.relpath(Path(media).resolve(), Path(project_dir).resolve())).as_posix()
+
+
+def media_path(project_path: Path, clip: ClipEntry) -> Path:
+    """Absolute path of a clip's media."""
+    return (project_path.parent / clip.media_path).resolve()
+
+
+def rebase_media(project: Project, old_dir: Path, new_dir: Path) -> Project:
+    """The project with its media and altitude paths made relative to ``new_dir`` (Save As)."""
+    def moved(rel: str) -> str:
+        return relative_media_path(new_dir, (old_dir / rel).resolve())
+
+    clips = tuple(replace(
+        clip, media_path=moved(clip.media_path),
+        altitude=(clip.altitude if clip.altitude is None or clip.altitude.path is None
+                  else replace(clip.altitude, path=moved(clip.altitude.path))),
+        masks_path=None if clip.masks_path is None else moved(clip.masks_path))
+        for clip in project.clips)
+    return replace(project, clips=clips)
+
+
+def missing_media(project_path: Path, project: Project) -> list[int]:
+    """Indices of the clips whose media is not where the project says."""
+    return [i for i, clip in enumerate(project.clips)
+            if not media_path(project_path, clip).exists()]
+
+
+def find_moved_media(search_dir: Path, name: str) -> list[Path]:
+    """Files or folders called ``name`` under ``search_dir`` (the relink candidates)."""
+    found: list[Path] = []
+    for root, dirs, files in os.walk(search_dir):
+        dirs[:] = sorted(d for d in dirs if not d.startswith("."))
+        found += [Path(root) / n for n in sorted([*files, *dirs]) if n == name]
+        if len(found) >= RELINK_MAX_MATCHES:
+            break
+    return found
+
+
+def relink_clip(project: Project, project_path: Path, clip_idx: int, new_media: Path) -> Project:
+    """The project with clip ``clip_idx`` pointing at ``new_media``; an altitude file or masks
+    that sat beside the old media and are missing now are looked for beside the new one."""
+    clip = project.clips[clip_idx]
+    project_dir = project_path.parent
+
+    def moved_too(rel: str | None) -> str | None:
+        if rel is None or (project_dir / rel).exists():
+            return rel
+        candidate = Path(new_media).parent / Path(rel).name
+        return relative_media_path(project_dir, candidate) if candidate.exists() else rel
+
+    altitude = clip.altitude
+    if altitude is not None and altitude.path is not None:
+        altitude = replace(altitude, path=moved_too(altitude.path))
+    clips = list(project.clips)
+    clips[clip_idx] = replace(clip, media_path=relative_media_path(project_dir, new_media),
+                              altitude=altitude, masks_path=moved_too(clip.masks_path))
+    return replace(project, clips=tuple(clips))

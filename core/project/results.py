@@ -1,0 +1,119 @@
+"""Results of a project's measured frames: one elliptical estimate per frame, and per animal the
+mean, SD and range over its frames (as biologists report repeated measurements).
+
+The per-frame chain is the CLI's (core/measure/records.py): the measurement becomes an
+annotation with the clip's camera and the frame's altitude, then ``estimate_baseline``.
+"""
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from core.errors import InputError
+from core.io.annotation_json import AnnotationFile
+from core.io.telemetry import Telemetry, align_to_frames, constant_telemetry, read_altitude
+from core.io.video import Clip
+from core.measure.annotation import Calibration
+from core.measure.baseline import BaselineEstimate, BaselineSettings, estimate_baseline
+from core.measure.hw_ratios import HWRatios
+from core.measure.records import (
+    MeasureInput, default_error_model, measured_image_from_annotation, result_record,
+)
+from core.project.model import ClipEntry, MeasurementKey, Project, get_measurement
+
+# Per-animal summary: these result keys, over the animal's measured frames
+SUMMARY_KEYS = ("length_m", "volume_m3", "bci", "density_kg_m3", "mass_kg")
+
+
+def clip_telemetry(project_dir: Path, clip: ClipEntry, media: Clip) -> Telemetry | None:
+    """Altitude per frame of a clip from its AltitudeSpec; None when none was given."""
+    spec = clip.altitude
+    if spec is None:
+        return None
+    if spec.path is None:
+        return constant_telemetry(spec.constant_m, media)
+    samples = read_altitude(project_dir / spec.path, spec.launch_height_m, spec.time_offset_s)
+    return align_to_frames(samples, media)
+
+
+def frame_altitude(telemetry: Telemetry | None, frame_idx: int) -> float:
+    """The altitude of one frame; InputError saying why when there is none."""
+    if telemetry is None:
+        raise InputError("no altitude for this clip: set one (Clip → Altitude…)")
+    if not 0 <= frame_idx < telemetry.num_frames:
+        raise InputError(f"frame {frame_idx} lies outside the altitude record")
+    altitude = float(telemetry.altitude_m[frame_idx])
+    if not np.isfinite(altitude) or altitude <= 0:
+        raise InputError(f"no valid altitude at frame {frame_idx} "
+                         f"({telemetry.source.describe()})")
+    return altitude
+
+
+def image_id(clip: ClipEntry, frame_idx: int) -> str:
+    """The name a frame is exported under: the media's stem, plus the frame for a clip."""
+    stem = Path(clip.media_path).stem
+    return stem if clip.kind == "image" else f"{stem}_f{frame_idx:06d}"
+
+
+@dataclass(frozen=True, eq=False)
+class FrameResult:
+    """The elliptical estimate of one measured frame and the records exported from it."""
+
+    key: MeasurementKey
+    image_id: str
+    source: MeasureInput
+    estimate: BaselineEstimate
+    record: dict
+
+
+def measure_frame(project: Project, key: MeasurementKey, altitude_m: float,
+                  altitude_source: str, hw: HWRatios, num_draws: int,
+                  seed: int = 0) -> FrameResult:
+    """The elliptical estimate of one measured frame (with ``num_draws`` Monte Carlo draws).
+
+    Raises ValueError when the frame has no length or no width yet.
+    """
+    clip = project.clips[key.clip]
+    measurement = get_measurement(project, key)
+    annotation = measurement.to_annotation()
+    if annotation is None:
+        raise ValueError("no body length yet: click from the rostrum tip to the fluke notch")
+    calibration = Calibration(clip.camera, clip.preset_name, altitude_m, altitude_source)
+    name = image_id(clip, measurement.frame_idx)
+    doc = AnnotationFile(annotation=annotation, calibration=calibration, image_id=name,
+                         media_path=clip.media_path, notes=measurement.notes)
+    source = measured_image_from_annotation(doc, image_id=name)
+    settings = BaselineSettings(hw=hw, tail=project.tail)
+    errors = default_error_model(altitude_source, clip.camera.approximate)
+    estimate = estimate_baseline(source.pixels, source.focal_px, altitude_m, settings, errors,
+                                 num_draws, np.random.default_rng(seed))
+    return FrameResult(key=key, image_id=name, source=source, estimate=estimate,
+                       record=result_record(source, estimate, input_name=name, seed=seed))
+
+
+@dataclass(frozen=True)
+class Spread:
+    """Mean, SD (n − 1; NaN for one frame), minimum and maximum over ``n`` frames."""
+
+    n: int
+    mean: float
+    sd: float
+    low: float
+    high: float
+
+
+def spread(values: Sequence[float]) -> Spread:
+    """The spread of one quantity over frames."""
+    array = np.asarray(values, dtype=np.float64)
+    if array.size == 0:
+        raise ValueError("no measured frame")
+    return Spread(n=int(array.size), mean=float(array.mean()),
+                  sd=float(array.std(ddof=1)) if array.size > 1 else float("nan"),
+                  low=float(array.min()), high=float(array.max()))
+
+
+def animal_summary(results: Sequence[FrameResult]) -> dict[str, Spread]:
+    """Per quantity of SUMMARY_KEYS, its spread over one animal's frames."""
+    return {key: spread([r.record[key] for r in results]) for key in SUMMARY_KEYS}

@@ -1,0 +1,37 @@
+"""The command line's registry: one-line help as each module says it, lazy imports."""
+
+import subprocess
+import sys
+
+import pytest
+
+from app.cli import SUBCOMMANDS, build_parser, command_module, main
+
+
+@pytest.mark.parametrize("name", sorted(SUBCOMMANDS))
+def test_one_line_help_is_the_modules_first_docstring_line(name):
+    doc = (command_module(name).__doc__ or "").strip().splitlines()[0]
+    assert SUBCOMMANDS[name] == doc
+
+
+def test_full_help_lists_every_command(capsys):
+    with pytest.raises(SystemExit) as exit_info:
+        build_parser().parse_args(["--help"])
+    assert exit_info.value.code == 0
+    out = capsys.readouterr().out
+    assert all(name in out for name in SUBCOMMANDS)
+
+
+def test_gui_help_loads_no_torch():
+    probe = ("import sys, contextlib, io\nfrom app.cli import main\n"
+             "with contextlib.redirect_stdout(io.StringIO()):\n"
+             "    try:\n        main(['gui', '--help'])\n    except SystemExit:\n        pass\n"
+             "print('torch' in sys.modules)")
+    out = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True,
+                         check=True).stdout.split()
+    assert out == ["False"]
+
+
+def test_bad_thread_count_is_an_input_error(capsys):
+    assert main(["--threads", "0", "camera", "list"]) == 2
+    assert "--threads" in capsys.readouterr().err

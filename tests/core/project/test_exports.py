@@ -1,0 +1,167 @@
+"""Tests for core/project/exports.py and core/io/receipt.py: two animals, three measured frames."""
+
+import csv
+import json
+import threading
+
+import cv2
+import numpy as np
+import pytest
+
+from core.camera_presets import CameraPreset
+from core.errors import InputError
+from core.io.morphometrix import read_morphometrix
+from core.measure.annotation import place_stations
+from core.measure.hw_ratios import load_hw_preset
+from core.progress import Cancelled
+from core.project.exports import MediaFrames, export_frames
+from core.project.model import Animal, ClipEntry, Measurement, MeasurementKey, Project
+from core.project.results import FrameResult, measure_frame
+
+CAMERA = CameraPreset("test-1080p", "", 8.8, 13.2, 1920, 1080, "test", True)
+FRAME_SHAPE = (1080, 1920, 3)
+# frame index, midline clicks (px), maximum width (px), stations skipped
+FRAMES = {
+    ("dolphin 1", 3): (np.array([[300.0, 400.0], [700.0, 460.0], [1100.0, 420.0]]), 140.0, ()),
+    ("dolphin 1", 9): (np.array([[320.0, 410.0], [1130.0, 430.0]]), 150.0, (4,)),
+    ("dolphin 2", 3): (np.array([[400.0, 800.0], [1000.0, 760.0]]), 110.0, ()),
+}
+
+
+def _measurement(frame_idx: int, midline: np.ndarray, max_width: float,
+                 skipped: tuple[int, ...]) -> Measurement:
+    """A spindle-shaped dolphin: widths max_width·sin(π·fraction), centred on the midline."""
+    widths = max_width * np.sin(np.pi * place_stations(midline).fractions)
+    is_skipped = np.zeros(len(widths), bool)
+    is_skipped[list(skipped)] = True
+    return Measurement(frame_idx, midline, np.stack([widths / 2, -widths / 2], axis=1),
+                       is_skipped)
+
+
+def _project() -> Project:
+    animals = tuple(
+        Animal(animal_id, measurements=tuple(
+            _measurement(frame, *spec) for (owner, frame), spec in FRAMES.items()
+            if owner == animal_id))
+        for animal_id in ("dolphin 1", "dolphin 2"))
+    return Project(clips=(ClipEntry("clips/DJI_0001.MP4", "video", CAMERA, animals=animals),))
+
+
+def _results(project: Project) -> list[FrameResult]:
+    hw = load_hw_preset()
+    keys = [MeasurementKey(0, 0, 0), MeasurementKey(0, 0, 1), MeasurementKey(0, 1, 0)]
+    return [measure_frame(project, key, 20.0 + key.measurement, "laser", hw, 0) for key in keys]
+
+
+def _frame(_: FrameResult) -> np.ndarray:
+    """A synthetic sea: a smooth dark-blue gradient."""
+    ramp = np.linspace(40, 90, FRAME_SHAPE[1], dtype=np.float64)
+    frame = np.zeros(FRAME_SHAPE, np.uint8)
+    frame[..., 1] = ramp.astype(np.uint8)
+    frame[..., 2] = (ramp + 60).astype(np.uint8)
+    return frame
+
+
+@pytest.fixture(scope="module")
+def exported(tmp_path_factory):
+    project = _project()
+    results = _results(project)
+    out = tmp_path_factory.mktemp("exports")
+    calls = []
+    paths = export_frames(project, results, out, "survey", frames=_frame,
+                          progress=lambda done, total: calls.append((done, total)))
+    return project, results, out, paths, calls
+
+
+def test_writes_every_file(exported):
+    _, _, out, paths, calls = exported
+    names = ["DJI_0001_f000003_dolphin-1", "DJI_0001_f000009", "DJI_0001_f000003_dolphin-2"]
+    expected = {out / "survey_results.json", out / "survey_wide.csv",
+                *(out / "survey_mmx" / f"{n}.csv" for n in names),
+                *(out / "survey_receipts" / f"{n}.png" for n in names)}
+    assert set(paths) == expected and all(p.is_file() for p in paths)
+    assert calls == [(1, 3), (2, 3), (3, 3)]
+
+
+def test_wide_csv_rows_match_the_measurements(exported):
+    _, _, out, _, _ = exported
+    with (out / "survey_wide.csv").open(newline="", encoding="utf-8") as file:
+        rows = list(csv.DictReader(file))
+    assert len(rows) == 3
+    for row, ((animal_id, frame_idx), (midline, max_width, skipped)) in zip(rows, FRAMES.items()):
+        stations = place_stations(midline)
+        assert (row["clip"], row["animal_id"], row["frame_idx"]) == \
+            ("clips/DJI_0001.MP4", animal_id, str(frame_idx))
+        assert float(row["TL_px"]) == pytest.approx(stations.length_px, rel=1e-9)
+        assert float(row["TL_w05.00_px"]) == pytest.approx(
+            max_width * np.sin(np.pi * 0.05), rel=1e-9)
+        assert all(row[f"TL_w{5 * (s + 1):05.2f}_px"] == "" for s in skipped)
+        assert row["Laser_Alt"] != "" and float(row["volume_m3"]) > 0
+
+
+def test_mmx_files_read_back_with_the_same_length(exported):
+    _, results, out, _, _ = exported
+    for path, result in zip(sorted((out / "survey_mmx").glob("*.csv")),
+                            sorted(results, key=lambda r: (r.image_id, r.key.animal))):
+        record = read_morphometrix(path)
+        assert record.lengths_px["TL"] == pytest.approx(result.source.pixels.length_px,
+                                                        rel=1e-9)
+
+
+def test_json_summarises_each_animal(exported):
+    _, results, out, _, _ = exported
+    data = json.loads((out / "survey_results.json").read_text(encoding="utf-8"))
+    assert data["schema_version"] == 1 and len(data["frames"]) == 3
+    frame = data["frames"]["DJI_0001_f000009"]
+    assert (frame["animal_id"], frame["frame_idx"]) == ("dolphin 1", 9)
+    assert frame["result"]["volume_m3"] == pytest.approx(results[1].record["volume_m3"])
+    first, second = data["animals"]
+    assert first["frames"] == ["DJI_0001_f000003_dolphin-1", "DJI_0001_f000009"]
+    for key in ("length_m", "volume_m3", "bci", "mass_kg"):
+        values = [r.record[key] for r in results[:2]]
+        assert first["summary"][key]["mean"] == pytest.approx(np.mean(values), rel=1e-12)
+        assert first["summary"][key]["sd"] == pytest.approx(np.std(values, ddof=1), rel=1e-9)
+    assert second["summary"]["length_m"]["n"] == 1 and second["summary"]["length_m"]["sd"] is None
+
+
+def test_receipt_draws_along_the_midline(exported):
+    _, _, out, _, _ = exported
+    receipt = cv2.cvtColor(cv2.imread(str(out / "survey_receipts" / "DJI_0001_f000009.png")),
+                           cv2.COLOR_BGR2RGB)
+    frame = _frame(None)
+    assert receipt.shape == frame.shape
+    midline = FRAMES[("dolphin 1", 9)][0]
+    for t in np.linspace(0.2, 0.8, 7):  # points on the straight midline, clear of the caption
+        u, v = np.round(midline[0] + t * (midline[1] - midline[0])).astype(int)
+        assert np.abs(receipt[v, u].astype(int) - frame[v, u]).sum() > 60
+    assert np.array_equal(receipt[-20:, -20:], frame[-20:, -20:])  # untouched far away
+
+
+def test_nothing_to_export_is_an_input_error(tmp_path):
+    with pytest.raises(InputError, match="nothing to export"):
+        export_frames(_project(), [], tmp_path, "empty")
+
+
+def test_cancel_removes_what_was_written(tmp_path):
+    project = _project()
+    cancel = threading.Event()
+    with pytest.raises(Cancelled):
+        export_frames(project, _results(project), tmp_path, "cut", frames=_frame,
+                      progress=lambda done, total: cancel.set(), cancel=cancel)
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_media_frames_reads_each_clip_once_and_notes_missing_media(tmp_path):
+    frame = _frame(None)
+    cv2.imwrite(str(tmp_path / "still.png"), cv2.cvtColor(frame, cv2.COLOR_RGB2BGR))
+    measurement = _measurement(0, *FRAMES[("dolphin 2", 3)])
+    clips = tuple(ClipEntry(name, "image", CAMERA, animals=(Animal("d", measurements=(
+        measurement,)),)) for name in ("still.png", "gone.png"))
+    project = Project(clips=clips)
+    hw = load_hw_preset()
+    results = [measure_frame(project, MeasurementKey(c, 0, 0), 20.0, "laser", hw, 0)
+               for c in (0, 1)]
+    with MediaFrames(project, tmp_path / "survey.dolphinfit") as frames:
+        assert np.array_equal(frames(results[0]), frame)
+        assert frames(results[1]) is None and frames(results[1]) is None
+    assert len(frames.notes) == 1 and frames.notes[0].startswith("gone.png frame 0: no receipt")

@@ -1,0 +1,120 @@
+"""Project files: round trip, relative media paths, Save As, relink, autosave, bad input."""
+
+import json
+import os
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from core.errors import InputError
+from core.project import recent
+from core.project.project_file import (
+    autosave_path, find_moved_media, has_newer_autosave, media_path, missing_media,
+    project_from_json, project_to_json, read_project, rebase_media, relink_clip, write_project,
+)
+
+
+def _same(a, b) -> None:
+    assert project_to_json(a) == project_to_json(b)
+    for ca, cb in zip(a.clips, b.clips):
+        for aa, ab in zip(ca.animals, cb.animals):
+            for ma, mb in zip(aa.measurements, ab.measurements):
+                np.testing.assert_array_equal(ma.midline_px, mb.midline_px)
+                np.testing.assert_array_equal(ma.offsets_px, mb.offsets_px)
+
+
+def test_round_trip_keeps_everything(tmp_path, project):
+    path = tmp_path / "survey.dolphinfit"
+    write_project(path, project)
+    back = read_project(path)
+    _same(project, back)
+    assert back.clips[0].animals[0].notes == "scar on the dorsal fin"
+    assert back.clips[0].altitude.constant_m == 18.0
+    data = json.loads(path.read_text())
+    assert data["schema_version"] == 1
+    assert data["clips"][0]["media"] == "media/clip.mp4"          # relative, POSIX
+    assert "altitude_m" not in json.dumps(data["clips"][0]["animals"])  # pixels apart
+
+
+def test_save_as_elsewhere_rebases_relative_paths(tmp_path, project):
+    media = tmp_path / "media"
+    media.mkdir()
+    (media / "clip.mp4").write_bytes(b"x")
+    moved = rebase_media(project, tmp_path, tmp_path / "out" / "deeper")
+    assert moved.clips[0].media_path == "../../media/clip.mp4"
+    assert moved.clips[0].masks_path == "../../media/masks"
+    assert media_path(tmp_path / "out" / "deeper" / "p.dolphinfit", moved.clips[0]) == \
+        (media / "clip.mp4").resolve()
+
+
+def test_moved_media_is_found_and_relinked(tmp_path, project):
+    path = tmp_path / "p.dolphinfit"
+    assert missing_media(path, project) == [0]
+    new_home = tmp_path / "2024" / "day1"
+    (new_home / "masks").mkdir(parents=True)
+    (new_home / "clip.mp4").write_bytes(b"x")
+    found = find_moved_media(tmp_path, "clip.mp4")
+    assert found == [new_home / "clip.mp4"]
+    relinked = relink_clip(project, path, 0, found[0])
+    assert relinked.clips[0].media_path == "2024/day1/clip.mp4"
+    assert relinked.clips[0].masks_path == "2024/day1/masks"  # moved along with the clip
+    assert missing_media(path, relinked) == []
+
+
+def test_autosave_newer_than_the_project_means_unsaved_work(tmp_path, project):
+    path = tmp_path / "p.dolphinfit"
+    write_project(path, project)
+    assert not has_newer_autosave(path)
+    write_project(autosave_path(path), project)
+    assert autosave_path(path).name == "p.dolphinfit.autosave"
+    assert has_newer_autosave(path)
+    old = time.time() - 100
+    os.utime(autosave_path(path), (old, old))
+    assert not has_newer_autosave(path)
+
+
+@pytest.mark.parametrize("mutate, message", [
+    (lambda d: d.update(schema_version=99), "schema_version 99"),
+    (lambda d: d["clips"][0].pop("camera"), "clips[0]: missing 'camera'"),
+    (lambda d: d["clips"][0]["camera"].update(focal_mm="12"), "'focal_mm' has the wrong type"),
+    (lambda d: d["clips"][0]["camera"].update(focal_mm=-1), "focal_mm"),
+    (lambda d: d["clips"][0]["altitude"].update(constant_m=0), "positive"),
+    (lambda d: d["clips"][0]["animals"][0]["measurements"][0]["stations"].pop(), "19 stations"),
+    (lambda d: d["clips"][0]["animals"][0]["measurements"][0].update(midline_px=[[1, True]]),
+     "midline_px[0]"),
+    (lambda d: d["clips"][0]["animals"][0]["measurements"][0].update(mirror_side="C"),
+     "mirror_side"),
+    (lambda d: d["clips"][0].update(kind="film"), "media kind"),
+    (lambda d: d["settings"].update(tail="cut"), "tail"),
+])
+def test_bad_files_name_the_entry(project, mutate, message):
+    data = project_to_json(project)
+    mutate(data)
+    with pytest.raises(InputError, match=message.replace("[", r"\[").replace("]", r"\]")):
+        project_from_json(json.loads(json.dumps(data)), "p.dolphinfit")
+
+
+def test_not_json_names_the_file(tmp_path):
+    path = tmp_path / "p.dolphinfit"
+    path.write_text("{ not json")
+    with pytest.raises(InputError, match="p.dolphinfit: not valid JSON"):
+        read_project(path)
+
+
+def test_recent_projects_newest_first_and_existing_only(tmp_path, monkeypatch):
+    monkeypatch.setenv("DOLPHINFIT_CONFIG_DIR", str(tmp_path / "config"))
+    paths = [tmp_path / f"p{i}.dolphinfit" for i in range(3)]
+    for p in paths:
+        p.write_text("{}")
+        recent.add_recent(p)
+    recent.add_recent(paths[0])
+    assert recent.recent_projects() == [paths[0], paths[2], paths[1]]
+    paths[2].unlink()
+    assert recent.recent_projects() == [paths[0], paths[1]]
+    for i in range(15):
+        (tmp_path / f"q{i}.dolphinfit").write_text("{}")
+        recent.add_recent(tmp_path / f"q{i}.dolphinfit")
+    assert len(recent.recent_projects()) == recent.MAX_RECENT
+    assert isinstance(recent.recent_path(), Path)

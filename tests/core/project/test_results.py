@@ -1,0 +1,93 @@
+"""Per-frame results are the CLI's chain on the same pixels; per-animal spread over frames."""
+
+import cv2
+import numpy as np
+import pytest
+
+from core.errors import InputError
+from core.io.telemetry import constant_telemetry
+from core.io.video import Clip
+from core.measure.annotation import pixel_measurements
+from core.measure.baseline import BaselineSettings, estimate_baseline
+from core.measure.hw_ratios import load_hw_preset
+from core.measure.mask_midline import midline_from_mask
+from core.measure.uncertainty import ErrorModel
+from core.project.evaluate import all_keys, frame_results
+from core.project.model import Measurement, MeasurementKey, with_measurement
+from core.project.project_file import write_project
+from core.project.results import animal_summary, frame_altitude, image_id, measure_frame, spread
+
+
+def test_frame_result_equals_the_engine_on_the_same_pixels(project):
+    hw = load_hw_preset()
+    key = MeasurementKey(0, 0, 0)
+    result = measure_frame(project, key, 18.0, "laser", hw, num_draws=0)
+    clip = project.clips[0]
+    pixels = pixel_measurements(clip.animals[0].measurements[0].to_annotation())
+    focal_px = clip.camera.intrinsics().focal_px
+    direct = estimate_baseline(pixels, focal_px, 18.0, BaselineSettings(hw=hw),
+                               ErrorModel.default("laser", False), 0,
+                               np.random.default_rng(0))
+    assert result.record["volume_m3"] == pytest.approx(float(direct.point.volume_m3), rel=1e-12)
+    assert result.record["length_m"] == pytest.approx(600 * 18.0 / focal_px, rel=1e-9)
+    assert result.image_id == "clip_f000003"
+
+
+def test_animal_summary_is_mean_sd_and_range_over_frames(project):
+    hw = load_hw_preset()
+    results = [measure_frame(project, MeasurementKey(0, 0, m), 18.0, "laser", hw, 0)
+               for m in range(2)]
+    summary = animal_summary(results)
+    volumes = [r.record["volume_m3"] for r in results]
+    assert summary["volume_m3"].mean == pytest.approx(np.mean(volumes))
+    assert summary["volume_m3"].sd == pytest.approx(np.std(volumes, ddof=1))
+    assert (summary["volume_m3"].low, summary["volume_m3"].high) == (min(volumes), max(volumes))
+    assert np.isnan(spread([1.0]).sd)
+    with pytest.raises(ValueError):
+        spread([])
+
+
+def test_frames_without_length_or_altitude_say_why(project):
+    empty = with_measurement(project, MeasurementKey(0, 0, 0), Measurement(frame_idx=3))
+    with pytest.raises(ValueError, match="no body length"):
+        measure_frame(empty, MeasurementKey(0, 0, 0), 18.0, "laser", load_hw_preset(), 0)
+    clip = Clip(path=None, fps=10.0, num_frames=5, width_px=1280, height_px=720)
+    telemetry = constant_telemetry(18.0, clip)
+    assert frame_altitude(telemetry, 4) == 18.0
+    with pytest.raises(InputError, match="outside"):
+        frame_altitude(telemetry, 5)
+    with pytest.raises(InputError, match="Altitude"):
+        frame_altitude(None, 0)
+    assert image_id(project.clips[0], 12) == "clip_f000012"
+
+
+def test_project_results_open_each_clip_and_report_unmeasurable_frames(tmp_path, project):
+    media = tmp_path / "media"
+    media.mkdir()
+    writer = cv2.VideoWriter(str(media / "clip.mp4"), cv2.VideoWriter_fourcc(*"mp4v"), 10.0,
+                             (1280, 720))
+    for _ in range(10):
+        writer.write(np.zeros((720, 1280, 3), np.uint8))
+    writer.release()
+    path = tmp_path / "p.dolphinfit"
+    write_project(path, project)
+    done = []
+    results, skipped = frame_results(project, path, all_keys(project), num_draws=50,
+                                     progress=lambda i, n: done.append((i, n)))
+    assert [r.image_id for r in results] == ["clip_f000003", "clip_f000007"]
+    assert results[0].estimate.interval is not None and skipped == []
+    assert done[-1] == (2, 2)
+    assert all_keys(project, clip=0, animal=1) == []
+
+
+def test_midline_from_mask_runs_rostrum_to_flukes():
+    mask = np.zeros((300, 600), np.uint8)
+    cv2.ellipse(mask, (300, 150), (220, 35), 0, 0, 360, 1, -1)
+    cv2.rectangle(mask, (505, 100), (525, 200), 1, -1)  # flukes at the right end
+    midline = midline_from_mask(mask.astype(bool))
+    assert midline[0][0] < 100 and midline[-1][0] > 500
+    np.testing.assert_allclose(midline[1:-1, 1], 150.0, atol=1.0)
+    flipped = midline_from_mask(mask[:, ::-1].astype(bool))
+    assert flipped[0][0] > 500
+    with pytest.raises(ValueError):
+        midline_from_mask(np.zeros((10, 10), bool))

@@ -1,0 +1,53 @@
+"""GUI tests: the user's config folder (camera presets, recent files, preferences) is a
+temporary one, so tests never read or write the real one."""
+
+import gc
+
+import pytest
+
+
+@pytest.fixture(autouse=True)
+def config_dir(tmp_path_factory: pytest.TempPathFactory, monkeypatch: pytest.MonkeyPatch):
+    path = tmp_path_factory.mktemp("config")
+    monkeypatch.setenv("DOLPHINFIT_CONFIG_DIR", str(path))
+    return path
+
+
+@pytest.fixture(autouse=True)
+def no_modal_dialogs(monkeypatch: pytest.MonkeyPatch) -> list[str]:
+    """A modal message box or file dialog would wait for a click forever: fail instead.
+
+    Tests that expect one replace the method they expect with their own answer.
+    """
+    from PySide6.QtWidgets import QFileDialog, QInputDialog, QMessageBox
+
+    def refuse(name: str):
+        def modal(*args, **kwargs):
+            texts = [a for a in args if isinstance(a, str)]
+            raise AssertionError(f"unexpected modal {name}: {texts}")
+        return modal
+
+    for cls, names in ((QMessageBox, ("warning", "question", "information", "critical",
+                                      "about")),
+                       (QFileDialog, ("getOpenFileName", "getSaveFileName",
+                                      "getExistingDirectory")),
+                       (QInputDialog, ("getInt", "getText", "getDouble", "getItem"))):
+        for name in names:
+            monkeypatch.setattr(cls, name, staticmethod(refuse(f"{cls.__name__}.{name}")))
+    return []
+
+
+@pytest.fixture(scope="session", autouse=True)
+def collect_on_the_gui_thread(qapp):
+    """As the app does (ui/gc_guard.py): no cycle collection in worker threads."""
+    from ui.gc_guard import GuiThreadGarbageCollector
+    collector = GuiThreadGarbageCollector(qapp)
+    yield collector
+    collector.stop()
+
+
+@pytest.fixture(autouse=True)
+def collect_after_each_test():
+    """Each test's garbage is collected here, on the GUI thread, before the next test."""
+    yield
+    gc.collect()

@@ -1,0 +1,1 @@
+"""The app's dialogs: altitude, camera, relink, shortcuts, animal and handle style."""

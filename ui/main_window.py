@@ -1,0 +1,928 @@
+"""The main window: wires the canvas, timeline, measuring overlay, project tree and results
+panel to the project model, and turns each menu action (resources/ui/actions.json) into a
+command. Questions to the user are ``_ask_*`` methods, apart from the changes they lead to."""
+
+from collections.abc import Callable
+from dataclasses import asdict, replace
+from pathlib import Path
+
+import numpy as np
+from PySide6.QtCore import Qt, Signal
+from PySide6.QtGui import QAction, QActionGroup, QCloseEvent, QKeySequence
+from PySide6.QtWidgets import (
+    QDockWidget, QFileDialog, QInputDialog, QLabel, QMainWindow, QMessageBox, QProgressDialog,
+    QVBoxLayout, QWidget,
+)
+
+from core.camera_presets import preset_resolution_mismatch
+from core.errors import InputError
+from core.io.masks import read_masks
+from core.io.media import MEDIA_SUFFIXES
+from core.project.evaluate import all_keys
+from core.project.model import (
+    AltitudeSpec, Animal, ClipEntry, Measurement, MeasurementKey, Project, add_animal,
+    add_measurement, get_measurement, next_animal_id, remove_animal, remove_measurement,
+    with_animal, with_clip,
+)
+from core.project.new_project import project_path_for, project_with_media
+from core.project.project_file import (
+    PROJECT_SUFFIX, autosave_path, find_moved_media, has_newer_autosave, media_path,
+    missing_media, read_project, rebase_media, relative_media_path, relink_clip,
+    write_project,
+)
+from core.project.recent import add_recent, recent_projects
+from core.project.results import frame_altitude, image_id
+from ui.action_table import load_action_table
+from ui.background import BackgroundJobs
+from ui.canvas import FrameCanvas
+from ui.clip_session import ClipSession, open_session, read_session_telemetry
+from ui.commands import push_edit
+from ui.dialogs.altitude_dialog import AltitudeDialog
+from ui.dialogs.animal_dialog import AnimalDialog
+from ui.dialogs.camera_dialog import CameraDialog
+from ui.dialogs.handle_style_dialog import HandleStyleDialog
+from ui.dialogs.relink_dialog import RelinkDialog
+from ui.dialogs.shortcuts_dialog import ShortcutsDialog
+from ui.export_worker import ExportWorker
+from ui.frame_loader import FrameLoader
+from ui.handle_style import HandleStyle
+from ui.measure_overlay import COARSE_NUDGE_PX, FINE_NUDGE_PX, NUDGE_PX, MeasureOverlay
+from ui.playback import Playback
+from ui.preferences import load_preferences, save_preference
+from ui.project_model import Change, ProjectModel
+from ui.project_panel import ProjectPanel
+from ui.results_panel import ResultsPanel
+from ui.timeline import Timeline
+
+APP_NAME = "dolphinfit"
+NUDGE_ACTIONS = {  # action → (direction, image px): outward +1, inward −1
+    "nudge_out": (+1, NUDGE_PX), "nudge_in": (-1, NUDGE_PX),
+    "nudge_out_fine": (+1, FINE_NUDGE_PX), "nudge_in_fine": (-1, FINE_NUDGE_PX),
+    "nudge_out_coarse": (+1, COARSE_NUDGE_PX), "nudge_in_coarse": (-1, COARSE_NUDGE_PX)}
+STEP_ACTIONS = {"next_frame": 1, "previous_frame": -1, "next_10": 10, "previous_10": -10,
+                "next_100": 100, "previous_100": -100}
+MIRROR_ACTIONS = {"mirror_none": None, "mirror_a": "A", "mirror_b": "B"}
+
+
+class MainWindow(QMainWindow):
+    """The app's window. ``frame_shown(idx)`` fires when a frame is on screen."""
+
+    frame_shown = Signal(int)
+    session_opened = Signal(int)   # clip index
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.model = ProjectModel(parent=self)
+        self.jobs = BackgroundJobs(self)
+        self.session: ClipSession | None = None
+        self.last_export: list[Path] = []
+        self.frame_idx = 0
+        self._opening_clip: int | None = None
+        self._pending_frame: int | None = None
+
+        self.canvas = FrameCanvas()
+        self.timeline = Timeline()
+        self.loader = FrameLoader(self)
+        self.playback = Playback(self)
+        self.overlay = MeasureOverlay(self.canvas, self.model)
+        self.results = ResultsPanel(self.model)
+        self.results.set_altitude_lookup(self.altitude_at)
+        self.project_panel = ProjectPanel(self.model)
+        self.exporter = ExportWorker(self)
+        self._export_progress: QProgressDialog | None = None
+        self._build_layout()
+        self.actions_by_name = self._build_menus()
+        self._apply_preferences()
+        self._connect()
+        self._update_title()
+        self.resize(1280, 900)
+
+    # ------------------------------------------------------------------ building
+    def _build_layout(self) -> None:
+        central = QWidget()
+        layout = QVBoxLayout(central)
+        layout.setContentsMargins(0, 0, 0, 0)
+        layout.setSpacing(2)
+        layout.addWidget(self.canvas, stretch=1)
+        layout.addWidget(self.timeline)
+        self.setCentralWidget(central)
+        for title, widget, area in (("Project", self.project_panel, Qt.LeftDockWidgetArea),
+                                    ("Results", self.results, Qt.RightDockWidgetArea)):
+            dock = QDockWidget(title, self)
+            dock.setObjectName(title)
+            dock.setWidget(widget)
+            dock.setFeatures(QDockWidget.DockWidgetMovable | QDockWidget.DockWidgetFloatable)
+            self.addDockWidget(area, dock)
+        self.resizeDocks([self.findChild(QDockWidget, "Project")], [300], Qt.Horizontal)
+        self.resizeDocks([self.findChild(QDockWidget, "Results")], [380], Qt.Horizontal)
+        self.status_label = QLabel()
+        self.cursor_label = QLabel()
+        self.camera_warning = QLabel()
+        self.camera_warning.setStyleSheet("color: #c00000; font-weight: bold")
+        for label in (self.camera_warning, self.cursor_label, self.status_label):
+            self.statusBar().addPermanentWidget(label)
+
+    def _build_menus(self) -> dict[str, QAction]:
+        menus, specs = load_action_table()
+        bar = {name: self.menuBar().addMenu(f"&{name}") for name in menus}
+        actions: dict[str, QAction] = {}
+        mirror_group = QActionGroup(self)
+        mode_group = QActionGroup(self)
+        for spec in specs:
+            action = QAction(spec.label, self)
+            action.setObjectName(spec.name)
+            if spec.shortcut:
+                action.setShortcut(QKeySequence(spec.shortcut))
+            if spec.scope == "canvas":
+                action.setShortcutContext(Qt.ShortcutContext.WidgetWithChildrenShortcut)
+                self.canvas.addAction(action)
+            action.setCheckable(spec.checkable)
+            action.triggered.connect(self._handler(spec.name))
+            if spec.name in MIRROR_ACTIONS:
+                mirror_group.addAction(action)
+            if spec.name in ("length_mode", "widths_mode"):
+                mode_group.addAction(action)
+            bar[spec.menu].addAction(action)
+            if spec.name == "open":
+                self.recent_menu = bar[spec.menu].addMenu("Open recent")
+                self.recent_menu.aboutToShow.connect(self._fill_recent_menu)
+            actions[spec.name] = action
+        toolbar = self.addToolBar("Measure")
+        toolbar.setObjectName("measure-toolbar")
+        for name in ("measure_frame", "length_mode", "widths_mode", "reverse", "skip_station",
+                     "suggest_edges", "fit_view"):
+            toolbar.addAction(actions[name])
+        actions["mirror_none"].setChecked(True)
+        actions["length_mode"].setChecked(True)
+        return actions
+
+    def _handler(self, name: str) -> Callable[..., None]:
+        """What an action does: a frame step, a mirror side, a nudge, or ``on_<name>``."""
+        if name in STEP_ACTIONS:
+            return lambda *_: self._step(STEP_ACTIONS[name])
+        if name in MIRROR_ACTIONS:
+            return lambda *_: self.overlay.set_mirror_side(MIRROR_ACTIONS[name])
+        if name in NUDGE_ACTIONS:
+            return lambda *_: self.overlay.nudge(*NUDGE_ACTIONS[name])
+        return getattr(self, f"on_{name}")
+
+    def _connect(self) -> None:
+        m = self.model
+        m.changed.connect(self._on_model_changed)
+        m.selection_changed.connect(self._on_selection_changed)
+        m.dirty_changed.connect(lambda _: self._update_title())
+        m.path_changed.connect(self._update_title)
+        m.autosave_failed.connect(lambda why: self.statusBar().showMessage(
+            f"autosave failed: {why}", 10_000))
+        self.timeline.frame_requested.connect(self._seek)
+        self.playback.frame_requested.connect(self.go_to_frame)
+        self.loader.frame_ready.connect(self._on_frame_ready)
+        self.loader.failed.connect(self._on_frame_failed)
+        self.canvas.cursor_moved.connect(self._on_cursor_moved)
+        self.canvas.space_tapped.connect(self.on_play)
+        self.overlay.status_message.connect(lambda text: self.statusBar().showMessage(text, 5000))
+        self.results.animal_figures.connect(self.project_panel.set_figures)
+        self.exporter.progress.connect(self._on_export_progress)
+        self.exporter.finished.connect(self._on_export_finished)
+        self.exporter.failed.connect(self._on_export_failed)
+        self.exporter.cancelled.connect(self._on_export_cancelled)
+
+    def _apply_preferences(self) -> None:
+        prefs = load_preferences()
+        if isinstance(prefs.get("handle_style"), dict):
+            try:
+                self.overlay.set_style(HandleStyle(**prefs["handle_style"]))
+            except (TypeError, ValueError):
+                pass  # a hand-edited preferences file: keep the default style
+        auto_zoom = bool(prefs.get("auto_zoom", False))
+        self.actions_by_name["auto_zoom"].setChecked(auto_zoom)
+        self.overlay.auto_zoom = auto_zoom
+
+    # ------------------------------------------------------------------ questions (ask)
+    def _error(self, title: str, text: str) -> None:
+        QMessageBox.warning(self, title, text)
+
+    def _ask_restore_autosave(self, path: Path) -> bool:
+        answer = QMessageBox.question(
+            self, "Restore unsaved work?",
+            f"{autosave_path(path).name} holds changes to {path.name} that were never saved "
+            "(the app closed without saving). Restore them?")
+        return answer == QMessageBox.Yes
+
+    def _ask_relink(self, stored: str, project_dir: Path) -> Path | None:
+        dialog = RelinkDialog(stored, project_dir,
+                              find_moved_media(project_dir, Path(stored).name), self)
+        return dialog.chosen if dialog.exec() else None
+
+    def _ask_altitude(self, clip: ClipEntry) -> AltitudeSpec | None:
+        """The altitude dialog (the clip's SRT sidecar offered first); None if cancelled."""
+        dialog = AltitudeDialog(media_path(self.model.path, clip), self.model.path.parent,
+                                self.session.source.clip, clip.altitude, self)
+        return dialog.spec if dialog.exec() else None
+
+    def _ask_save_changes(self) -> str:
+        """"save", "discard" or "cancel"."""
+        answer = QMessageBox.question(
+            self, "Unsaved changes", "Save the changes to this project before closing?",
+            QMessageBox.Save | QMessageBox.Discard | QMessageBox.Cancel)
+        return {QMessageBox.Save: "save", QMessageBox.Discard: "discard"}.get(answer, "cancel")
+
+    def _ask_save_path(self) -> Path | None:
+        start = str(self.model.path or Path.cwd() / f"untitled{PROJECT_SUFFIX}")
+        name, _ = QFileDialog.getSaveFileName(self, "Save project as", start,
+                                              f"dolphinfit projects (*{PROJECT_SUFFIX})")
+        if not name:
+            return None
+        path = Path(name)
+        return path if path.suffix == PROJECT_SUFFIX else path.with_name(path.name + PROJECT_SUFFIX)
+
+    def _ask_export_dir(self) -> Path | None:
+        start = str(self.model.path.parent if self.model.path else Path.cwd())
+        name = QFileDialog.getExistingDirectory(self, "Export into folder", start)
+        return Path(name) if name else None
+
+    # ------------------------------------------------------------------ opening and saving
+    def open_path(self, path: Path) -> None:
+        """Open a project file, or media (a clip, an image or a folder of frames)."""
+        path = Path(path).expanduser().resolve()
+        if not path.exists():
+            self._error("Cannot open", f"{path}: no such file or folder")
+            return
+        if path.suffix == PROJECT_SUFFIX:
+            self.open_project(path)
+            return
+        project_path = project_path_for(path)
+        if project_path == self.model.path:
+            self._add_media(path)
+            return
+        if project_path.exists() or autosave_path(project_path).exists():
+            self.open_project(project_path)
+        elif self.may_leave_project():
+            self._close_session()
+            self.model.reset(Project(), project_path)
+        else:
+            return
+        if self.model.path == project_path:
+            self._add_media(path)
+
+    def may_leave_project(self) -> bool:
+        """Whether the open project may be closed: saved, or the user saved or discarded."""
+        if not self.model.is_dirty:
+            return True
+        answer = self._ask_save_changes()
+        if answer == "cancel" or (answer == "save" and not self.save()):
+            return False
+        if answer == "discard" and self.model.path is not None:
+            autosave_path(self.model.path).unlink(missing_ok=True)
+        return True
+
+    def open_project(self, path: Path) -> None:
+        """Read a project (offering its autosave), relink moved media, show its first clip."""
+        if path != self.model.path and not self.may_leave_project():
+            return
+        try:
+            project = read_project(path)
+        except InputError as exc:
+            if not (has_newer_autosave(path) and self._ask_restore_autosave(path)):
+                self._error("Cannot open project", str(exc))
+                return
+            project = None
+        self._close_session()
+        self.model.reset(project if project is not None else Project(),
+                         path)
+        if has_newer_autosave(path) and (project is None or self._ask_restore_autosave(path)):
+            try:
+                restored = read_project(autosave_path(path))
+            except InputError as exc:
+                self._error("Cannot restore", str(exc))
+            else:
+                push_edit(self.model, restored, "restore unsaved work", Change("structure"))
+                self.model.select_first()
+        self._relink_missing()
+        self._remember_recent(path)
+        self._open_current_clip()
+
+    def _relink_missing(self) -> None:
+        path = self.model.path
+        for clip_idx in missing_media(path, self.model.project):
+            stored = self.model.project.clips[clip_idx].media_path
+            chosen = self._ask_relink(stored, path.parent)
+            if chosen is not None:
+                push_edit(self.model, relink_clip(self.model.project, path, clip_idx, chosen),
+                          f"relink {Path(stored).name}", Change("clip", clip=clip_idx))
+
+    def _add_media(self, media: Path) -> None:
+        """Open media in the background and add it to the project (or select its clip)."""
+        from core.io.media import open_media
+
+        def opened(source: object) -> None:
+            project, clip_idx = project_with_media(self.model.project, media,
+                                                   self.model.path.parent, source)
+            source.close()
+            if project is not self.model.project:
+                push_edit(self.model, project, f"add {media.name}", Change("structure"))
+            self.model.select(clip_idx)
+            self._open_current_clip()
+
+        self.jobs.run(lambda: open_media(media), opened,
+                      lambda why: self._error("Cannot open media", why))
+
+    def save(self, path: Path | None = None) -> bool:
+        """Write the project (to ``path``: Save As); False when it could not be written."""
+        old = self.model.path
+        target = path or old
+        if target is None:
+            return False
+        project = self.model.project
+        if old is not None and target.parent.resolve() != old.parent.resolve():
+            project = rebase_media(project, old.parent, target.parent)
+        try:
+            write_project(target, project)
+        except OSError as exc:
+            self._error("Cannot save", f"{target}: {exc.strerror or exc}")
+            return False
+        if old is not None and target != old:
+            autosave_path(old).unlink(missing_ok=True)
+        if project is not self.model.project:
+            self.model.reset(project, target)
+        elif target != old:
+            self.model.set_path(target)
+        self.model.mark_saved()
+        self._remember_recent(target)
+        self.statusBar().showMessage(f"saved {target}", 5000)
+        return True
+
+    def _remember_recent(self, path: Path) -> None:
+        try:
+            add_recent(path)
+        except OSError as exc:
+            self.statusBar().showMessage(f"recent projects not updated: {exc.strerror or exc}",
+                                         10_000)
+
+    # ------------------------------------------------------------------ clips and frames
+    def _close_session(self) -> None:
+        self._opening_clip = None
+        self.playback.stop()
+        self.loader.set_source(None)
+        if self.session is not None:
+            self.session.close()
+        self.session = None
+
+    def _open_current_clip(self) -> None:
+        clip_idx, path = self.model.clip_idx, self.model.path
+        if clip_idx is None or path is None:
+            return
+        if self._opening_clip == clip_idx or (self.session is not None
+                                              and self.session.clip_idx == clip_idx):
+            return
+        if not media_path(path, self.model.project.clips[clip_idx]).exists():
+            self.statusBar().showMessage("this clip's media is missing: reopen the project "
+                                         "to relink it", 10_000)
+            return
+        self._close_session()
+        self._opening_clip = clip_idx
+        clip = self.model.project.clips[clip_idx]
+        self.jobs.run(lambda: open_session(path, clip, clip_idx), self._on_session_opened,
+                      self._on_session_failed)
+
+    def _on_session_failed(self, why: str) -> None:
+        self._opening_clip = None
+        self._error("Cannot open clip", why)
+
+    def _on_session_opened(self, session: ClipSession) -> None:
+        if self._opening_clip == session.clip_idx:
+            self._opening_clip = None
+        if session.clip_idx != self.model.clip_idx:
+            session.close()  # the user moved on while it opened
+            self._open_current_clip()
+            return
+        self.session = session
+        if self.model.project.clips[session.clip_idx].altitude != session.altitude:
+            self._reload_telemetry()  # changed while the clip opened (a restored autosave)
+        media = session.source.clip
+        self.loader.set_source(session.source)
+        self.playback.set_clip(media.num_frames, media.fps)
+        self.timeline.set_clip(media.num_frames, media.fps)
+        self._show_telemetry()
+        self._update_marks()
+        clip = self.model.project.clips[session.clip_idx]
+        self._check_camera()
+        measurement = self.model.current_measurement()
+        target = measurement.frame_idx if measurement is not None else self._pending_frame
+        self._pending_frame = None
+        self.go_to_frame(target if target is not None else 0, force=True)
+        self.results.refresh()
+        self.canvas.setFocus()
+        self.session_opened.emit(session.clip_idx)
+        if clip.altitude is None:  # a new clip: its altitude comes first (SRT found if any)
+            self.on_altitude()
+
+    def _check_camera(self) -> None:
+        """A lasting red warning while the camera's image size is not the clip's."""
+        session = self.session
+        if session is None:
+            self.camera_warning.clear()
+            return
+        media = session.source.clip
+        clip = self.model.project.clips[session.clip_idx]
+        mismatch = preset_resolution_mismatch(clip.camera, media.width_px, media.height_px)
+        self.camera_warning.setText("camera size ≠ clip: Clip → Camera…" if mismatch else "")
+        self.camera_warning.setToolTip(mismatch or "")
+
+    def _show_telemetry(self) -> None:
+        telemetry = self.session.telemetry if self.session else None
+        if telemetry is None:
+            why = self.session.telemetry_error if self.session else ""
+            self.timeline.set_altitude(None, None, None, why or "no altitude")
+        else:
+            self.timeline.set_altitude(telemetry.altitude_m, telemetry.is_interpolated,
+                                       telemetry.is_missing, telemetry.source.describe())
+
+    def _update_marks(self) -> None:
+        clip_idx = self.model.clip_idx
+        if clip_idx is None:
+            return
+        clip = self.model.project.clips[clip_idx]
+        self.timeline.set_marks(sorted({m.frame_idx for a in clip.animals
+                                        for m in a.measurements}))
+
+    def go_to_frame(self, frame_idx: int, force: bool = False) -> None:
+        """Show frame ``frame_idx`` (clamped to the clip)."""
+        if self.session is None:
+            self._pending_frame = frame_idx
+            return
+        frame_idx = int(np.clip(frame_idx, 0, self.session.source.clip.num_frames - 1))
+        if frame_idx == self.frame_idx and not force:
+            return
+        self.frame_idx = frame_idx
+        self.loader.request(frame_idx)
+        self.timeline.set_frame(frame_idx)
+        self.overlay.set_frame(frame_idx)
+        self._update_status()
+
+    def _seek(self, frame_idx: int) -> None:
+        """A jump asked for by the user: playback stops (its next request would replace it)."""
+        self.playback.stop()
+        self.go_to_frame(frame_idx)
+
+    def _on_frame_failed(self, frame_idx: int, why: str) -> None:
+        self.playback.stop()
+        self.statusBar().showMessage(f"frame {frame_idx}: {why}", 10_000)
+
+    def _on_frame_ready(self, frame_idx: int, rgb: np.ndarray) -> None:
+        if frame_idx != self.frame_idx:
+            return
+        self.canvas.set_frame(rgb)
+        self.playback.frame_shown(frame_idx)
+        self.frame_shown.emit(frame_idx)
+
+    def altitude_at(self, clip_idx: int, frame_idx: int) -> tuple[float, str]:
+        """Altitude (m) and its error source for a frame of the open clip; InputError if none."""
+        session = self.session
+        if session is None or session.clip_idx != clip_idx:
+            raise InputError("the clip is still opening")
+        spec = self.model.project.clips[clip_idx].altitude
+        if spec != session.altitude:
+            raise InputError("reading the altitude…")
+        if session.telemetry is None:
+            raise InputError(session.telemetry_error or "no altitude for this clip")
+        return frame_altitude(session.telemetry, frame_idx), spec.source
+
+    def _update_status(self) -> None:
+        if self.session is None:
+            self.status_label.setText("")
+            return
+        media = self.session.source.clip
+        parts = [f"frame {self.frame_idx} of 0–{media.num_frames - 1}"]
+        if media.num_frames > 1:
+            parts.append(f"{self.frame_idx / media.fps:.2f} s")
+        clip = self.model.project.clips[self.session.clip_idx]
+        try:
+            altitude, source = self.altitude_at(self.session.clip_idx, self.frame_idx)
+        except InputError as exc:
+            parts.append(f"altitude: {exc}")
+        else:
+            telemetry = self.session.telemetry
+            how = "interpolated" if telemetry.is_interpolated[self.frame_idx] else "sampled"
+            gsd_cm = 100 * clip.camera.intrinsics().gsd_m_per_px(altitude)
+            parts += [f"altitude {altitude:.2f} m ({telemetry.source.kind}, {source}, {how})",
+                      f"GSD {gsd_cm:.2f} cm/px"]
+        self.status_label.setText(" · ".join(parts))
+
+    def _on_cursor_moved(self, u: float, v: float) -> None:
+        self.cursor_label.setText(f"x {u:.0f}, y {v:.0f} px")
+
+    # ------------------------------------------------------------------ model observers
+    def _on_model_changed(self, change: Change) -> None:
+        self._update_marks()
+        self._sync_mirror_actions()
+        session, clips = self.session, self.model.project.clips
+        if session is None:
+            return
+        if session.clip_idx >= len(clips):
+            self._close_session()
+        elif clips[session.clip_idx].altitude != session.altitude:
+            self._reload_telemetry()  # set, changed, undone or restored
+        self._check_camera()
+
+    def _reload_telemetry(self) -> None:
+        path, session = self.model.path, self.session
+        clip = self.model.project.clips[session.clip_idx]
+
+        def done(reloaded: ClipSession) -> None:
+            if self.session is session:
+                self.session = reloaded
+                self._show_telemetry()
+                self._update_status()
+                self.results.refresh()
+
+        self.jobs.run(lambda: read_session_telemetry(path, clip, session.clip_idx,
+                                                     session.source),
+                      done, lambda why: self._error("Cannot read altitude", why))
+
+    def _sync_mirror_actions(self) -> None:
+        """Check the mirror action of the current measurement (both sides when none)."""
+        measurement = self.model.current_measurement()
+        side = measurement.mirror_side if measurement is not None else None
+        for name, action_side in MIRROR_ACTIONS.items():
+            self.actions_by_name[name].setChecked(action_side == side)
+
+    def _on_selection_changed(self) -> None:
+        self._sync_mirror_actions()
+        if self.session is None or self.session.clip_idx != self.model.clip_idx:
+            self._open_current_clip()
+            return
+        measurement = self.model.current_measurement()
+        if measurement is not None and measurement.frame_idx != self.frame_idx:
+            self.go_to_frame(measurement.frame_idx)
+
+    def _update_title(self) -> None:
+        path = self.model.path
+        name = path.name if path else "untitled"
+        self.setWindowTitle(f"{name}{' *' if self.model.is_dirty else ''} — {APP_NAME}")
+
+    def closeEvent(self, event: QCloseEvent) -> None:  # noqa: N802 (Qt's name)
+        if not self.may_leave_project():
+            event.ignore()
+            return
+        self._close_session()
+        self.loader.shutdown()
+        self.results.shutdown()
+        self.exporter.shutdown()
+        self.jobs.wait()
+        event.accept()
+
+    # ------------------------------------------------------------------ actions: File
+    def on_open(self) -> None:
+        suffixes = " ".join(f"*{s}" for s in sorted(MEDIA_SUFFIXES))
+        name, _ = QFileDialog.getOpenFileName(
+            self, "Open project, clip or image", "",
+            f"Projects and media (*{PROJECT_SUFFIX} {suffixes});;All files (*)")
+        if name:
+            self.open_path(Path(name))
+
+    def on_open_folder(self) -> None:
+        name = QFileDialog.getExistingDirectory(self, "Open a folder of numbered frames")
+        if name:
+            self.open_path(Path(name))
+
+    def on_add_media(self) -> None:
+        if self.model.path is None:
+            self.on_open()
+            return
+        name, _ = QFileDialog.getOpenFileName(self, "Add clip or image", "",
+                                              " ".join(f"*{s}" for s in MEDIA_SUFFIXES))
+        if name:
+            self._add_media(Path(name))
+
+    def on_add_folder(self) -> None:
+        if self.model.path is None:
+            self.on_open_folder()
+            return
+        name = QFileDialog.getExistingDirectory(self, "Add a folder of numbered frames")
+        if name:
+            self._add_media(Path(name))
+
+    def _fill_recent_menu(self) -> None:
+        self.recent_menu.clear()
+        for path in recent_projects():
+            self.recent_menu.addAction(str(path), lambda p=path: self.open_path(p))
+
+    def on_save(self) -> None:
+        if self.model.path is None:
+            self.on_save_as()
+        else:
+            self.save()
+
+    def on_save_as(self) -> None:
+        path = self._ask_save_path()
+        if path is not None:
+            self.save(path)
+
+    def _export(self, keys: list[MeasurementKey], stem: str) -> None:
+        """Export measured frames (all four formats) into a folder the user picks."""
+        if self.model.path is None or not keys:
+            self._error("Export", "nothing measured to export yet")
+            return
+        if self.exporter.is_running:
+            self._error("Export", "an export is already running")
+            return
+        out_dir = self._ask_export_dir()
+        if out_dir is None:
+            return
+        self.exporter.start(self.model.project, self.model.path, keys, out_dir, stem)
+        self._export_progress = QProgressDialog("Measuring and writing…", "Cancel", 0,
+                                                len(keys), self)
+        self._export_progress.setWindowTitle("Export")
+        self._export_progress.setMinimumDuration(500)
+        self._export_progress.canceled.connect(self.exporter.cancel)
+
+    def on_export_frame(self) -> None:
+        key = self.model.current_key()
+        if key is None:
+            self._error("Export", "no measured frame is selected")
+            return
+        clip = self.model.project.clips[key.clip]
+        self._export([key], image_id(clip, get_measurement(self.model.project, key).frame_idx))
+
+    def on_export_animal(self) -> None:
+        m = self.model
+        if m.animal_idx is None:
+            self._error("Export", "no animal is selected")
+            return
+        clip = m.project.clips[m.clip_idx]
+        animal_id = clip.animals[m.animal_idx].animal_id
+        self._export(all_keys(m.project, m.clip_idx, m.animal_idx),
+                     f"{Path(clip.media_path).stem}_{animal_id}".replace(" ", "-"))
+
+    def on_export_project(self) -> None:
+        path = self.model.path
+        self._export(all_keys(self.model.project), path.stem if path else "project")
+
+    def _close_export_progress(self) -> None:
+        if self._export_progress is not None:
+            self._export_progress.reset()
+            self._export_progress.deleteLater()
+            self._export_progress = None
+
+    def _on_export_progress(self, done: int, total: int) -> None:
+        if self._export_progress is not None:
+            self._export_progress.setMaximum(total)
+            self._export_progress.setValue(done)
+
+    def _on_export_failed(self, why: str) -> None:
+        self._close_export_progress()
+        self._error("Export failed", why)
+
+    def _on_export_cancelled(self) -> None:
+        self._close_export_progress()
+        self.statusBar().showMessage("export cancelled: nothing written", 10_000)
+
+    def _on_export_finished(self, paths: list, skipped: list) -> None:
+        self._close_export_progress()
+        self.last_export = list(paths)
+        text = f"wrote {len(paths)} files"
+        if paths:
+            text += f" into {Path(paths[0]).parent}"
+        if skipped:
+            self._error("Export", text + "\n\nnot exported:\n" + "\n".join(skipped))
+        self.statusBar().showMessage(text, 10_000)
+
+    def on_quit(self) -> None:
+        self.close()
+
+    # ------------------------------------------------------------------ actions: Edit, View
+    def on_undo(self) -> None:
+        self.model.undo_stack.undo()
+
+    def on_redo(self) -> None:
+        self.model.undo_stack.redo()
+
+    def on_handle_style(self) -> None:
+        dialog = HandleStyleDialog(self.overlay.style, self)
+        if dialog.exec():
+            self.overlay.set_style(dialog.style)
+            self._save_preference("handle_style", asdict(dialog.style))
+
+    def on_fit_view(self) -> None:
+        self.canvas.fit_to_window()
+
+    def on_play(self) -> None:
+        if self.session is not None:
+            self.playback.toggle()
+
+    def _step(self, delta: int) -> None:
+        self._seek(self.frame_idx + delta)
+
+    def on_first_frame(self) -> None:
+        self._seek(0)
+
+    def on_last_frame(self) -> None:
+        if self.session is not None:
+            self._seek(self.session.source.clip.num_frames - 1)
+
+    def on_go_to_frame(self) -> None:
+        if self.session is None:
+            return
+        last = self.session.source.clip.num_frames - 1
+        value, ok = QInputDialog.getInt(self, "Go to frame", f"frame (0–{last}):",
+                                        self.frame_idx, 0, last)
+        if ok:
+            self._seek(value)
+
+    def on_auto_zoom(self, checked: bool) -> None:
+        self.overlay.auto_zoom = checked
+        self._save_preference("auto_zoom", checked)
+
+    def _save_preference(self, key: str, value: object) -> None:
+        try:
+            save_preference(key, value)
+        except OSError as exc:
+            self.statusBar().showMessage(f"preference not saved: {exc.strerror or exc}", 10_000)
+
+    # ------------------------------------------------------------------ actions: Clip
+    def _current_clip(self) -> int | None:
+        if self.model.clip_idx is None:
+            self._error("No clip", "open a clip, an image or a folder of frames first")
+        return self.model.clip_idx
+
+    def on_altitude(self) -> None:
+        clip_idx = self._current_clip()
+        if clip_idx is None or self.session is None:
+            return
+        clip = self.model.project.clips[clip_idx]
+        spec = self._ask_altitude(clip)
+        if spec is not None:
+            push_edit(self.model, with_clip(self.model.project, clip_idx,
+                                            replace(clip, altitude=spec)),
+                      "set altitude", Change("clip", clip=clip_idx))
+
+    def on_camera(self) -> None:
+        clip_idx = self._current_clip()
+        if clip_idx is None or self.session is None:
+            return
+        clip = self.model.project.clips[clip_idx]
+        media = self.session.source.clip
+        dialog = CameraDialog(clip.camera, clip.preset_name, media.width_px, media.height_px,
+                              self)
+        if dialog.exec():
+            push_edit(self.model, with_clip(self.model.project, clip_idx, replace(
+                clip, camera=dialog.camera, preset_name=dialog.preset_name)),
+                "set camera", Change("clip", clip=clip_idx))
+
+    def on_add_animal(self) -> None:
+        clip_idx = self._current_clip()
+        if clip_idx is None:
+            return
+        clip = self.model.project.clips[clip_idx]
+        push_edit(self.model, add_animal(self.model.project, clip_idx,
+                                         Animal(next_animal_id(clip))),
+                  "add animal", Change("structure"))
+        self.model.select(clip_idx, len(clip.animals))
+
+    def on_edit_animal(self) -> None:
+        m = self.model
+        if m.animal_idx is None:
+            self._error("No animal", "select an animal first")
+            return
+        clip = m.project.clips[m.clip_idx]
+        animal = clip.animals[m.animal_idx]
+        others = [a.animal_id for i, a in enumerate(clip.animals) if i != m.animal_idx]
+        dialog = AnimalDialog(animal.animal_id, animal.notes, others, self)
+        if dialog.exec():
+            push_edit(m, with_animal(m.project, m.clip_idx, m.animal_idx, replace(
+                animal, animal_id=dialog.animal_id, notes=dialog.notes)),
+                "edit animal", Change("structure"))
+
+    def on_remove_animal(self) -> None:
+        m = self.model
+        if m.animal_idx is None:
+            return
+        animal = m.project.clips[m.clip_idx].animals[m.animal_idx]
+        if QMessageBox.question(self, "Remove animal", f"Remove {animal.animal_id} and its "
+                                f"{len(animal.measurements)} measured frames? (Undo brings "
+                                "them back.)") == QMessageBox.Yes:
+            push_edit(m, remove_animal(m.project, m.clip_idx, m.animal_idx),
+                      f"remove {animal.animal_id}", Change("structure"))
+
+    # ------------------------------------------------------------------ actions: Measure
+    def on_measure_frame(self) -> None:
+        """Start a measurement of the current animal on the current frame."""
+        m = self.model
+        clip_idx = self._current_clip()
+        if clip_idx is None or self.session is None:
+            return
+        project, animal_idx = m.project, m.animal_idx
+        clip = project.clips[clip_idx]
+        if animal_idx is None and clip.animals:
+            animal_idx = 0  # the clip's first animal, until the user picks another
+        elif animal_idx is None:
+            project = add_animal(project, clip_idx, Animal(next_animal_id(clip)))
+            animal_idx = 0
+        existing = project.clips[clip_idx].animals[animal_idx].measurement_at(self.frame_idx)
+        if existing is not None:
+            m.select(clip_idx, animal_idx, existing)
+            return
+        project, key = add_measurement(project, clip_idx, animal_idx,
+                                       Measurement(self.frame_idx))
+        push_edit(m, project, f"measure frame {self.frame_idx}", Change("structure", key=key))
+        self.actions_by_name["length_mode"].setChecked(True)
+        self.overlay.set_mode("length")
+
+    def on_remove_measurement(self) -> None:
+        key = self.model.current_key()
+        if key is not None:
+            push_edit(self.model, remove_measurement(self.model.project, key),
+                      "remove measured frame", Change("structure"))
+
+    def on_length_mode(self) -> None:
+        self.overlay.set_mode("length")
+
+    def on_widths_mode(self) -> None:
+        self.overlay.set_mode("widths")
+
+    def on_reverse(self) -> None:
+        self.overlay.reverse_direction()
+
+    def on_delete_point(self) -> None:
+        self.overlay.delete_selected_point()
+
+    def on_next_handle(self) -> None:
+        self.overlay.next_handle()
+
+    def on_previous_handle(self) -> None:
+        self.overlay.previous_handle()
+
+    def on_skip_station(self) -> None:
+        self.overlay.skip_station()
+
+    def on_suggest_edges(self) -> None:
+        """Widths where each station's perpendicular leaves the clip's mask."""
+        session, path = self.session, self.model.path
+        measurement = self.model.current_measurement()
+        if session is None or measurement is None or not measurement.has_length:
+            self._error("Suggest edges", "measure a length on this frame first")
+            return
+        clip = self.model.project.clips[session.clip_idx]
+        if clip.masks_path is None:
+            self._error("Suggest edges", "this clip has no masks: choose them with "
+                        "Clip → Masks…")
+            return
+        masks = (path.parent / clip.masks_path).resolve()
+        frame_idx = measurement.frame_idx
+
+        def read_mask() -> np.ndarray:
+            track = read_masks(masks, session.source.clip)
+            if not track.is_visible[frame_idx]:
+                raise InputError(f"{masks}: no dolphin in the mask of frame {frame_idx}")
+            return track.mask(frame_idx)
+
+        key = self.model.current_key()
+
+        def apply(mask: np.ndarray) -> None:
+            if self.model.current_key() != key or self.frame_idx != frame_idx:
+                self.statusBar().showMessage("edges not suggested: another frame is shown now",
+                                             10_000)
+                return
+            try:
+                self.overlay.suggest_edges(mask)
+            except InputError as exc:
+                self._error("Suggest edges", str(exc))
+
+        self.jobs.run(read_mask, apply, lambda why: self._error("Suggest edges", why))
+
+    def on_masks(self) -> None:
+        """Choose the clip's masks (a PNG folder, an .npz or a mask video), checked first."""
+        clip_idx = self._current_clip()
+        if clip_idx is None or self.session is None:
+            return
+        name = QFileDialog.getExistingDirectory(self, "Folder of mask PNGs (%06d.png)")
+        if not name:
+            name, _ = QFileDialog.getOpenFileName(self, "Mask file", "",
+                                                  "Masks (*.npz *.mp4 *.avi *.mkv)")
+        if name:
+            self.set_masks(clip_idx, Path(name))
+
+    def set_masks(self, clip_idx: int, masks: Path) -> None:
+        """Check that ``masks`` fit the clip (in the background), then store them."""
+        media = self.session.source.clip
+        project_dir = self.model.path.parent
+
+        def stored(_: object) -> None:
+            clip = self.model.project.clips[clip_idx]
+            push_edit(self.model, with_clip(self.model.project, clip_idx, replace(
+                clip, masks_path=relative_media_path(project_dir, masks))),
+                "set masks", Change("clip", clip=clip_idx))
+
+        self.jobs.run(lambda: read_masks(masks, media), stored,
+                      lambda why: self._error("Cannot use these masks", why))
+
+    # ------------------------------------------------------------------ actions: Help
+    def on_shortcuts(self) -> None:
+        ShortcutsDialog(self).exec()
+
+    def on_about(self) -> None:
+        QMessageBox.about(self, "About dolphinfit",
+                          "dolphinfit: body length, volume, body condition and mass of "
+                          "dolphins from nadir drone video.\nElliptical baseline "
+                          "(Christiansen et al. 2019) and a model-based 3D fit.")

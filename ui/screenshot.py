@@ -1,0 +1,80 @@
+"""The README's screenshot: the app on the sample project with the dolphin measured.
+
+The measurement is made the way a user would start one: "measure this frame", a length
+suggested from the clip's mask (core.measure.mask_midline) and the widths from "suggest edges
+from the mask"; the stations where the flippers join the outline (25 %, 30 %) are skipped, as
+a user reviewing the suggestion would, and left to interpolation. Then the window waits for
+the Monte Carlo intervals and saves itself to a PNG. Nothing is saved to the project.
+"""
+
+import time
+from dataclasses import replace
+from pathlib import Path
+
+from PySide6.QtCore import QRectF
+
+from core.io.masks import read_masks
+from core.measure.mask_midline import midline_from_mask
+from core.project.edits import set_skipped
+from core.project.project_file import autosave_path
+from ui.app import application
+from ui.commands import edit_measurement
+from ui.main_window import MainWindow
+
+SCREENSHOT_FRAME = 24     # the sample dolphin lies flat and whole in the frame here
+FLIPPER_STATIONS = (4, 5)  # 25 % and 30 %: the mask's outline runs round the flippers there
+WINDOW_SIZE = (1600, 1000)
+TIMEOUT_S = 60.0
+ZOOM_MARGIN = 0.35        # view this much of the body length around the dolphin
+
+
+def _wait_until(condition, what: str) -> None:
+    app = application()
+    deadline = time.monotonic() + TIMEOUT_S
+    while not condition():
+        if time.monotonic() > deadline:
+            raise TimeoutError(f"screenshot: gave up waiting for {what}")
+        app.processEvents()
+        time.sleep(0.01)
+
+
+def save_screenshot(project_path: Path, out_png: Path) -> int:
+    """Open ``project_path``, measure its first clip's dolphin, save the window to PNG."""
+    application()
+    window = MainWindow()
+    window.resize(*WINDOW_SIZE)
+    window.show()
+    window.open_path(project_path)
+    _wait_until(lambda: window.session is not None, "the clip to open")
+    window.go_to_frame(SCREENSHOT_FRAME)
+    _wait_until(lambda: window.canvas.image_rect().width() > 0, "the frame")
+    window.on_measure_frame()
+    model = window.model
+    clip = model.project.clips[model.clip_idx]
+    mask = read_masks(project_path.parent / clip.masks_path).mask(SCREENSHOT_FRAME)
+    key = model.current_key()
+    edit_measurement(model, key, replace(model.current_measurement(),
+                                         midline_px=midline_from_mask(mask)), "suggest length")
+    window.overlay.suggest_edges(mask)
+    window.actions_by_name["widths_mode"].trigger()
+    for station in FLIPPER_STATIONS:
+        edit_measurement(model, key, set_skipped(model.current_measurement(), station, True),
+                         "skip station")
+    while window.overlay.selected_edge != (FLIPPER_STATIONS[-1] + 1, 0):
+        window.overlay.next_handle()
+    midline = model.current_measurement().midline_px
+    low, high = midline.min(axis=0), midline.max(axis=0)
+    margin = ZOOM_MARGIN * (high - low).max()
+    window.canvas.zoom_to(QRectF(low[0] - margin, low[1] - margin,
+                                 high[0] - low[0] + 2 * margin, high[1] - low[1] + 2 * margin))
+    _wait_until(lambda: window.results.current_result() is not None
+                and window.results.current_result().estimate.interval is not None,
+                "the Monte Carlo intervals")
+    out_png.parent.mkdir(parents=True, exist_ok=True)
+    if not window.grab().save(str(out_png)):
+        raise OSError(f"{out_png}: could not write the screenshot")
+    model.mark_saved()  # the demonstration measurement is not kept
+    autosave_path(project_path).unlink(missing_ok=True)
+    window.close()
+    print(f"wrote {out_png}")
+    return 0
