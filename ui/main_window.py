@@ -565,12 +565,16 @@ class MainWindow(QMainWindow):
         if not self.may_leave_project():
             event.ignore()
             return
+        self.shutdown()
+        event.accept()
+
+    def shutdown(self) -> None:
+        """Stop every worker thread (closing; a thread left running aborts Qt on exit)."""
         self._close_session()
         self.loader.shutdown()
         self.results.shutdown()
         self.exporter.shutdown()
         self.jobs.wait()
-        event.accept()
 
     # ------------------------------------------------------------------ actions: File
     def on_open(self) -> None:

@@ -67,6 +67,7 @@ def new_window(qtbot):
 
     yield make
     for window in windows:
+        window.shutdown()  # also for a window a test left open with unsaved work
         window.model.undo_stack.clear()
 
 
