@@ -13,8 +13,8 @@ from dataclasses import asdict, dataclass, fields
 from pathlib import Path
 from typing import Any
 
-from core.intrinsics import CameraIntrinsics, require_positive
 from core.errors import InputError
+from core.intrinsics import CameraIntrinsics, require_positive
 from core.io.json_file import read_json, write_json
 from core.resources import resource_path
 

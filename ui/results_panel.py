@@ -294,7 +294,9 @@ class ResultsPanel(QWidget):
         for row in range(NUM_STATIONS):
             self.stations.setItem(row, 1, self._cell(f"{estimate.point.widths_m[row]:.3f}"))
             self.stations.setItem(row, 2, self._cell(_station_state(estimate, measurement, row)))
-        self.warnings.setText("\n".join(f"⚠ {text}" for text in record["warnings"]))
+        # a number and its unit stay on one line ("25 %", not "25" | "%")
+        self.warnings.setText("\n".join(f"⚠ {text}".replace(" %", "\u00a0%")
+                                        for text in record["warnings"]))
         self.result_shown.emit(result)
 
     def _on_failed(self, request_id: int, message: str) -> None:

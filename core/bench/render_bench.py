@@ -23,8 +23,8 @@ import torch
 
 from core.bench.timing import median_ms, peak_rss_mb_of
 from core.camera import NadirCamera
-from core.intrinsics import CameraIntrinsics
 from core.fit.losses import soft_iou_loss
+from core.intrinsics import CameraIntrinsics
 from core.model.model import DolphinModel
 from core.model.template import load_template
 from core.render.dense import dense_render

@@ -15,9 +15,9 @@ import numpy as np
 import torch
 
 from core.camera import NadirCamera
-from core.intrinsics import CameraIntrinsics
 from core.errors import InputError
 from core.fit.config import FitConfig
+from core.intrinsics import CameraIntrinsics
 from core.io.masks import MaskTrack
 from core.io.telemetry import Telemetry
 from core.io.video import Clip, crop_roi, frame_range, step_for_fps
