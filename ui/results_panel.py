@@ -21,7 +21,7 @@ from core.measure.baseline import BaselineEstimate
 from core.measure.elliptical import TAIL_EXTRAPOLATED, TAIL_IDX, TAIL_MEASURED
 from core.measure.hw_ratios import preset_names
 from core.measure.stations import NUM_STATIONS, STATION_PCT
-from core.measure.uncertainty import Summary
+from core.project.comparison import interval_of
 from core.project.model import Measurement
 from core.project.results import FrameResult, Spread
 from ui.commands import push_edit
@@ -50,23 +50,6 @@ def _number_label() -> QLabel:
 
 def _range_text(low: float, high: float, fmt: str) -> str:
     return f"{format(low, fmt)} – {format(high, fmt)}"
-
-
-def _interval(estimate: BaselineEstimate, key: str) -> Summary | None:
-    """The Monte Carlo summary of a FRAME_ROWS quantity; None before the Monte Carlo.
-
-    Density is not drawn: it falls linearly with BCI, so its mean, SD and percentiles are the
-    BCI's mapped through the mass model's line (the bounds swap, the slope being negative).
-    """
-    mc = estimate.interval
-    if mc is None:
-        return None
-    if key != "density_kg_m3":
-        return getattr(mc, key)
-    model, bci = estimate.settings.mass_model, mc.bci
-    intercept, slope = model.density_intercept_kg_m3, model.density_slope_kg_m3
-    return Summary(mean=intercept - slope * bci.mean, sd=slope * bci.sd,
-                   low=intercept - slope * bci.high, high=intercept - slope * bci.low)
 
 
 def _station_state(estimate: BaselineEstimate, measurement: Measurement, idx: int) -> str:
@@ -285,7 +268,7 @@ class ResultsPanel(QWidget):
         self.values["gsd"].setText(f"{estimate.m_per_px * 100:.3f}")
         for key, _, fmt in FRAME_ROWS:
             self.values[key].setText(format(record[key], fmt))
-            summary = _interval(estimate, key)
+            summary = interval_of(estimate, key)
             self.intervals[key].setText(PENDING if summary is None else
                                         _range_text(float(summary.low), float(summary.high), fmt))
             self.intervals[key].setToolTip("" if summary is None else

@@ -12,7 +12,8 @@ import argparse
 from dataclasses import replace
 from pathlib import Path
 
-from app.commands.fit import progress_printer, report
+from app.commands.fit import report
+from app.progress import terminal_progress
 from core.fit.config import FitConfig
 from core.fit.pipeline import CameraChoice, run_fit
 from core.io.json_file import read_json
@@ -34,8 +35,8 @@ def run(args: argparse.Namespace) -> int:
                           focal_mm=SAMPLE_CONFIG.focal_mm)
     fit_run = run_fit(files.video, files.srt, files.masks_dir, camera,
                       replace(FitConfig(), fps=DEMO_FPS), SAMPLE_CONFIG.launch_height_m,
-                      progress=progress_printer())
-    report(fit_run, args.out)
+                      progress=terminal_progress())
+    status = report(fit_run, args.out)
     truth = read_json(files.truth_json, "the sample's truth")
     result = fit_run.result
     print("\n             truth     estimate   error")
@@ -43,4 +44,4 @@ def run(args: argparse.Namespace) -> int:
                              ("length m", "length_m", result.length_m),
                              ("mass kg", "mass_kg", result.mass_kg)):
         print(f"{name:11s} {truth[key]:9.4f}  {value:9.4f}  {100 * (value / truth[key] - 1):+6.2f} %")
-    return 0
+    return status

@@ -6,10 +6,15 @@
                  [--vertical-prior] [--config FILE.json]
 
 Without --masks the built-in tracker finds the dolphin by itself (automatic seed). Writes
-DIR/result.json (volume_m3, length_m, mass_kg, bci, frames, timings, …), DIR/rest_mesh.ply,
-DIR/posed/%06d.ply (one per fitted frame) and DIR/overlays/%06d.png (frame | mask | render).
---fps sets how many frames per second of video are fitted (default 5). Exit codes: 0 done,
-2 bad input, 1 internal error (a diverged fit still writes its best state).
+DIR/result.json (volume_m3, length_m, mass_kg, bci, frames, timings, status, …), DIR/result.npz
+(every fitted array; core.fit.result_io reads both back), DIR/rest_mesh.ply, DIR/posed/%06d.ply
+(one per fitted frame) and DIR/overlays/%06d.png (frame | mask | render). --fps sets how many
+frames per second of video are fitted (default 5).
+
+Exit codes: 0 the fit completed; 2 bad input; 1 an internal error, or a fit that ended early
+(status "diverged": the loss turned non-finite; "cancelled" comes only from callers of
+core.fit with a cancel event): its best state is still written, with the reason in
+result.json's status_message and on stderr, because its figures are not a complete fit's.
 """
 
 import argparse
@@ -17,11 +22,12 @@ import sys
 from dataclasses import replace
 from pathlib import Path
 
+from app.progress import terminal_progress
 from core.errors import InputError
 from core.fit.config import FitConfig
-from core.fit.engine import FitDiverged, FitProgress
 from core.fit.outputs import write_outputs
 from core.fit.pipeline import CameraChoice, FitRun, run_fit
+from core.fit.result import STATUS_COMPLETE
 from core.io.json_file import read_json
 from core.model.template import load_template
 
@@ -74,18 +80,13 @@ def run(args: argparse.Namespace) -> int:
             altitude = float(altitude)
         except ValueError:
             raise InputError(f"--altitude {altitude!r}: neither a number of metres nor a file")
-    try:
-        fit_run = run_fit(args.clip, altitude, args.masks, camera, fit_config(args),
-                          args.launch_height, progress=progress_printer())
-    except FitDiverged as exc:
-        print(f"dolphinfit: error: {exc}", file=sys.stderr)
-        return 1
-    report(fit_run, args.out)
-    return 0
+    fit_run = run_fit(args.clip, altitude, args.masks, camera, fit_config(args),
+                      args.launch_height, progress=terminal_progress())
+    return report(fit_run, args.out)
 
 
-def report(fit_run: FitRun, out_dir: Path) -> None:
-    """Write the outputs and print the figures and warnings."""
+def report(fit_run: FitRun, out_dir: Path) -> int:
+    """Write the outputs, print the figures and warnings; the exit code (module docstring)."""
     result = fit_run.result
     written = write_outputs(result, fit_run.data, load_template(), out_dir)
     print(f"fitted {len(result.frame_idx)} frames of {fit_run.clip.path.name} "
@@ -96,16 +97,8 @@ def report(fit_run: FitRun, out_dir: Path) -> None:
                                                  if w not in fit_run.data.warnings):
         print(f"warning: {warning}")
     print(f"wrote {len(written)} files to {out_dir}")
-
-
-def progress_printer():
-    """A one-line progress bar on a terminal, nothing otherwise."""
-    if not sys.stderr.isatty():
-        return None
-
-    def show(p: FitProgress) -> None:
-        end = "\n" if p.step == p.total_steps else ""
-        print(f"\r{p.stage:8s} step {p.step:4d}/{p.total_steps}  IoU {p.mean_iou:.3f}  "
-              f"ETA {p.eta_s:4.0f} s", end=end, file=sys.stderr, flush=True)
-
-    return show
+    if result.status == STATUS_COMPLETE:
+        return 0
+    print(f"dolphinfit: error: fit {result.status}: {result.status_message}",
+          file=sys.stderr)
+    return 1

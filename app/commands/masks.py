@@ -19,6 +19,7 @@ from core.errors import InputError
 from core.io.masks import MaskTrack, write_masks
 from core.io.report import format_runs
 from core.io.video import VideoReader, open_clip
+from core.progress import Progress
 from core.segment.segmenter import AutoSeed, BoxSeed, PointSeed, Seed
 from core.segment.tracker import MaskTracker
 
@@ -60,11 +61,11 @@ def parse_seed(args: argparse.Namespace) -> Seed:
     return AutoSeed(args.frame)
 
 
-def _progress(num_done: int, total: int) -> None:
+def _progress(progress: Progress) -> None:
     """A line on stderr at every tenth of the clip."""
-    step = max(1, total // PROGRESS_STEPS)
-    if num_done % step == 0 or num_done == total:
-        print(f"tracking: {num_done}/{total} frames", file=sys.stderr)
+    step = max(1, progress.total // PROGRESS_STEPS)
+    if progress.step % step == 0 or progress.step == progress.total:
+        print(f"tracking: {progress.step}/{progress.total} frames", file=sys.stderr)
 
 
 def summary(track: MaskTrack, out: Path) -> str:

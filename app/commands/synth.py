@@ -14,12 +14,12 @@ metres; every option of the clip configuration has a flag (see --help).
 
 import argparse
 import json
-import sys
 from dataclasses import fields, replace
 from pathlib import Path
 
+from app.progress import terminal_progress
 from core.errors import InputError
-from core.synth.clip import SynthProgress, make_clip
+from core.synth.clip import make_clip
 from core.synth.config import Effects, SynthConfig
 
 
@@ -44,7 +44,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 def run(args: argparse.Namespace) -> int:
     """Build the configuration and render the clip with a progress line."""
     config = _config(args)
-    files = make_clip(config, args.out_dir, progress=_progress_printer())
+    files = make_clip(config, args.out_dir, progress=terminal_progress())
     print(f"wrote {files.video}, {config.num_frames} masks, {files.altitude_csv.name}, "
           f"{files.srt.name}, {files.truth_json.name} in {args.out_dir}")
     return 0
@@ -87,15 +87,3 @@ def _triple(text: str) -> tuple[float, float, float]:
     if len(values) != 3:
         raise argparse.ArgumentTypeError(f"expected three comma-separated numbers, got {text!r}")
     return values
-
-
-def _progress_printer():
-    if not sys.stderr.isatty():
-        return None
-
-    def show(progress: SynthProgress) -> None:
-        end = "\n" if progress.frame == progress.num_frames else ""
-        print(f"\rrendering frame {progress.frame}/{progress.num_frames}", end=end,
-              file=sys.stderr, flush=True)
-
-    return show

@@ -84,7 +84,8 @@ class FitConfig:
     seed: int = 0
 
     def __post_init__(self) -> None:
-        for name in ("steps_global", "steps_body", "steps_shape", "frames_per_chunk"):
+        for name in ("heading_trial_steps", "steps_global", "steps_body", "steps_shape",
+                     "frames_per_chunk"):
             if getattr(self, name) < 0 or (name == "frames_per_chunk" and self.frames_per_chunk < 1):
                 raise InputError(f"fit option {name}: must be a non-negative count, "
                                  f"got {getattr(self, name)}")
@@ -95,8 +96,9 @@ class FitConfig:
 
     @property
     def total_steps(self) -> int:
-        """Optimisation steps over all stages, heading trials included."""
-        return self.heading_trial_steps + self.steps_global + self.steps_body + self.steps_shape
+        """Optimisation steps over all stages, both heading trials included."""
+        return (2 * self.heading_trial_steps + self.steps_global + self.steps_body
+                + self.steps_shape)
 
     def to_json(self) -> dict:
         """JSON-ready dict."""

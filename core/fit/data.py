@@ -7,7 +7,8 @@ Without it, whole frames are downscaled to the paper's 720 px width, as the pape
 """
 
 import math
-from collections.abc import Callable
+import threading
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 
 import cv2
@@ -17,10 +18,12 @@ import torch
 from core.camera import NadirCamera
 from core.errors import InputError
 from core.fit.config import FitConfig
+from core.fit.reporter import PREPARE_STAGE
 from core.intrinsics import CameraIntrinsics
 from core.io.masks import MaskTrack
 from core.io.telemetry import Telemetry
 from core.io.video import Clip, crop_roi, frame_range, step_for_fps
+from core.progress import Progress, ProgressCallback, check_cancel
 from core.render.settings import Viewport
 
 ROI_MULTIPLE_PX = 8
@@ -87,15 +90,21 @@ def frame_altitudes(telemetry: Telemetry, frame_idx: np.ndarray) -> tuple[np.nda
 
 
 def prepare_data(clip: Clip, read_frame: Callable[[int], np.ndarray], masks: MaskTrack,
-                 telemetry: Telemetry, intrinsics: CameraIntrinsics,
-                 config: FitConfig) -> FitData:
-    """Cut the chosen frames and masks for the fit; ``read_frame`` gives (H, W, 3) uint8 RGB."""
+                 telemetry: Telemetry, intrinsics: CameraIntrinsics, config: FitConfig,
+                 progress: ProgressCallback | None = None,
+                 cancel: threading.Event | None = None) -> FitData:
+    """Cut the chosen frames and masks for the fit; ``read_frame`` gives (H, W, 3) uint8 RGB.
+
+    Reports each frame read as the fit's "prepare" stage (step 0 of the fit's steps,
+    core.fit.reporter) and raises core.progress.Cancelled between frames once ``cancel`` is set.
+    """
     frame_idx, masks_np, warnings = select_frames(clip, masks, config)
     altitude, altitude_warnings = frame_altitudes(telemetry, frame_idx)
+    frames = _read_frames(read_frame, frame_idx, config.total_steps, progress, cancel)
     if config.use_roi:
         x0, y0, width, height = _roi_windows(masks_np, config.roi_margin_px)
-        images = np.stack([crop_roi(read_frame(int(i)), int(a), int(b), width, height)
-                           for i, a, b in zip(frame_idx, x0, y0)])
+        images = np.stack([crop_roi(frame, int(a), int(b), width, height)
+                           for frame, a, b in zip(frames, x0, y0)])
         cut = np.stack([crop_roi(m.astype(np.uint8), int(a), int(b), width, height)
                         for m, a, b in zip(masks_np, x0, y0)]) > 0
         viewport = Viewport(torch.as_tensor(x0), torch.as_tensor(y0), width, height)
@@ -103,8 +112,8 @@ def prepare_data(clip: Clip, read_frame: Callable[[int], np.ndarray], masks: Mas
         width = config.paper_width_px
         height = 2 * round(intrinsics.height_px * width / intrinsics.width_px / 2)
         intrinsics = intrinsics.resized(width, height)
-        images = np.stack([cv2.resize(read_frame(int(i)), (width, height),
-                                      interpolation=cv2.INTER_AREA) for i in frame_idx])
+        images = np.stack([cv2.resize(frame, (width, height), interpolation=cv2.INTER_AREA)
+                           for frame in frames])
         cut = np.stack([cv2.resize(m.astype(np.float32), (width, height),
                                    interpolation=cv2.INTER_AREA) for m in masks_np]) >= 0.5
         viewport = Viewport.full_frame(intrinsics, len(frame_idx))
@@ -114,6 +123,19 @@ def prepare_data(clip: Clip, read_frame: Callable[[int], np.ndarray], masks: Mas
                    images=torch.as_tensor(images, dtype=torch.float32) / 255.0,
                    masks=torch.as_tensor(cut, dtype=torch.float32), camera=camera,
                    viewport=viewport, warnings=tuple(warnings + altitude_warnings))
+
+
+def _read_frames(read_frame: Callable[[int], np.ndarray], frame_idx: np.ndarray,
+                 total_steps: int, progress: ProgressCallback | None,
+                 cancel: threading.Event | None) -> Iterator[np.ndarray]:
+    """The frames in order, reading one at a time with a cancel check and a report each."""
+    for count, idx in enumerate(frame_idx, start=1):
+        check_cancel(cancel)
+        frame = read_frame(int(idx))
+        if progress is not None:
+            progress(Progress(PREPARE_STAGE, 0, total_steps,
+                              f"read frame {count} of {len(frame_idx)}"))
+        yield frame
 
 
 def _roi_windows(masks: np.ndarray, margin_px: int) -> tuple[np.ndarray, np.ndarray, int, int]:

@@ -2,9 +2,10 @@
 
 ``fit`` is the one entry point for the CLI, the GUI worker, the benchmarks and the tests. It
 tries both 180°-ambiguous headings for a few steps and keeps the better, fades a wide-basin
-silhouette pyramid out over the first two stages, renders frames in chunks (bounded memory,
-and a cancel request is honoured between chunks), keeps the best state seen, and stops with
-:class:`FitDiverged` carrying that state if the loss turns non-finite.
+silhouette pyramid out over the first two stages and renders frames in chunks (bounded
+memory; a cancel request is honoured between chunks). A fit that is cancelled, or whose loss
+turns non-finite, ends early with the best state of the stage it was in: its result says so
+in ``status`` and ``status_message``. Progress: core.fit.reporter.
 """
 
 import math
@@ -20,19 +21,23 @@ from core.fit import losses
 from core.fit.config import FitConfig
 from core.fit.data import FitData
 from core.fit.init import initial_state, root_positions, silhouette_centroid_offset
-from core.fit.result import FitResult
+from core.fit.reporter import HEADING_STAGE, PREPARE_STAGE, RESULT_STAGE, FitReporter
+from core.fit.result import STATUS_CANCELLED, STATUS_COMPLETE, STATUS_DIVERGED, FitResult
 from core.fit.target import edge_profile, soft_targets
 from core.measure.condition import body_condition
 from core.measure.mesh import body_length, mesh_volume
 from core.model.lbs import axis_angle_to_matrix
 from core.model.model import DolphinModel
 from core.model.template import Template, load_template
+from core.progress import Cancelled, ProgressCallback, check_cancel
 from core.render.pyramid import pyramid_loss
 from core.render.render import Appearance, render
 from core.render.settings import RasterSettings, Viewport
 from core.render.shade import SGLight
 
 STAGES = ("global", "body", "shape")   # what each optimises: see _stage_groups
+STAGE_WORDS = {HEADING_STAGE: "heading", "global": "global pose", "body": "body pose",
+               "shape": "shape"}
 V_SURF_M_S = 6.6      # the paper's upward nudge while pointing up
 V_DIVE_M_S = 2.2      # the paper's downward nudge while pointing down
 INITIAL_F_WATER = 0.3
@@ -40,28 +45,15 @@ PROFILE_FRAMES = 4    # frames rendered to measure the renderer's edge profile
 SMOOTH_REFERENCE_S = 1.0 / 25.0   # frame interval the smoothness weights refer to
 
 
-class FitCancelled(Exception):
-    """The caller asked the fit to stop."""
+class _Stop(Exception):
+    """Ends the optimisation early; ``params`` hold the best state of the ``stage`` it ended
+    in, whose loss was ``best_total``."""
 
-
-class FitDiverged(Exception):
-    """The loss became non-finite; ``result`` holds the best state reached before."""
-
-    def __init__(self, message: str, result: FitResult):
-        super().__init__(message)
-        self.result = result
-
-
-@dataclass(frozen=True)
-class FitProgress:
-    """Where a running fit is."""
-
-    stage: str
-    step: int
-    total_steps: int
-    losses: dict[str, float]
-    mean_iou: float
-    eta_s: float
+    def __init__(self, status: str, reason: str, stage: str, best_total: float,
+                 params: "SceneParams"):
+        super().__init__(reason)
+        self.status, self.reason, self.stage = status, reason, stage
+        self.best_total, self.params = best_total, params
 
 
 @dataclass
@@ -159,8 +151,9 @@ class _Problem:
     """The data, model and fixed inputs one fit evaluates its parameters against."""
 
     def __init__(self, data: FitData, model: DolphinModel, template: Template,
-                 config: FitConfig, cancel: threading.Event | None):
-        self.data, self.model, self.config, self.cancel = data, model, config, cancel
+                 config: FitConfig, reporter: FitReporter, cancel: threading.Event | None):
+        self.data, self.model, self.config = data, model, config
+        self.reporter, self.cancel = reporter, cancel
         self.template = template
         self.settings = RasterSettings(max_faces_per_pixel=config.max_faces_per_pixel)
         self.face_uvs = torch.tensor(template.uvs[template.face_uvs_idx], dtype=torch.float32)
@@ -182,11 +175,13 @@ class _Problem:
 
     def frame_ious(self, params: SceneParams) -> torch.Tensor:
         """(T,) hard IoU of every frame at ``params``."""
+        ious = []
         with torch.no_grad():
-            return torch.cat([losses.mask_iou(self.render_chunk(params, c).coverage,
-                                              self.data.masks[c])
-                              for c in torch.arange(self.data.num_frames).split(
-                                  self.config.frames_per_chunk)])
+            for chunk in torch.arange(self.data.num_frames).split(self.config.frames_per_chunk):
+                ious.append(losses.mask_iou(self.render_chunk(params, chunk).coverage,
+                                            self.data.masks[chunk]))
+                self.reporter.heartbeat()
+        return torch.cat(ious)
 
     def restrict_to_explained_frames(self, params: SceneParams) -> list[str]:
         """Keep for the shape stage the frames the pose stages explain (config doc)."""
@@ -216,8 +211,8 @@ class _Problem:
         terms = {"mask": 0.0, "rgb": 0.0, "pyramid": 0.0, "total": 0.0}
         ious = []
         for chunk in self.chunks:
-            if self.cancel is not None and self.cancel.is_set():
-                raise FitCancelled("fit cancelled")
+            check_cancel(self.cancel)
+            self.reporter.heartbeat()
             out = self.render_chunk(params, chunk)
             target = self.targets[chunk]
             mask_term = losses.soft_iou_loss(out.soft_mask, target) / num_frames
@@ -262,91 +257,118 @@ class _Problem:
 
 
 def fit(data: FitData, config: FitConfig = FitConfig(), template: Template | None = None, *,
-        progress: Callable[[FitProgress], None] | None = None,
+        progress: ProgressCallback | None = None,
         cancel: threading.Event | None = None) -> FitResult:
-    """Fit the model to ``data``; deterministic for the same inputs and configuration."""
+    """Fit the model to ``data``; deterministic for the same inputs and configuration.
+
+    Once ``cancel`` is set the fit returns the best state reached with status "cancelled";
+    before the first optimisation step there is nothing to keep and it raises Cancelled.
+    """
     started = time.perf_counter()
+    reporter = FitReporter(config.total_steps, progress)
+    reporter.report(PREPARE_STAGE, "placing the model")
     template = template if template is not None else load_template()
     model = DolphinModel(template)
-    problem = _Problem(data, model, template, config, cancel)
+    problem = _Problem(data, model, template, config, reporter, cancel)
     state = initial_state(data, model, config.init_depth_m)
     timings: dict[str, float] = {}
     history: list[dict] = []
-    tracker = _Tracker(config.total_steps, progress, started)
-
     offset_xy = silhouette_centroid_offset(model)
     candidates = [_initial_params(data, model, template, config, state.heading_rad + flip,
                                   state, offset_xy) for flip in (0.0, math.pi)]
     problem.targets = _debiased_targets(problem, candidates[0])
     timings["setup"] = time.perf_counter() - started
-
-    trial_started = time.perf_counter()
-    trials = []
-    for candidate in candidates:
-        terms = _run_stage(problem, candidate, "global", config.heading_trial_steps,
-                           lambda k: 1.0, history, tracker, label="heading")
-        trials.append((terms["total"], candidate))
-    params = min(trials, key=lambda item: item[0])[1]
-    timings["heading"] = time.perf_counter() - trial_started
-
-    fade_steps = max(1, config.steps_global + config.steps_body)
-    done = 0
     warnings = list(data.warnings)
-    for stage, steps in zip(STAGES, (config.steps_global, config.steps_body, config.steps_shape)):
-        stage_started = time.perf_counter()
-        if stage == "shape":
-            warnings += problem.restrict_to_explained_frames(params)
-        offset = done
-        _run_stage(problem, params, stage, steps,
-                   lambda k, o=offset: max(0.0, 1.0 - (o + k) / fade_steps), history, tracker)
-        done += steps
-        timings[stage] = time.perf_counter() - stage_started
+    status, message = STATUS_COMPLETE, ""
+    try:
+        params = _choose_heading(problem, candidates, history, timings)
+        fade_steps = max(1, config.steps_global + config.steps_body)
+        done = 0
+        for stage, steps in zip(STAGES, (config.steps_global, config.steps_body,
+                                         config.steps_shape)):
+            stage_started = time.perf_counter()
+            if stage == "shape":
+                warnings += problem.restrict_to_explained_frames(params)
+            _run_stage(problem, params, stage, steps,
+                       lambda k, o=done: max(0.0, 1.0 - (o + k) / fade_steps), history)
+            done += steps
+            timings[stage] = time.perf_counter() - stage_started
+    except _Stop as stop:
+        if stop.status == STATUS_CANCELLED and reporter.step == 0:
+            raise Cancelled() from None
+        params, status = stop.params, stop.status
+        message = _stop_message(stop, reporter)
     timings["total"] = time.perf_counter() - started
     problem.use_all_frames()
-    return _result(problem, params, history, timings, tuple(warnings))
+    reporter.report(RESULT_STAGE, "building the meshes")
+    result = _result(problem, params, history, timings, tuple(warnings), status, message)
+    reporter.report(RESULT_STAGE, message or "done")
+    return result
 
 
-class _Tracker:
-    """Counts steps and reports progress."""
+def _choose_heading(problem: _Problem, candidates: list[SceneParams], history: list[dict],
+                    timings: dict[str, float]) -> SceneParams:
+    """Fit both headings for a few steps and keep the one with the lower loss."""
+    trial_started = time.perf_counter()
+    trials = []
+    try:
+        for candidate in candidates:
+            last_total = _run_stage(problem, candidate, "global",
+                                    problem.config.heading_trial_steps, lambda k: 1.0, history,
+                                    label=HEADING_STAGE)
+            trials.append((last_total, candidate))
+    except _Stop as stop:
+        trials.append((stop.best_total, stop.params))
+        stop.params = min(trials, key=lambda item: item[0])[1]
+        raise
+    timings[HEADING_STAGE] = time.perf_counter() - trial_started
+    return min(trials, key=lambda item: item[0])[1]
 
-    def __init__(self, total: int, callback, started: float):
-        self.total, self.callback, self.started = total, callback, started
-        self.step = 0
 
-    def record(self, stage: str, terms: dict, iou: torch.Tensor) -> None:
-        self.step += 1
-        if self.callback is not None:
-            elapsed = time.perf_counter() - self.started
-            eta = elapsed / self.step * max(0, self.total - self.step)
-            self.callback(FitProgress(stage, self.step, self.total, dict(terms),
-                                      float(iou.float().mean()), eta))
+def _stop_message(stop: _Stop, reporter: FitReporter) -> str:
+    """What an early end means, e.g. "cancelled by the user after 40 of 175 steps (global
+    pose unfinished; body pose, shape not fitted)"."""
+    order = (HEADING_STAGE, *STAGES)
+    later = [STAGE_WORDS[s] for s in order[order.index(stop.stage) + 1:]]
+    missing = f"; {', '.join(later)} not fitted" if later else ""
+    return (f"{stop.reason} after {reporter.step} of {reporter.total} steps "
+            f"({STAGE_WORDS[stop.stage]} unfinished{missing}); the best state of that stage "
+            f"is kept")
 
 
 def _run_stage(problem: _Problem, params: SceneParams, stage: str, steps: int,
-               pyramid_fade: Callable[[int], float], history: list[dict], tracker: _Tracker,
-               label: str | None = None) -> dict:
-    """Optimise ``stage``'s parameters for ``steps``; on a non-finite loss restore the best
-    state of this run (losses of one run share their weights and frames, so they compare)."""
+               pyramid_fade: Callable[[int], float], history: list[dict],
+               label: str | None = None) -> float:
+    """Optimise ``stage``'s parameters for ``steps``; returns the last step's loss. On a cancel
+    or a non-finite loss restore the best state of this run (losses of one run share their
+    weights and frames, so they compare) and raise _Stop."""
+    label = label or stage
     optimiser = torch.optim.Adam(_stage_groups(params, stage, problem.config))
-    terms: dict = {"total": math.inf}
     best_total, best = math.inf, params.snapshot()
+    total = math.inf
     for k in range(steps):
         optimiser.zero_grad()
         weight = problem.config.weights.pyramid * pyramid_fade(k)
-        terms, iou = problem.step_loss(params, weight)
+        problem.reporter.step_started()
+        try:
+            terms, iou = problem.step_loss(params, weight)
+        except Cancelled:
+            params.restore(best)
+            raise _Stop(STATUS_CANCELLED, "cancelled by the user", label, best_total,
+                        params) from None
         if not math.isfinite(terms["total"]):
             params.restore(best)
-            raise FitDiverged(f"the loss became non-finite in stage {stage!r} at step {k}; "
-                              f"the best state reached before is kept",
-                              _result(problem, params, history, {}, problem.data.warnings))
-        if terms["total"] < best_total:
-            best_total, best = terms["total"], params.snapshot()
+            raise _Stop(STATUS_DIVERGED, f"the loss became non-finite at step {k + 1} of the "
+                        f"{label} stage", label, best_total, params)
+        total = terms["total"]
+        if total < best_total:
+            best_total, best = total, params.snapshot()
         optimiser.step()
         params.project_to_valid()
-        history.append({"stage": label or stage, "step": k, **terms,
-                        "mean_iou": float(iou.float().mean())})
-        tracker.record(label or stage, terms, iou)
-    return terms
+        mean_iou = float(iou.float().mean())
+        history.append({"stage": label, "step": k, **terms, "mean_iou": mean_iou})
+        problem.reporter.step_done(label, terms, mean_iou)
+    return total
 
 
 def _debiased_targets(problem: _Problem, params: SceneParams) -> torch.Tensor:
@@ -359,7 +381,8 @@ def _debiased_targets(problem: _Problem, params: SceneParams) -> torch.Tensor:
 
 
 def _result(problem: _Problem, params: SceneParams, history: list[dict],
-            timings: dict[str, float], warnings: tuple[str, ...]) -> FitResult:
+            timings: dict[str, float], warnings: tuple[str, ...], status: str,
+            status_message: str) -> FitResult:
     model = DolphinModel(problem.template, dtype=torch.float64)
     with torch.no_grad():
         betas = params.full_betas().double()
@@ -374,11 +397,15 @@ def _result(problem: _Problem, params: SceneParams, history: list[dict],
         transl=params.transl.detach().double().numpy(), frame_idx=problem.data.frame_idx,
         time_s=problem.data.time_s, iou=ious.double().numpy(), rest_verts=rest.numpy(),
         posed_verts=posed.numpy(), faces=model.faces.numpy(),
-        albedo=params.albedo.detach().numpy(), f_water=params.f_water.detach().numpy(),
-        light={"axes": params.light().axes.detach().numpy(),
-               "sharpness": params.light_sharpness.detach().numpy(),
-               "amplitude": params.light_amplitude.detach().numpy()},
+        albedo=_float64(params.albedo), f_water=_float64(params.f_water),
+        light={"axes": _float64(params.light().axes),
+               "sharpness": _float64(params.light_sharpness),
+               "amplitude": _float64(params.light_amplitude)},
         volume_m3=volume, length_m=length, bci=float(condition.bci),
         mass_kg=float(condition.mass_kg), density_kg_m3=float(condition.density_kg_m3),
         loss_history=tuple(history), timings_s=timings, config=problem.config,
-        warnings=warnings)
+        warnings=warnings, status=status, status_message=status_message)
+
+
+def _float64(tensor: torch.Tensor) -> np.ndarray:
+    return tensor.detach().double().numpy()

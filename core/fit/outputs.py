@@ -1,4 +1,5 @@
-"""Writing a fit: result.json, the rest mesh, a posed mesh per fitted frame, PNG overlays."""
+"""Writing a fit: result.json and result.npz (result_io), the rest mesh, a posed mesh per
+fitted frame, PNG overlays."""
 
 from pathlib import Path
 
@@ -8,7 +9,7 @@ import torch
 
 from core.fit.data import FitData
 from core.fit.result import FitResult
-from core.io.json_file import write_json
+from core.fit.result_io import write_fit_result
 from core.io.mesh_export import export_mesh
 from core.model.template import Template
 from core.render.render import Appearance, render
@@ -22,8 +23,7 @@ MASK_COLOUR = np.array([255, 200, 0], dtype=np.float32)     # RGB outline of the
 def write_outputs(result: FitResult, data: FitData, template: Template, out_dir: Path) -> list[Path]:
     """Write everything a user needs from a fit into ``out_dir``; returns the paths."""
     out_dir = Path(out_dir)
-    written = [out_dir / "result.json"]
-    write_json(written[0], result.to_json())
+    written = write_fit_result(result, out_dir)
     rest = out_dir / "rest_mesh.ply"
     export_mesh(rest, result.rest_verts, template.faces, template.uvs, template.face_uvs_idx,
                 template.albedo)

@@ -1,23 +1,28 @@
-"""From files to a fit: open the clip, read altitude and masks (or track them), prepare, fit.
+"""From media to a fit: ``fit_clip`` prepares and fits an open clip with its telemetry and
+masks (the GUI worker's entry); ``run_fit`` opens the files first and tracks the dolphin when
+no masks are given (the CLI, the demo and the benchmarks).
 
-One function for the CLI, the demo, the benchmarks and the GUI worker.
+Progress and cancel follow core.progress and core.fit.reporter; a cancel during the
+optimisation returns the best state reached (``FitResult.status`` "cancelled"), one before it
+raises core.progress.Cancelled.
 """
 
 import threading
-from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 
-from core.intrinsics import CameraIntrinsics
 from core.camera_presets import DEFAULT_PRESET, get_preset
 from core.errors import InputError
 from core.fit.config import FitConfig
 from core.fit.data import FitData, prepare_data
-from core.fit.engine import FitProgress, fit
+from core.fit.engine import fit
 from core.fit.result import FitResult
+from core.intrinsics import CameraIntrinsics
+from core.io.frame_source import FrameSource
 from core.io.masks import MaskTrack, read_masks
 from core.io.telemetry import Telemetry, load_telemetry
 from core.io.video import Clip, VideoReader, open_clip
+from core.progress import ProgressCallback
 from core.segment.segmenter import AutoSeed
 from core.segment.tracker import MaskTracker
 
@@ -53,17 +58,30 @@ class FitRun:
     result: FitResult
 
 
+def fit_clip(frames: FrameSource, telemetry: Telemetry, masks: MaskTrack,
+             intrinsics: CameraIntrinsics, config: FitConfig,
+             progress: ProgressCallback | None = None,
+             cancel: threading.Event | None = None) -> FitRun:
+    """Fit the clip of ``frames`` (full-frame ``intrinsics``) to its masks."""
+    data = prepare_data(frames.clip, frames.frame, masks, telemetry, intrinsics, config,
+                        progress=progress, cancel=cancel)
+    result = fit(data, config, progress=progress, cancel=cancel)
+    return FitRun(clip=frames.clip, telemetry=telemetry, masks=masks, data=data, result=result)
+
+
 def run_fit(clip_path: Path, altitude: str | Path | float | None, masks_path: Path | None,
             camera: CameraChoice, config: FitConfig, launch_height_m: float = 0.0,
-            progress: Callable[[FitProgress], None] | None = None,
+            progress: ProgressCallback | None = None,
             cancel: threading.Event | None = None) -> FitRun:
-    """Fit the clip; without ``masks_path`` the built-in tracker finds the dolphin itself."""
+    """Fit the clip; without ``masks_path`` the built-in tracker finds the dolphin itself
+    (reporting its own "track" stage first)."""
     clip = open_clip(clip_path)
     telemetry = load_telemetry(clip, altitude, launch_height_m=launch_height_m)
     intrinsics = camera.intrinsics(clip)
-    with VideoReader(clip) as frames:
+    # frames are read in order by the tracker and once more by the preparation: a frame cache
+    # would only hold memory through the long optimisation
+    with VideoReader(clip, cache_bytes=0) as frames:
         masks = (read_masks(masks_path, clip) if masks_path is not None
-                 else MaskTracker().segment(frames, AutoSeed(frame_idx=0), cancel=cancel))
-        data = prepare_data(clip, frames.frame, masks, telemetry, intrinsics, config)
-    result = fit(data, config, progress=progress, cancel=cancel)
-    return FitRun(clip=clip, telemetry=telemetry, masks=masks, data=data, result=result)
+                 else MaskTracker().segment(frames, AutoSeed(frame_idx=0), progress=progress,
+                                            cancel=cancel))
+        return fit_clip(frames, telemetry, masks, intrinsics, config, progress, cancel)

@@ -6,7 +6,11 @@ import numpy as np
 
 from core.fit.config import FitConfig
 
-RESULT_SCHEMA_VERSION = 1
+RESULT_SCHEMA_VERSION = 2
+STATUS_COMPLETE = "complete"
+STATUS_CANCELLED = "cancelled"    # stopped by the caller: the best state reached is kept
+STATUS_DIVERGED = "diverged"      # the loss turned non-finite: the best state before is kept
+STATUSES = (STATUS_COMPLETE, STATUS_CANCELLED, STATUS_DIVERGED)
 
 
 @dataclass(frozen=True, eq=False)
@@ -21,7 +25,7 @@ class FitResult:
     iou: np.ndarray              # (T,) hard IoU of render and mask
     rest_verts: np.ndarray       # (V, 3) the fitted shape in the rest pose
     posed_verts: np.ndarray      # (T, V, 3)
-    faces: np.ndarray            # (F, 3)
+    faces: np.ndarray            # (F, 3) int64
     albedo: np.ndarray           # (Ht, Wt) fitted grayscale texture in [0, 1]
     f_water: np.ndarray          # (3,) fitted water filter
     light: dict[str, np.ndarray]  # fitted SG light: axes (K, 3), sharpness (K,), amplitude (K, 3)
@@ -34,11 +38,15 @@ class FitResult:
     timings_s: dict[str, float]
     config: FitConfig
     warnings: tuple[str, ...]
+    status: str = STATUS_COMPLETE    # one of STATUSES
+    status_message: str = ""         # why a fit ended early and what it lacks, in words
 
     def to_json(self) -> dict:
-        """The result file's content (no meshes: they are written beside it)."""
+        """The result file's content (arrays and meshes are written beside it: result_io)."""
         return {
             "schema_version": RESULT_SCHEMA_VERSION,
+            "status": self.status,
+            "status_message": self.status_message,
             "volume_m3": self.volume_m3,
             "length_m": self.length_m,
             "bci": self.bci,

@@ -6,6 +6,7 @@ with a per-source uncertainty budget. The result records how it was made and say
 user should know about it (provisional HW ratios, filled stations, BCI outside the fit range).
 """
 
+import threading
 from dataclasses import asdict, dataclass
 from typing import Any
 
@@ -20,8 +21,9 @@ from core.measure.elliptical import (
 from core.measure.hw_ratios import HWRatios
 from core.measure.stations import STATION_PCT
 from core.measure.uncertainty import (
-    ErrorModel, MonteCarloResult, Summary, monte_carlo, uncertainty_budget,
+    ERROR_SOURCES, ErrorModel, MonteCarloResult, Summary, monte_carlo, uncertainty_budget,
 )
+from core.progress import ProgressCallback, part_of
 
 # Scalar outputs summarised in the JSON's "uncertainty" (MonteCarloResult field names)
 SUMMARISED = ("length_m", "volume_m3", "volume_circular_m3", "bai", "bci", "mass_kg")
@@ -128,11 +130,13 @@ def _summary_json(summary: Summary) -> dict[str, Any]:
 
 def estimate_baseline(pixels: PixelMeasurements, focal_px: float, altitude_m: float,
                       settings: BaselineSettings, errors: ErrorModel, num_draws: int,
-                      rng: np.random.Generator) -> BaselineEstimate:
+                      rng: np.random.Generator, progress: ProgressCallback | None = None,
+                      cancel: threading.Event | None = None) -> BaselineEstimate:
     """Elliptical volume, BAI, BCI and mass, with intervals when ``num_draws`` > 0.
 
     pixels: length and (S,) widths in pixels; focal_px: focal length in pixels; altitude_m:
     camera height above the water. Metres per pixel = altitude_m / focal_px (DESIGN §3).
+    progress: draws done of all the Monte Carlo's, the budget's included (core.progress).
     """
     tail, hw = settings.tail, settings.hw
     filled_px, is_filled = fill_skipped(pixels.widths_px, tail)
@@ -143,11 +147,11 @@ def estimate_baseline(pixels: PixelMeasurements, focal_px: float, altitude_m: fl
                                ratios, tail, settings.mass_model, settings.bai_range)
     interval, budget = None, {}
     if num_draws > 0:
-        args = (nominal, focal_px, altitude_m, hw, tail)
-        interval = monte_carlo(*args, errors, num_draws, rng, settings.mass_model,
-                               settings.bai_range)
-        budget = uncertainty_budget(*args, errors, num_draws, rng, settings.mass_model,
-                                    settings.bai_range)
+        args = (nominal, focal_px, altitude_m, hw, tail, errors, num_draws, rng,
+                settings.mass_model, settings.bai_range)
+        total = (1 + len(ERROR_SOURCES)) * num_draws
+        interval = monte_carlo(*args, part_of(progress, 0, total), cancel)
+        budget = uncertainty_budget(*args, part_of(progress, num_draws, total), cancel)
     return BaselineEstimate(measured=pixels, is_filled=is_filled, m_per_px=m_per_px,
                             settings=settings, errors=errors, point=point, interval=interval,
                             budget=budget)

@@ -12,16 +12,23 @@ from core.measure.mesh import station_profile
 from core.model.template import Template, load_template
 
 
-def hw_from_mesh(verts: np.ndarray, rings: np.ndarray, name: str, source: str,
-                 is_provisional: bool) -> HWRatios:
-    """HW ratios of a body mesh at its station rings (fins excluded), with no stated SD.
+def station_extents(verts: np.ndarray, rings: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(S,) widths and (S,) heights of a body mesh at its station rings, metres (fins
+    excluded), e.g. a fitted animal's rest mesh beside the widths measured on the image.
 
     verts: (V, 3) float metres; rings: (S, R) int64 station rings (see
     core.measure.mesh.station_profile).
     """
     profile = station_profile(torch.as_tensor(verts, dtype=torch.float64),
                               torch.as_tensor(rings))
-    ratios = (profile.height / profile.width).numpy()
+    return profile.width.numpy(), profile.height.numpy()
+
+
+def hw_from_mesh(verts: np.ndarray, rings: np.ndarray, name: str, source: str,
+                 is_provisional: bool) -> HWRatios:
+    """HW ratios of a body mesh at its station rings (fins excluded), with no stated SD."""
+    widths, heights = station_extents(verts, rings)
+    ratios = heights / widths
     return HWRatios(name=name, ratios=ratios, sd=np.zeros_like(ratios), source=source,
                     is_provisional=is_provisional)
 

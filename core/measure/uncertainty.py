@@ -20,10 +20,15 @@ Error sources (DESIGN.md §7):
 - **HW ratios**: each station's ratio moves by z·SD with one z ~ N(0, 1) per draw shared by all
   stations: HW error is a shape-level bias (e.g. captive animals standing in for wild ones,
   the paper's caveat), not independent noise per station, which would average out.
+
+Every draw's random numbers are taken first, then the chain runs in fixed batches of
+``BATCH_DRAWS`` with progress and cancel (core.progress) between them: a seed gives the same
+result with or without a progress callback or cancel event.
 """
 
-from dataclasses import dataclass, replace
-from typing import Self
+import threading
+from dataclasses import dataclass, fields, is_dataclass, replace
+from typing import Any, Self
 
 import numpy as np
 
@@ -32,6 +37,7 @@ from core.measure.condition import MassModel
 from core.measure.elliptical import BAI_RANGE, EllipticalResult, measure_elliptical
 from core.measure.hw_ratios import HWRatios
 from core.measure.stations import STATION_FRACTIONS
+from core.progress import Progress, ProgressCallback, check_cancel, part_of
 
 # Altitude error, relative SD by source. Provisional defaults; calibrate per drone and flight
 # where possible (Bierlich et al. 2021a, Xcertainty).
@@ -58,6 +64,8 @@ SOURCE_FIELDS = {  # error source → the ErrorModel field that sets it
     "digitisation": "digitisation_sd_px", "hw_ratios": "hw_sd_scale",
 }
 ERROR_SOURCES = tuple(SOURCE_FIELDS)
+BATCH_DRAWS = 4000  # about 20 ms of work: a cancel takes effect at once
+MONTE_CARLO_STAGE = "monte carlo"
 
 
 @dataclass(frozen=True)
@@ -149,7 +157,9 @@ def draw_pixels(pixels: PixelMeasurements, sd_px: float, num_draws: int,
 def draw_results(pixels: PixelMeasurements, focal_px: float, altitude_m: float, hw: HWRatios,
                  tail: str, errors: ErrorModel, num_draws: int, rng: np.random.Generator,
                  mass_model: MassModel = MassModel(),
-                 bai_range: tuple[float, float] = BAI_RANGE) -> EllipticalResult:
+                 bai_range: tuple[float, float] = BAI_RANGE,
+                 progress: ProgressCallback | None = None,
+                 cancel: threading.Event | None = None) -> EllipticalResult:
     """The elliptical chain over D perturbed inputs: an EllipticalResult with (D, ...) fields.
 
     pixels: filled widths (``fill_skipped``); focal_px, altitude_m: nominal calibration.
@@ -161,19 +171,39 @@ def draw_results(pixels: PixelMeasurements, focal_px: float, altitude_m: float, 
     ratios, ratio_sd = hw.completed()
     shape_z = rng.normal(0.0, 1.0, size=(num_draws, 1))
     draws_hw = ratios + shape_z * errors.hw_sd_scale * ratio_sd
-    return measure_elliptical(lengths_px * m_per_px, widths_px * m_per_px[:, None], draws_hw,
-                              tail, mass_model, bai_range)
+    lengths_m, widths_m = lengths_px * m_per_px, widths_px * m_per_px[:, None]
+    batches = []
+    for start in range(0, num_draws, BATCH_DRAWS):
+        check_cancel(cancel)
+        batch = slice(start, start + BATCH_DRAWS)
+        batches.append(measure_elliptical(lengths_m[batch], widths_m[batch], draws_hw[batch],
+                                          tail, mass_model, bai_range))
+        if progress is not None:
+            progress(Progress(MONTE_CARLO_STAGE, min(num_draws, start + BATCH_DRAWS), num_draws))
+    return _concatenate(batches)
+
+
+def _concatenate(batches: list[Any]) -> Any:
+    """Batches of a result dataclass (nested ones included) joined along the draw axis."""
+    first = batches[0]
+    return type(first)(**{
+        field.name: (_concatenate if is_dataclass(getattr(first, field.name))
+                     else np.concatenate)([getattr(b, field.name) for b in batches])
+        for field in fields(first)})
 
 
 def monte_carlo(pixels: PixelMeasurements, focal_px: float, altitude_m: float, hw: HWRatios,
                 tail: str, errors: ErrorModel, num_draws: int, rng: np.random.Generator,
                 mass_model: MassModel = MassModel(),
-                bai_range: tuple[float, float] = BAI_RANGE) -> MonteCarloResult:
-    """Mean, SD and 95 % interval of every output over ``num_draws`` ≥ 2 draws."""
+                bai_range: tuple[float, float] = BAI_RANGE,
+                progress: ProgressCallback | None = None,
+                cancel: threading.Event | None = None) -> MonteCarloResult:
+    """Mean, SD and 95 % interval of every output over ``num_draws`` ≥ 2 draws (progress:
+    draws done of ``num_draws``)."""
     if num_draws < 2:
         raise ValueError(f"num_draws must be at least 2, got {num_draws}")
     draws = draw_results(pixels, focal_px, altitude_m, hw, tail, errors, num_draws, rng,
-                         mass_model, bai_range)
+                         mass_model, bai_range, progress, cancel)
     return MonteCarloResult(
         num_draws=num_draws,
         length_m=summarize(draws.length_m),
@@ -190,8 +220,13 @@ def monte_carlo(pixels: PixelMeasurements, focal_px: float, altitude_m: float, h
 def uncertainty_budget(pixels: PixelMeasurements, focal_px: float, altitude_m: float,
                        hw: HWRatios, tail: str, errors: ErrorModel, num_draws: int,
                        rng: np.random.Generator, mass_model: MassModel = MassModel(),
-                       bai_range: tuple[float, float] = BAI_RANGE) -> dict[str, MonteCarloResult]:
-    """One Monte Carlo per error source, all others off: what each contributes on its own."""
+                       bai_range: tuple[float, float] = BAI_RANGE,
+                       progress: ProgressCallback | None = None,
+                       cancel: threading.Event | None = None) -> dict[str, MonteCarloResult]:
+    """One Monte Carlo per error source, all others off: what each contributes on its own
+    (progress: draws done of all sources' draws)."""
+    total = len(ERROR_SOURCES) * num_draws
     return {source: monte_carlo(pixels, focal_px, altitude_m, hw, tail, errors.only(source),
-                                num_draws, rng, mass_model, bai_range)
-            for source in ERROR_SOURCES}
+                                num_draws, rng, mass_model, bai_range,
+                                part_of(progress, k * num_draws, total), cancel)
+            for k, source in enumerate(ERROR_SOURCES)}

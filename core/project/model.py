@@ -19,6 +19,7 @@ from core.measure.annotation import ALTITUDE_SOURCES, SIDES, Annotation, place_s
 from core.measure.elliptical import TAIL_EXTRAPOLATED, TAIL_OPTIONS
 from core.measure.hw_ratios import DEFAULT_PRESET
 from core.measure.stations import NUM_STATIONS
+from core.project.fit_settings import FitSettings
 
 MEDIA_KINDS = ("video", "image", "frames")
 
@@ -85,11 +86,14 @@ class Measurement:
 
 @dataclass(frozen=True)
 class Animal:
-    """An animal seen in a clip: its ID, free notes and measured frames (in frame order)."""
+    """An animal seen in a clip: its ID, free notes and measured frames (in frame order), how
+    to fit it, and its saved fit (a folder relative to the project file, or None)."""
 
     animal_id: str
     notes: str = ""
     measurements: tuple[Measurement, ...] = ()
+    fit_settings: FitSettings = FitSettings()
+    fit_path: str | None = None
 
     def measurement_at(self, frame_idx: int) -> int | None:
         """Index of the measurement of ``frame_idx``, or None."""

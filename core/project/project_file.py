@@ -11,7 +11,9 @@ Schema version 1 (``*.dolphinfit``)::
                    "image_width_px": 5120, "image_height_px": 2700, "approximate": false},
         "altitude": {"path": "DJI_0042.SRT", "constant_m": null, "launch_height_m": 1.5,
                      "time_offset_s": 0.0, "source": "barometer"},
-        "animals": [{"id": "dolphin 1", "notes": "", "measurements": [{
+        "animals": [{"id": "dolphin 1", "notes": "", "fit": {"settings": {"start_s": null,
+          "end_s": null, "fps": 5.0, "quality": "standard", "refraction": false, "roi": true},
+          "result": "survey.fits/DJI_0042_dolphin-1"}, "measurements": [{
           "frame_idx": 120, "midline_px": [[u, v], ...], "mirror_side": null, "notes": "",
           "stations": [{"station_pct": 5, "side_a_px": 12.5, "side_b_px": -12.1,
                         "skipped": false}, ...]}]}]
@@ -29,7 +31,7 @@ and removed on save, so one that is newer than its project marks unsaved work (a
 
 import math
 import os
-from dataclasses import replace
+from dataclasses import asdict, replace
 from pathlib import Path
 from typing import Any
 
@@ -39,6 +41,7 @@ from core.camera_presets import CameraPreset
 from core.errors import InputError
 from core.io.json_file import check_schema_version, read_json, write_json
 from core.measure.stations import NUM_STATIONS, STATION_PCT
+from core.project.fit_settings import FitSettings
 from core.project.model import (
     AltitudeSpec, Animal, ClipEntry, Measurement, Project,
 )
@@ -161,15 +164,34 @@ def _measurement_to_json(m: Measurement) -> dict[str, Any]:
             "mirror_side": m.mirror_side, "notes": m.notes, "stations": stations}
 
 
+def _fit_settings_from_json(data: Any, where: str) -> FitSettings:
+    if data is None:
+        return FitSettings()
+    try:
+        return FitSettings(
+            start_s=_get(data, "start_s", NUMBER, where, optional=True),
+            end_s=_get(data, "end_s", NUMBER, where, optional=True),
+            fps=float(_get(data, "fps", NUMBER, where)),
+            quality=_get(data, "quality", str, where),
+            refraction=_get(data, "refraction", bool, where),
+            roi=_get(data, "roi", bool, where))
+    except ValueError as exc:
+        raise InputError(f"{where}: {exc}") from exc
+
+
 def _animal_from_json(data: Any, where: str) -> Animal:
     measurements = [_measurement_from_json(m, f"{where}: measurements[{i}]")
                     for i, m in enumerate(_get(data, "measurements", list, where))]
     frames = [m.frame_idx for m in measurements]
     if len(set(frames)) != len(frames):
         raise InputError(f"{where}: the same frame is measured twice")
+    fit = data.get("fit") or {}
     return Animal(animal_id=_get(data, "id", str, where),
                   notes=_get(data, "notes", str, where, optional=True) or "",
-                  measurements=tuple(sorted(measurements, key=lambda m: m.frame_idx)))
+                  measurements=tuple(sorted(measurements, key=lambda m: m.frame_idx)),
+                  fit_settings=_fit_settings_from_json(fit.get("settings"),
+                                                       f"{where}: fit.settings"),
+                  fit_path=_get(fit, "result", str, f"{where}: fit", optional=True))
 
 
 def _clip_from_json(data: Any, where: str) -> ClipEntry:
@@ -211,7 +233,8 @@ def project_to_json(project: Project) -> dict[str, Any]:
             "camera": _camera_to_json(clip.camera, clip.preset_name),
             "altitude": _altitude_to_json(clip.altitude),
             "animals": [{"id": a.animal_id, "notes": a.notes,
-                         "measurements": [_measurement_to_json(m) for m in a.measurements]}
+                         "measurements": [_measurement_to_json(m) for m in a.measurements],
+                         "fit": {"settings": asdict(a.fit_settings), "result": a.fit_path}}
                         for a in clip.animals],
         } for clip in project.clips],
     }
@@ -251,7 +274,8 @@ def media_path(project_path: Path, clip: ClipEntry) -> Path:
 
 
 def rebase_media(project: Project, old_dir: Path, new_dir: Path) -> Project:
-    """The project with its media and altitude paths made relative to ``new_dir`` (Save As)."""
+    """The project with its media, altitude, masks and fit paths made relative to ``new_dir``
+    (Save As)."""
     def moved(rel: str) -> str:
         return relative_media_path(new_dir, (old_dir / rel).resolve())
 
@@ -259,7 +283,9 @@ def rebase_media(project: Project, old_dir: Path, new_dir: Path) -> Project:
         clip, media_path=moved(clip.media_path),
         altitude=(clip.altitude if clip.altitude is None or clip.altitude.path is None
                   else replace(clip.altitude, path=moved(clip.altitude.path))),
-        masks_path=None if clip.masks_path is None else moved(clip.masks_path))
+        masks_path=None if clip.masks_path is None else moved(clip.masks_path),
+        animals=tuple(a if a.fit_path is None else replace(a, fit_path=moved(a.fit_path))
+                      for a in clip.animals))
         for clip in project.clips)
     return replace(project, clips=clips)
 

@@ -2,10 +2,10 @@
 cache on first use), its DJI SRT with the launch height, its camera, its masks (for edge
 suggestions) and one animal to measure."""
 
-from collections.abc import Callable
 from pathlib import Path
 
 from core.camera_presets import CameraPreset
+from core.progress import ProgressCallback
 from core.project.model import AltitudeSpec, Animal, ClipEntry, Project
 from core.project.project_file import PROJECT_SUFFIX, relative_media_path, write_project
 from core.synth.sample import SAMPLE_CONFIG, SAMPLE_NAME, ensure_sample
@@ -27,9 +27,9 @@ def sample_project(video: Path, srt: Path, masks: Path, project_dir: Path) -> Pr
     return Project(clips=(clip,))
 
 
-def ensure_sample_project(progress: Callable[[object], None] | None = None) -> Path:
+def ensure_sample_project(progress: ProgressCallback | None = None) -> Path:
     """The sample project file, written beside the cached sample clip when missing
-    (``progress`` gets core.synth.clip's SynthProgress while the clip renders)."""
+    (``progress`` is called while the clip renders)."""
     files = ensure_sample(progress)
     path = files.video.parent / f"sample{PROJECT_SUFFIX}"
     if not path.exists():

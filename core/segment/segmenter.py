@@ -2,20 +2,20 @@
 
 The built-in tracker implements it; so can a wrapper around an external model. Frames are any
 sequence of (H, W, 3) uint8 RGB arrays with a length (a ``VideoReader``, a list). A segmenter
-calls ``progress(num_done, num_frames)`` after each frame and checks ``cancel`` before each
-frame, raising ``SegmentationCancelled`` once it is set.
+reports ``Progress(TRACK_STAGE, frames done, frames in all)`` after each frame and checks
+``cancel`` before each frame (the contract of core.progress).
 """
 
 import threading
-from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Protocol
 
 import numpy as np
 
 from core.io.masks import MaskTrack
+from core.progress import ProgressCallback
 
-ProgressCallback = Callable[[int, int], None]
+TRACK_STAGE = "track"
 
 
 class Frames(Protocol):
@@ -54,10 +54,6 @@ class AutoSeed:
 
 
 Seed = PointSeed | BoxSeed | AutoSeed
-
-
-class SegmentationCancelled(Exception):
-    """Raised by a segmenter when its cancel event was set."""
 
 
 class Segmenter(Protocol):

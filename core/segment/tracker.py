@@ -24,6 +24,7 @@ import cv2
 import numpy as np
 
 from core.io.masks import MaskTrack
+from core.progress import Progress, ProgressCallback, check_cancel
 from core.segment.colour import ColourModel, coverage, separation, to_lab
 from core.segment.seed import (
     RING_OUTER_PX,
@@ -35,7 +36,7 @@ from core.segment.seed import (
     seed_mask,
     water_model,
 )
-from core.segment.segmenter import Frames, ProgressCallback, Seed, SegmentationCancelled
+from core.segment.segmenter import TRACK_STAGE, Frames, Seed
 
 
 @dataclass(frozen=True)
@@ -136,14 +137,13 @@ class MaskTracker:
                 cancel: threading.Event | None = None) -> MaskTrack:
         """Masks for every frame of ``frames``, tracked from ``seed`` (see the module doc).
 
-        InputError if the seed finds no animal; SegmentationCancelled once ``cancel`` is set.
+        InputError if the seed finds no animal; core.progress.Cancelled once ``cancel`` is set.
         """
         num_frames = len(frames)
         if not 0 <= seed.frame_idx < num_frames:
             raise IndexError(f"seed frame {seed.frame_idx} is outside the clip "
                              f"(0…{num_frames - 1})")
-        if cancel is not None and cancel.is_set():
-            raise SegmentationCancelled
+        check_cancel(cancel)
         first = frames[seed.frame_idx]
         height, width = first.shape[:2]
         mask = seed_mask(first, seed)
@@ -151,19 +151,18 @@ class MaskTracker:
         crops = {seed.frame_idx: _crop(mask)}
         num_done = 1
         if progress is not None:
-            progress(num_done, num_frames)
+            progress(Progress(TRACK_STAGE, num_done, num_frames))
         for order in (range(seed.frame_idx + 1, num_frames), range(seed.frame_idx - 1, -1, -1)):
             state = _TrackState(mask, animal, water, float(mask.sum()),
                                 separation(animal, water))
             for frame_idx in order:
-                if cancel is not None and cancel.is_set():
-                    raise SegmentationCancelled
+                check_cancel(cancel)
                 found = self._next(frames[frame_idx], state)
                 if found is not None:
                     crops[frame_idx] = _crop(found)
                 num_done += 1
                 if progress is not None:
-                    progress(num_done, num_frames)
+                    progress(Progress(TRACK_STAGE, num_done, num_frames))
         is_visible = np.array([t in crops for t in range(num_frames)])
         return MaskTrack(is_visible, width, height, f"built-in tracker from {seed}",
                          lambda t: crops[t].paste(height, width))

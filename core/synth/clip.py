@@ -2,8 +2,6 @@
 
 import math
 import threading
-from collections.abc import Callable
-from dataclasses import dataclass
 from pathlib import Path
 
 import cv2
@@ -17,6 +15,7 @@ from core.measure.condition import body_condition
 from core.measure.mesh import body_length, mesh_volume
 from core.model.model import DolphinModel
 from core.model.template import load_template
+from core.progress import Progress, ProgressCallback, check_cancel
 from core.render.render import Appearance
 from core.render.shade import SGLight
 from core.synth.compose import (
@@ -30,20 +29,16 @@ from core.synth.shape import random_betas, subdivide, warp_profiles
 from core.synth.telemetry import write_altitude, write_dji_srt
 
 TRUTH_SCHEMA_VERSION = 1
+RENDER_STAGE = "render"
 
 
-@dataclass(frozen=True)
-class SynthProgress:
-    """Progress of clip making."""
-
-    frame: int
-    num_frames: int
-
-
-def make_clip(config: SynthConfig, out_dir: Path,
-              progress: Callable[[SynthProgress], None] | None = None,
+def make_clip(config: SynthConfig, out_dir: Path, progress: ProgressCallback | None = None,
               cancel: threading.Event | None = None) -> ClipFiles:
-    """Render ``config`` into ``out_dir``; deterministic for ``config.seed``."""
+    """Render ``config`` into ``out_dir``; deterministic for ``config.seed``.
+
+    Reports ``Progress(RENDER_STAGE, frames done, frames)``; once ``cancel`` is set it raises
+    core.progress.Cancelled, leaving the folder without truth.json (an unfinished clip).
+    """
     out_dir = Path(out_dir)
     rng = np.random.default_rng(config.seed)
     template = load_template()
@@ -75,8 +70,7 @@ def make_clip(config: SynthConfig, out_dir: Path,
     faces = model.faces
     try:
         for t in range(config.num_frames):
-            if cancel is not None and cancel.is_set():
-                raise InterruptedError("synthetic clip cancelled")
+            check_cancel(cancel)
             sea_frame = sea.frame(float(motion.time_s[t]), float(altitude[t]))
             layer = render_layer(verts[t:t + 1], faces, appearance, intrinsics,
                                  float(altitude[t]), config.effects.refraction, scattering)
@@ -90,7 +84,7 @@ def make_clip(config: SynthConfig, out_dir: Path,
             mask = layer_mask(layer if is_visible else None, config.height_px, config.width_px)
             cv2.imwrite(str(files.masks_dir / f"{t:06d}.png"), mask)
             if progress is not None:
-                progress(SynthProgress(t + 1, config.num_frames))
+                progress(Progress(RENDER_STAGE, t + 1, config.num_frames))
     finally:
         writer.release()
 

@@ -8,15 +8,11 @@ It is not stored in the repository: ``ensure_sample`` renders it deterministical
 
 import json
 import os
-from collections.abc import Callable
 from pathlib import Path
-from typing import TYPE_CHECKING
 
+from core.progress import ProgressCallback
 from core.synth.config import SynthConfig
 from core.synth.files import ClipFiles, clip_files
-
-if TYPE_CHECKING:
-    from core.synth.clip import SynthProgress
 
 CACHE_DIR_ENV = "DOLPHINFIT_CACHE_DIR"
 SAMPLE_NAME = "sample-v1"
@@ -33,7 +29,7 @@ def cache_dir() -> Path:
     return Path(xdg) / "dolphinfit"
 
 
-def ensure_sample(progress: Callable[["SynthProgress"], None] | None = None) -> ClipFiles:
+def ensure_sample(progress: ProgressCallback | None = None) -> ClipFiles:
     """The sample clip's files, rendering them first if they are missing or stale (only
     rendering loads the model stack, torch)."""
     out_dir = cache_dir() / SAMPLE_NAME

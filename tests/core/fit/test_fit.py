@@ -2,24 +2,35 @@
 
 import json
 import math
+import re
 import threading
-from dataclasses import replace
+from dataclasses import fields, replace
 
 import numpy as np
 import pytest
 import torch
 
 from app.cli import main
-from core.intrinsics import CameraIntrinsics
+from core.errors import InputError
 from core.fit import engine
 from core.fit.config import FitConfig
 from core.fit.data import prepare_data
-from core.fit.engine import FitCancelled, FitDiverged, fit
+from core.fit.engine import fit
 from core.fit.init import initial_state
+from core.fit.pipeline import fit_clip
+from core.fit.reporter import STAGE_ORDER
+from core.fit.result_io import (
+    RESULT_JSON,
+    RESULT_NPZ,
+    read_fit_result,
+    write_fit_result,
+)
+from core.intrinsics import CameraIntrinsics
 from core.io.masks import read_png_folder
 from core.io.telemetry import load_telemetry
 from core.io.video import VideoReader, open_clip
 from core.model.model import DolphinModel
+from core.progress import Cancelled
 from core.synth.clip import make_clip
 from core.synth.config import Effects, SynthConfig
 
@@ -32,6 +43,8 @@ CLIP = SynthConfig(seed=21, width_px=1920, height_px=1080, fps=5.0, duration_s=1
                                                      ripples=False, glints=False,
                                                      compression=False))
 QUICK = FitConfig(heading_trial_steps=8, steps_global=20, steps_body=20, steps_shape=40)
+TINY = replace(QUICK, heading_trial_steps=2, steps_global=3, steps_body=2, steps_shape=3)
+INTRINSICS = CameraIntrinsics.from_sensor(12.29, 17.27, 1920, 1080)
 
 
 @pytest.fixture(scope="module")
@@ -45,9 +58,23 @@ def _data(clip_dir, config=QUICK):
     clip = open_clip(clip_dir / "clip.mkv")
     masks = read_png_folder(clip_dir / "masks", clip)
     telemetry = load_telemetry(clip, clip_dir / "altitude.csv")
-    intrinsics = CameraIntrinsics.from_sensor(12.29, 17.27, 1920, 1080)
     with VideoReader(clip) as frames:
-        return prepare_data(clip, frames.frame, masks, telemetry, intrinsics, config)
+        return prepare_data(clip, frames.frame, masks, telemetry, INTRINSICS, config)
+
+
+def _fit_clip(clip_dir, config, progress=None, cancel=None):
+    """fit_clip on the open clip, as the GUI worker calls it."""
+    with VideoReader(clip_dir / "clip.mkv") as frames:
+        masks = read_png_folder(clip_dir / "masks", frames.clip)
+        telemetry = load_telemetry(frames.clip, clip_dir / "altitude.csv")
+        return fit_clip(frames, telemetry, masks, INTRINSICS, config, progress, cancel)
+
+
+@pytest.fixture(scope="module")
+def tiny_run(clip_dir):
+    """A tiny fit through fit_clip with every progress report recorded."""
+    reports = []
+    return _fit_clip(clip_dir, TINY, progress=reports.append), reports
 
 
 def _truth(clip_dir):
@@ -79,17 +106,36 @@ def test_initial_state_finds_position_heading_and_length(clip_dir):
     assert abs(math.exp(state.log_scale) * 2.6 / truth["length_m"] - 1) < 0.05
 
 
-def test_fit_is_deterministic(clip_dir):
+def test_fit_is_deterministic(clip_dir, tiny_run):
     """The same data and configuration give the same result."""
-    config = replace(QUICK, heading_trial_steps=2, steps_global=3, steps_body=2, steps_shape=3)
-    data = _data(clip_dir, config)
-    first, second = fit(data, config), fit(data, config)
-    np.testing.assert_array_equal(first.betas, second.betas)
-    np.testing.assert_array_equal(first.transl, second.transl)
+    again = fit(_data(clip_dir, TINY), TINY)
+    np.testing.assert_array_equal(tiny_run[0].result.betas, again.betas)
+    np.testing.assert_array_equal(tiny_run[0].result.transl, again.transl)
 
 
-def test_cancel_stops_the_fit(clip_dir):
-    """Setting the cancel event from the progress callback stops the fit at once."""
+def test_progress_counts_every_step_in_stage_order(tiny_run):
+    """Reports from "prepare" to "result": steps rise to the real total (both heading trials
+    counted) and end there; the ETA appears with the first optimisation step."""
+    run, reports = tiny_run
+    total = 2 * 2 + 3 + 2 + 3
+    assert run.result.status == "complete" and run.result.status_message == ""
+    assert {r.total for r in reports} == {total}
+    steps = [r.step for r in reports]
+    assert steps == sorted(steps) and steps[-1] == total and max(steps) == total
+    stages = list(dict.fromkeys(r.stage for r in reports))
+    assert stages == list(STAGE_ORDER)
+    prepare = [r for r in reports if r.stage == "prepare"]
+    assert len(prepare) > len(run.data.frame_idx) and all(r.step == 0 for r in prepare)
+    assert all(r.eta_s is None for r in reports if r.stage in ("prepare", "result"))
+    optimising = [r for r in reports if r.stage not in ("prepare", "result")]
+    assert all(r.eta_s is not None and r.eta_s >= 0 for r in optimising)
+    assert optimising[-1].eta_s == 0 and "mean_iou" in optimising[-1].metrics
+    assert [r.step for r in optimising if r.stage == "heading"][-1] == 4
+
+
+def test_cancel_keeps_the_best_state(clip_dir):
+    """Cancelled from the progress callback at step 3, the fit stops at once and returns its
+    best state so far, saying so."""
     cancel = threading.Event()
     steps = []
 
@@ -98,13 +144,28 @@ def test_cancel_stops_the_fit(clip_dir):
         if progress.step == 3:
             cancel.set()
 
-    with pytest.raises(FitCancelled):
-        fit(_data(clip_dir), QUICK, progress=on_progress, cancel=cancel)
-    assert steps[-1] == 3
+    result = fit(_data(clip_dir), QUICK, progress=on_progress, cancel=cancel)
+    assert max(steps) == 3 and steps[-1] == 3
+    assert result.status == "cancelled"
+    assert result.status_message.startswith("cancelled by the user after 3 of 96 steps")
+    assert "shape not fitted" in result.status_message
+    assert np.isfinite(result.volume_m3) and result.iou.mean() > 0.3
+
+
+def test_cancel_while_preparing_raises(clip_dir):
+    """Cancelled before any optimisation step, there is nothing to keep."""
+    cancel = threading.Event()
+
+    def on_progress(progress):
+        assert progress.stage == "prepare"
+        cancel.set()
+
+    with pytest.raises(Cancelled):
+        _fit_clip(clip_dir, TINY, progress=on_progress, cancel=cancel)
 
 
 def test_diverging_fit_keeps_its_best_state(clip_dir, monkeypatch):
-    """A non-finite loss stops the fit with FitDiverged carrying finite, best-so-far values."""
+    """A non-finite loss ends the fit with finite, best-so-far values and status "diverged"."""
     real = engine.losses.soft_iou_loss
     calls = {"n": 0}
 
@@ -114,10 +175,44 @@ def test_diverging_fit_keeps_its_best_state(clip_dir, monkeypatch):
         return value * torch.nan if calls["n"] > 6 else value
 
     monkeypatch.setattr(engine.losses, "soft_iou_loss", poisoned)
-    with pytest.raises(FitDiverged, match="non-finite") as caught:
-        fit(_data(clip_dir), QUICK)
-    result = caught.value.result
+    result = fit(_data(clip_dir), QUICK)
+    assert result.status == "diverged" and "non-finite" in result.status_message
     assert np.isfinite(result.volume_m3) and np.isfinite(result.transl).all()
+
+
+def test_saved_fit_reads_back_field_for_field(tiny_run, tmp_path):
+    """write_fit_result then read_fit_result gives every field back exactly."""
+    result = tiny_run[0].result
+    write_fit_result(result, tmp_path)
+    again = read_fit_result(tmp_path)
+    for field in fields(result):
+        value, restored = getattr(result, field.name), getattr(again, field.name)
+        if isinstance(value, np.ndarray):
+            assert restored.dtype == value.dtype, field.name
+            np.testing.assert_array_equal(restored, value, err_msg=field.name)
+        elif field.name == "light":
+            assert value.keys() == restored.keys()
+            for key in value:
+                np.testing.assert_array_equal(restored[key], value[key])
+        else:
+            assert restored == value, field.name
+
+
+def test_broken_saved_fits_name_the_file(tiny_run, tmp_path):
+    """A missing or truncated npz and a foreign schema version are input errors naming the
+    file."""
+    write_fit_result(tiny_run[0].result, tmp_path)
+    npz, json_path = tmp_path / RESULT_NPZ, tmp_path / RESULT_JSON
+    npz.write_bytes(npz.read_bytes()[: npz.stat().st_size // 2])
+    with pytest.raises(InputError, match=re.escape(str(npz))):
+        read_fit_result(tmp_path)
+    npz.unlink()
+    with pytest.raises(InputError, match=re.escape(f"{npz}: the fit's arrays are missing")):
+        read_fit_result(tmp_path)
+    data = json.loads(json_path.read_text())
+    json_path.write_text(json.dumps({**data, "schema_version": 1}))
+    with pytest.raises(InputError, match=re.escape(f"{json_path}: schema_version 1")):
+        read_fit_result(tmp_path)
 
 
 def test_config_round_trips_and_rejects_nonsense():
@@ -133,8 +228,7 @@ def test_config_round_trips_and_rejects_nonsense():
 def test_cli_fit_writes_result_meshes_and_overlays(clip_dir, tmp_path, capsys):
     """`dolphinfit fit` writes result.json, the rest mesh, posed meshes and overlays."""
     config = tmp_path / "quick.json"
-    config.write_text(json.dumps(replace(QUICK, heading_trial_steps=2, steps_global=3,
-                                         steps_body=2, steps_shape=3).to_json()))
+    config.write_text(json.dumps(TINY.to_json()))
     out = tmp_path / "out"
     argv = ["fit", str(clip_dir / "clip.mkv"), "--altitude", str(clip_dir / "altitude.csv"),
             "--masks", str(clip_dir / "masks"), "--sensor-width-mm", "17.27", "--focal-mm",
@@ -145,6 +239,8 @@ def test_cli_fit_writes_result_meshes_and_overlays(clip_dir, tmp_path, capsys):
         assert key in result
     assert len(list((out / "posed").glob("*.ply"))) == len(result["frames"])
     assert (out / "rest_mesh.ply").exists() and list((out / "overlays").glob("*.png"))
+    assert result["status"] == "complete"
+    assert len(read_fit_result(out).posed_verts) == len(result["frames"])
     assert main(["fit", str(clip_dir / "clip.mkv"), "--altitude", "high"]) == 2
     assert "neither a number" in capsys.readouterr().err
 
@@ -153,9 +249,8 @@ def test_without_masks_the_tracker_finds_the_dolphin(clip_dir):
     """run_fit with no mask files tracks the dolphin itself and fits it."""
     from core.fit.pipeline import CameraChoice, run_fit
 
-    config = replace(QUICK, heading_trial_steps=2, steps_global=3, steps_body=2, steps_shape=3)
     run = run_fit(clip_dir / "clip.mkv", clip_dir / "altitude.csv", None,
-                  CameraChoice(sensor_width_mm=17.27, focal_mm=12.29), config)
+                  CameraChoice(sensor_width_mm=17.27, focal_mm=12.29), TINY)
     assert run.masks.source.startswith("built-in tracker")
     assert run.masks.is_visible.sum() >= 6
     assert run.result.iou.mean() > 0.6

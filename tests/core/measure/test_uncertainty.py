@@ -1,5 +1,7 @@
 """Monte Carlo uncertainty: collapse without error, exact scalings, and interval coverage."""
 
+import threading
+
 import numpy as np
 import pytest
 from scipy.optimize import brentq
@@ -12,7 +14,8 @@ from core.measure.condition import body_condition
 from core.measure.elliptical import TAIL_EXTRAPOLATED, elliptical_volume
 from core.measure.hw_ratios import HWRatios, load_hw_preset
 from core.measure.stations import STATION_FRACTIONS
-from core.measure.uncertainty import ErrorModel, draw_pixels, monte_carlo
+from core.measure.uncertainty import BATCH_DRAWS, ErrorModel, draw_pixels, monte_carlo
+from core.progress import Cancelled
 
 # Provisional template widths / BL (reference/morphometrics.md §4)
 W_BL = np.array([.045, .085, .13, .15, .165, .175, .18, .18, .175, .16, .14, .125, .11, .09,
@@ -56,6 +59,31 @@ def test_same_seed_same_draws():
     first, again, other = _draw(errors, 200, 3), _draw(errors, 200, 3), _draw(errors, 200, 4)
     assert float(first.volume_m3.sd) == float(again.volume_m3.sd)
     assert float(first.volume_m3.sd) != float(other.volume_m3.sd)
+
+
+def test_progress_and_cancel_between_batches_leave_the_draws_alone():
+    """Progress rises to every draw of the estimate (budget included); with it the numbers are
+    the same, and a cancel stops the Monte Carlo."""
+    errors = ErrorModel.default("barometer", False)
+    num_draws = 2 * BATCH_DRAWS + 10
+
+    def estimate(**kwargs):
+        return estimate_baseline(_pixels(), FOCAL_PX, ALTITUDE_M, BaselineSettings(HW), errors,
+                                 num_draws, np.random.default_rng(2), **kwargs)
+
+    reports = []
+    plain, watched = estimate(), estimate(progress=reports.append)
+    for name in ("length_m", "volume_m3", "mass_kg", "widths_m"):
+        np.testing.assert_array_equal(getattr(watched.interval, name).sd,
+                                      getattr(plain.interval, name).sd)
+    assert watched.budget["camera"].bci.sd == plain.budget["camera"].bci.sd
+    steps = [r.step for r in reports]
+    assert steps == sorted(steps) and steps[-1] == 5 * num_draws
+    assert {r.total for r in reports} == {5 * num_draws} and len(reports) == 5 * 3
+    cancel = threading.Event()
+    cancel.set()
+    with pytest.raises(Cancelled):
+        estimate(cancel=cancel)
 
 
 def test_altitude_error_scales_length_by_one_and_volume_by_three():

@@ -7,6 +7,7 @@ import pytest
 from core.camera_presets import CameraPreset
 from core.measure.annotation import place_stations
 from core.measure.stations import NUM_STATIONS
+from core.project.fit_settings import FitSettings
 from core.project.model import AltitudeSpec, Animal, ClipEntry, Measurement, Project
 
 CENTRE = np.array([640.0, 360.0])
@@ -36,7 +37,9 @@ def camera() -> CameraPreset:
 @pytest.fixture
 def project(camera: CameraPreset) -> Project:
     animal = Animal("dolphin 1", notes="scar on the dorsal fin",
-                    measurements=(ellipse_measurement(3), ellipse_measurement(7, 1.02)))
+                    measurements=(ellipse_measurement(3), ellipse_measurement(7, 1.02)),
+                    fit_settings=FitSettings(start_s=0.5, end_s=4.0, fps=2.5, quality="quick"),
+                    fit_path="p.fits/clip_dolphin-1")
     clip = ClipEntry(media_path="media/clip.mp4", kind="video", camera=camera,
                      altitude=AltitudeSpec(constant_m=18.0, source="laser"),
                      animals=(animal, Animal("dolphin 2")), masks_path="media/masks")

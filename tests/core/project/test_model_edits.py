@@ -103,3 +103,23 @@ def test_tree_edits_share_untouched_branches(project):
     assert len(remove_measurement(added, new_key).clips[0].animals[0].measurements) == 2
     assert next_animal_id(project.clips[0]) == "dolphin 3"
     assert Animal("x").measurement_at(0) is None
+
+
+def test_fit_settings_make_the_engines_configuration():
+    from core.fit.config import FitConfig
+    from core.project.fit_settings import FitSettings, fit_config, fit_dir
+
+    base = FitConfig()
+    quick = fit_config(FitSettings(start_s=1.0, end_s=3.0, fps=2.5, quality="quick",
+                                   refraction=True, roi=False))
+    assert (quick.steps_shape, quick.steps_global) == (base.steps_shape // 2,
+                                                       base.steps_global // 2)
+    assert (quick.start_s, quick.end_s, quick.fps) == (1.0, 3.0, 2.5)
+    assert quick.use_refraction and not quick.use_roi
+    assert fit_config(FitSettings()).steps_shape == base.steps_shape
+    for bad in ({"quality": "best"}, {"fps": 0.0}, {"start_s": 2.0, "end_s": 1.0}):
+        with pytest.raises(ValueError):
+            FitSettings(**bad)
+    from pathlib import Path
+    assert fit_dir(Path("/d/survey.dolphinfit"), "a/DJI_1.MP4", "dolphin 1") == \
+        Path("/d/survey.fits/DJI_1_dolphin-1")

@@ -32,6 +32,7 @@ def test_round_trip_keeps_everything(tmp_path, project):
     _same(project, back)
     assert back.clips[0].animals[0].notes == "scar on the dorsal fin"
     assert back.clips[0].altitude.constant_m == 18.0
+    assert back.clips[0].animals[0].fit_settings == project.clips[0].animals[0].fit_settings
     data = json.loads(path.read_text())
     assert data["schema_version"] == 1
     assert data["clips"][0]["media"] == "media/clip.mp4"          # relative, POSIX
@@ -45,6 +46,7 @@ def test_save_as_elsewhere_rebases_relative_paths(tmp_path, project):
     moved = rebase_media(project, tmp_path, tmp_path / "out" / "deeper")
     assert moved.clips[0].media_path == "../../media/clip.mp4"
     assert moved.clips[0].masks_path == "../../media/masks"
+    assert moved.clips[0].animals[0].fit_path == "../../p.fits/clip_dolphin-1"
     assert media_path(tmp_path / "out" / "deeper" / "p.dolphinfit", moved.clips[0]) == \
         (media / "clip.mp4").resolve()
 
@@ -88,6 +90,9 @@ def test_autosave_newer_than_the_project_means_unsaved_work(tmp_path, project):
      "mirror_side"),
     (lambda d: d["clips"][0].update(kind="film"), "media kind"),
     (lambda d: d["settings"].update(tail="cut"), "tail"),
+    (lambda d: d["clips"][0]["animals"][0]["fit"]["settings"].update(quality="best"),
+     "quality"),
+    (lambda d: d["clips"][0]["animals"][0]["fit"]["settings"].update(end_s=-1.0), "end"),
 ])
 def test_bad_files_name_the_entry(project, mutate, message):
     data = project_to_json(project)

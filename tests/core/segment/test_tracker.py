@@ -9,8 +9,9 @@ import pytest
 from core.errors import InputError
 from core.io.masks import MaskTrack, read_png_folder
 from core.io.video import VideoReader, open_clip
+from core.progress import Cancelled
 from core.segment.evaluate import box_seed_from, mask_iou, measure_tracker, track_iou
-from core.segment.segmenter import AutoSeed, PointSeed, SegmentationCancelled
+from core.segment.segmenter import AutoSeed, PointSeed
 from core.segment.tracker import MaskTracker
 
 CALM_MIN_MEAN_IOU = 0.85  # the issue's aim for calm water
@@ -74,11 +75,12 @@ def test_tracks_backwards_from_a_later_seed(synthetic_clips):
 
 
 def test_progress_counts_every_frame(synthetic_clips):
-    """progress(num_done, total) runs once per frame, from (1, T) to (T, T)."""
+    """Progress comes once per frame, from step 1 of T to T of T."""
     calls = []
     with VideoReader(synthetic_clips["calm"][0]) as frames:
-        MaskTracker().segment(frames, AutoSeed(10), progress=lambda *a: calls.append(a))
-    assert calls == [(k, 48) for k in range(1, 49)]
+        MaskTracker().segment(frames, AutoSeed(10),
+                              progress=lambda p: calls.append((p.stage, p.step, p.total)))
+    assert calls == [("track", k, 48) for k in range(1, 49)]
 
 
 def test_cancel_stops_within_a_frame(synthetic_clips):
@@ -86,13 +88,13 @@ def test_cancel_stops_within_a_frame(synthetic_clips):
     cancel = threading.Event()
     calls = []
 
-    def progress(num_done, total):
-        calls.append(num_done)
-        if num_done == 5:
+    def progress(report):
+        calls.append(report.step)
+        if report.step == 5:
             cancel.set()
 
     with VideoReader(synthetic_clips["calm"][0]) as frames:
-        with pytest.raises(SegmentationCancelled):
+        with pytest.raises(Cancelled):
             MaskTracker().segment(frames, AutoSeed(), progress=progress, cancel=cancel)
     assert calls == [1, 2, 3, 4, 5]
 

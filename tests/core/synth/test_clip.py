@@ -1,6 +1,7 @@
 """Synthetic clips: files, truth, determinism, masks against the geometry, telemetry."""
 
 import json
+import threading
 from dataclasses import replace
 
 import cv2
@@ -10,13 +11,14 @@ import torch
 
 from app.cli import main
 from core.camera import NadirCamera
-from core.intrinsics import CameraIntrinsics
 from core.errors import InputError
+from core.intrinsics import CameraIntrinsics
 from core.io.telemetry import load_telemetry
 from core.io.video import open_clip
 from core.measure.condition import body_condition
 from core.model.model import DolphinModel
 from core.model.template import load_template
+from core.progress import Cancelled
 from core.render.rasterize import rasterize
 from core.render.render import project_to_viewport
 from core.render.settings import Viewport
@@ -71,6 +73,20 @@ def test_same_seed_same_clip_other_seed_other_animal(small_clip, tmp_path):
         assert (again.masks_dir / name).read_bytes() == (files.masks_dir / name).read_bytes()
     other = make_clip(replace(SMALL, seed=4, duration_s=0.2), tmp_path / "other")
     assert _truth(other)["volume_m3"] != _truth(files)["volume_m3"]
+
+
+def test_progress_per_frame_and_cancel(tmp_path):
+    """One report per rendered frame up to the last; a set cancel event raises Cancelled."""
+    config = replace(SMALL, duration_s=0.4)
+    reports = []
+    make_clip(config, tmp_path / "watched", progress=reports.append)
+    assert [(r.stage, r.step, r.total) for r in reports] == [
+        ("render", k, config.num_frames) for k in range(1, config.num_frames + 1)]
+    cancel = threading.Event()
+    cancel.set()
+    with pytest.raises(Cancelled):
+        make_clip(config, tmp_path / "cancelled", cancel=cancel)
+    assert not (tmp_path / "cancelled" / "truth.json").exists()
 
 
 def test_telemetry_files_give_the_true_altitude(small_clip):

@@ -1,0 +1,80 @@
+"""A fit on disk and back: result.json (figures, per-frame pose, history, configuration,
+status) and result.npz beside it (every array exactly as fitted), both written atomically.
+
+``read_fit_result`` restores the FitResult that was written, field for field.
+"""
+
+import zipfile
+import zlib
+from pathlib import Path
+
+import numpy as np
+
+from core.errors import InputError
+from core.fit.config import FitConfig
+from core.fit.result import RESULT_SCHEMA_VERSION, STATUSES, FitResult
+from core.io.atomic import atomic_path
+from core.io.json_file import check_schema_version, read_json, write_json
+
+RESULT_JSON = "result.json"
+RESULT_NPZ = "result.npz"
+ARRAYS = ("betas", "pose_aa", "transl", "frame_idx", "time_s", "iou", "rest_verts",
+          "posed_verts", "faces", "albedo", "f_water")
+PER_FRAME = ("pose_aa", "transl", "time_s", "iou", "posed_verts")   # leading axis T
+LIGHT_PREFIX = "light_"
+SCALARS = ("volume_m3", "length_m", "bci", "mass_kg", "density_kg_m3")
+
+
+def write_fit_result(result: FitResult, out_dir: Path) -> list[Path]:
+    """Write result.npz and result.json into ``out_dir``; returns their paths."""
+    npz, json_path = Path(out_dir) / RESULT_NPZ, Path(out_dir) / RESULT_JSON
+    arrays = {name: getattr(result, name) for name in ARRAYS}
+    arrays.update({LIGHT_PREFIX + key: value for key, value in result.light.items()})
+    with atomic_path(npz) as tmp:
+        np.savez_compressed(tmp, **arrays)
+    write_json(json_path, result.to_json())
+    return [json_path, npz]
+
+
+def read_fit_result(out_dir: Path) -> FitResult:
+    """The FitResult written into ``out_dir``; InputError naming the file that is missing,
+    unreadable, of another schema version or inconsistent."""
+    json_path, npz = Path(out_dir) / RESULT_JSON, Path(out_dir) / RESULT_NPZ
+    data = read_json(json_path, "the fit result")
+    check_schema_version(data, RESULT_SCHEMA_VERSION, str(json_path))
+    arrays = _read_arrays(npz)
+    try:
+        status = data["status"]
+        if status not in STATUSES:
+            raise ValueError(f"unknown status {status!r}")
+        fields = dict(
+            **{name: float(data[name]) for name in SCALARS},
+            loss_history=tuple(data["loss_history"]), timings_s=dict(data["timings"]),
+            config=FitConfig.from_json(data["config"]), warnings=tuple(data["warnings"]),
+            status=status, status_message=str(data["status_message"]))
+        num_frames = len(data["frames"])
+    except (KeyError, TypeError, ValueError) as exc:
+        raise InputError(f"{json_path}: not a complete fit result ({exc!r})") from None
+    light = {name[len(LIGHT_PREFIX):]: value for name, value in arrays.items()
+             if name.startswith(LIGHT_PREFIX)}
+    result = FitResult(**{name: arrays[name] for name in ARRAYS}, light=light, **fields)
+    lengths = {len(result.frame_idx), num_frames, *(len(getattr(result, n)) for n in PER_FRAME)}
+    if len(lengths) != 1:
+        raise InputError(f"{npz}: its per-frame arrays do not match the {num_frames} frames "
+                         f"of {json_path}")
+    return result
+
+
+def _read_arrays(path: Path) -> dict[str, np.ndarray]:
+    """Every array of the npz, read in full (so truncation shows here)."""
+    try:
+        with np.load(path, allow_pickle=False) as npz:
+            arrays = {name: npz[name] for name in npz.files}
+    except FileNotFoundError:
+        raise InputError(f"{path}: the fit's arrays are missing") from None
+    except (OSError, ValueError, EOFError, zipfile.BadZipFile, zlib.error) as exc:
+        raise InputError(f"{path}: not a readable .npz file ({exc})") from None
+    missing = [name for name in ARRAYS if name not in arrays]
+    if missing or not any(name.startswith(LIGHT_PREFIX) for name in arrays):
+        raise InputError(f"{path}: arrays missing: {', '.join(missing) or 'the light'}")
+    return arrays

@@ -1,0 +1,84 @@
+"""Both methods side by side: length, volume, BCI, density and mass of the elliptical
+baseline (with its 95 % interval) and of the 3D fit, their difference in % of the elliptical
+value, and a plot of the 19 station widths as measured against the fitted model's, and of the
+HW-ratio heights against the fitted model's heights."""
+
+from collections.abc import Sequence
+
+import numpy as np
+from matplotlib.backends.backend_qtagg import FigureCanvasQTAgg
+from matplotlib.figure import Figure
+from PySide6.QtCore import Qt
+from PySide6.QtWidgets import (
+    QAbstractItemView, QHeaderView, QLabel, QTableWidget, QTableWidgetItem, QVBoxLayout, QWidget,
+)
+
+from core.project.comparison import ComparisonRow
+
+COLUMNS = ("Quantity", "Elliptical (95 %)", "3D fit", "Fit − ell.")
+FORMATS = {"length_m": ".3f", "volume_m3": ".4f", "bci": "+.3f", "density_kg_m3": ".1f",
+           "mass_kg": ".1f"}
+PLOT_SIZE_IN = (3.6, 3.4)
+
+
+def _cell(text: str) -> QTableWidgetItem:
+    item = QTableWidgetItem(text)
+    item.setTextAlignment(Qt.AlignmentFlag.AlignRight | Qt.AlignmentFlag.AlignVCenter)
+    return item
+
+
+class ComparisonPanel(QWidget):
+    """Shows what it is given; the window computes the comparison off the GUI thread."""
+
+    def __init__(self, parent: QWidget | None = None) -> None:
+        super().__init__(parent)
+        self.status = QLabel("No 3D fit yet: start one in the fit panel.", wordWrap=True)
+        self.table = QTableWidget(0, len(COLUMNS))
+        self.table.setHorizontalHeaderLabels(COLUMNS)
+        self.table.verticalHeader().hide()
+        self.table.setEditTriggers(QAbstractItemView.EditTrigger.NoEditTriggers)
+        self.table.horizontalHeader().setSectionResizeMode(QHeaderView.ResizeMode.Stretch)
+        self.figure = Figure(figsize=PLOT_SIZE_IN, layout="constrained")
+        self.canvas = FigureCanvasQTAgg(self.figure)
+        layout = QVBoxLayout(self)
+        for widget in (self.status, self.table, self.canvas):
+            layout.addWidget(widget)
+
+    def show_comparison(self, rows: Sequence[ComparisonRow] | None, status: str) -> None:
+        """Fill the table (empty with ``rows`` None) and say what the fit is."""
+        self.status.setText(status)
+        rows = list(rows or [])
+        self.table.setRowCount(len(rows))
+        for i, row in enumerate(rows):
+            fmt = FORMATS[row.key]
+            ell = format(row.elliptical.value, fmt)
+            if row.elliptical.low is not None:
+                ell += (f" ({format(row.elliptical.low, fmt)}–"
+                        f"{format(row.elliptical.high, fmt)})")
+            label = f"{row.label} ({row.unit})" if row.unit else row.label
+            item = QTableWidgetItem(label)
+            self.table.setItem(i, 0, item)
+            self.table.setItem(i, 1, _cell(ell))
+            self.table.setItem(i, 2, _cell(format(row.fitted.value, fmt)))
+            self.table.setItem(i, 3, _cell(f"{row.difference_pct:+.1f} %"))
+        self.table.setFixedHeight(self.table.horizontalHeader().sizeHint().height()
+                                  + self.table.verticalHeader().defaultSectionSize()
+                                  * max(1, len(rows)) + 4)
+
+    def show_profiles(self, station_pct: np.ndarray, measured_widths_m: np.ndarray | None,
+                      fitted_widths_m: np.ndarray, hw_heights_m: np.ndarray | None,
+                      fitted_heights_m: np.ndarray) -> None:
+        """Plot widths (measured vs fitted) and heights (HW-ratio vs fitted) per station."""
+        self.figure.clear()
+        widths, heights = self.figure.subplots(2, 1, sharex=True)
+        for axes, measured, fitted, what, source in (
+                (widths, measured_widths_m, fitted_widths_m, "width", "measured"),
+                (heights, hw_heights_m, fitted_heights_m, "height", "width × HW ratio")):
+            if measured is not None:
+                axes.plot(station_pct, measured, "o-", ms=3, label=source)
+            axes.plot(station_pct, fitted, "s--", ms=3, label="3D fit")
+            axes.set_ylabel(f"{what} (m)")
+            axes.legend(fontsize="small")
+            axes.grid(alpha=0.3)
+        heights.set_xlabel("station (% of body length)")
+        self.canvas.draw_idle()
