@@ -147,21 +147,21 @@ class FitPanel(QWidget):
                            fps=self.fps.value(), quality=self.quality.currentData(),
                            refraction=self.refraction.isChecked(), roi=self.roi.isChecked())
 
-    def _on_edited(self) -> None:
+    def _valid_settings(self) -> FitSettings | None:
+        """The settings shown, or None after saying in the panel why they are not valid."""
         try:
-            settings = self.settings()
+            return self.settings()
         except ValueError as exc:
             self.status.setText(f"⚠ {exc}")
-            return
-        self.settings_changed.emit(settings)
+            return None
+
+    def _on_edited(self) -> None:
+        if (settings := self._valid_settings()) is not None:
+            self.settings_changed.emit(settings)
 
     def _on_start(self) -> None:
-        try:
-            settings = self.settings()
-        except ValueError as exc:
-            self.status.setText(f"⚠ {exc}")
-            return
-        self.start_requested.emit(settings)
+        if (settings := self._valid_settings()) is not None:
+            self.start_requested.emit(settings)
 
     def set_running(self, running: bool) -> None:
         """Lock the settings while a fit runs; Cancel only then."""

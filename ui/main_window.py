@@ -18,6 +18,7 @@ from core.camera_presets import preset_resolution_mismatch
 from core.errors import InputError
 from core.io.masks import read_masks
 from core.io.media import MEDIA_SUFFIXES
+from core.progress import Progress
 from core.project.evaluate import all_keys
 from core.project.model import (
     AltitudeSpec, Animal, ClipEntry, Measurement, MeasurementKey, Project, add_animal,
@@ -44,6 +45,7 @@ from ui.dialogs.handle_style_dialog import HandleStyleDialog
 from ui.dialogs.relink_dialog import RelinkDialog
 from ui.dialogs.shortcuts_dialog import ShortcutsDialog
 from ui.export_worker import ExportWorker
+from ui.fit_controller import FitController
 from ui.frame_loader import FrameLoader
 from ui.handle_style import HandleStyle
 from ui.measure_overlay import COARSE_NUDGE_PX, FINE_NUDGE_PX, NUDGE_PX, MeasureOverlay
@@ -89,6 +91,7 @@ class MainWindow(QMainWindow):
         self.results.set_altitude_lookup(self.altitude_at)
         self.project_panel = ProjectPanel(self.model)
         self.exporter = ExportWorker(self)
+        self.fits = FitController(self)
         self._export_progress: QProgressDialog | None = None
         self._build_layout()
         self.actions_by_name = self._build_menus()
@@ -106,15 +109,24 @@ class MainWindow(QMainWindow):
         layout.addWidget(self.canvas, stretch=1)
         layout.addWidget(self.timeline)
         self.setCentralWidget(central)
-        for title, widget, area in (("Project", self.project_panel, Qt.LeftDockWidgetArea),
-                                    ("Results", self.results, Qt.RightDockWidgetArea)):
+        docks = {}
+        for title, widget, area in (
+                ("Project", self.project_panel, Qt.LeftDockWidgetArea),
+                ("3D fit", self.fits.panel, Qt.LeftDockWidgetArea),
+                ("Results", self.results, Qt.RightDockWidgetArea),
+                ("Comparison", self.fits.comparison, Qt.RightDockWidgetArea),
+                ("3D view", self.fits.viewer, Qt.RightDockWidgetArea)):
             dock = QDockWidget(title, self)
             dock.setObjectName(title)
             dock.setWidget(widget)
             dock.setFeatures(QDockWidget.DockWidgetMovable | QDockWidget.DockWidgetFloatable)
             self.addDockWidget(area, dock)
-        self.resizeDocks([self.findChild(QDockWidget, "Project")], [300], Qt.Horizontal)
-        self.resizeDocks([self.findChild(QDockWidget, "Results")], [380], Qt.Horizontal)
+            docks[title] = dock
+        self.tabifyDockWidget(docks["Results"], docks["Comparison"])
+        docks["Results"].raise_()
+        self.resizeDocks([docks["Project"]], [300], Qt.Horizontal)
+        self.resizeDocks([docks["Results"]], [400], Qt.Horizontal)
+        self.docks = docks
         self.status_label = QLabel()
         self.cursor_label = QLabel()
         self.camera_warning = QLabel()
@@ -574,6 +586,7 @@ class MainWindow(QMainWindow):
         self.loader.shutdown()
         self.results.shutdown()
         self.exporter.shutdown()
+        self.fits.shutdown()
         self.jobs.wait()
 
     # ------------------------------------------------------------------ actions: File
@@ -669,10 +682,11 @@ class MainWindow(QMainWindow):
             self._export_progress.deleteLater()
             self._export_progress = None
 
-    def _on_export_progress(self, done: int, total: int) -> None:
+    def _on_export_progress(self, progress: Progress) -> None:
         if self._export_progress is not None:
-            self._export_progress.setMaximum(total)
-            self._export_progress.setValue(done)
+            self._export_progress.setMaximum(progress.total)
+            self._export_progress.setValue(progress.step)
+            self._export_progress.setLabelText(f"{progress.stage}: {progress.message}")
 
     def _on_export_failed(self, why: str) -> None:
         self._close_export_progress()
@@ -682,7 +696,8 @@ class MainWindow(QMainWindow):
         self._close_export_progress()
         self.statusBar().showMessage("export cancelled: nothing written", 10_000)
 
-    def _on_export_finished(self, paths: list, skipped: list) -> None:
+    def _on_export_finished(self, outcome: tuple[list, list]) -> None:
+        paths, skipped = outcome
         self._close_export_progress()
         self.last_export = list(paths)
         text = f"wrote {len(paths)} files"

@@ -122,6 +122,10 @@ class Viewer3D(QWidget):
         self._label_actor.set_text("upper_left", f"Frame {frame_idx}: {self.frame_label}")
         self.plotter.render()
 
+    def fitted_points(self) -> np.ndarray | None:
+        """(V, 3) vertices of the fitted mesh as posed now, metres; None when none is shown."""
+        return None if self._posed_mesh is None else np.asarray(self._posed_mesh.points)
+
     def clear(self) -> None:
         """Remove everything shown."""
         if self.plotter is None:

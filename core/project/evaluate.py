@@ -3,20 +3,20 @@ clip's media is opened once for its frame timing, its altitude aligned, then eve
 measured with the Monte Carlo."""
 
 import threading
-from collections.abc import Callable, Sequence
+from collections.abc import Sequence
 from pathlib import Path
 
 from core.errors import InputError
 from core.io.media import open_media
 from core.measure.hw_ratios import resolve_hw
-from core.progress import check_cancel
+from core.progress import Progress, ProgressCallback, check_cancel
 from core.project.model import MeasurementKey, Project, get_measurement
 from core.project.project_file import media_path
 from core.project.results import FrameResult, clip_telemetry, frame_altitude, measure_frame
 
 
 def frame_results(project: Project, project_path: Path, keys: Sequence[MeasurementKey],
-                  num_draws: int, progress: Callable[[int, int], None] | None = None,
+                  num_draws: int, progress: ProgressCallback | None = None,
                   cancel: threading.Event | None = None) -> tuple[list[FrameResult], list[str]]:
     """The results of ``keys`` and, for the frames that could not be measured, why."""
     hw = resolve_hw(project.hw_ratios)
@@ -37,7 +37,7 @@ def frame_results(project: Project, project_path: Path, keys: Sequence[Measureme
         except (InputError, ValueError) as exc:
             skipped.append(f"{where}: {exc}")
         if progress is not None:
-            progress(done + 1, len(keys))
+            progress(Progress("measure", done + 1, len(keys), where))
     return results, skipped
 
 

@@ -34,7 +34,7 @@ from core.io.media import open_media
 from core.io.morphometrix import write_morphometrix_v2
 from core.io.receipt import draw_receipt, write_png
 from core.measure.records import wide_csv_row
-from core.progress import check_cancel
+from core.progress import Progress, ProgressCallback, check_cancel
 from core.project.model import Project, get_measurement
 from core.project.project_file import media_path
 from core.project.results import FrameResult, Spread, animal_summary
@@ -43,7 +43,6 @@ EXPORTS_SCHEMA_VERSION = 1
 UNSAFE_NAME_CHARS = re.compile(r"[^A-Za-z0-9._-]+")
 
 FrameImages = Callable[[FrameResult], np.ndarray | None]
-Progress = Callable[[int, int], None]
 
 
 def export_names(project: Project, results: Sequence[FrameResult]) -> list[str]:
@@ -96,7 +95,7 @@ def results_json(project: Project, results: Sequence[FrameResult],
 
 
 def export_frames(project: Project, results: Sequence[FrameResult], out_dir: Path, stem: str,
-                  frames: FrameImages | None = None, progress: Progress | None = None,
+                  frames: FrameImages | None = None, progress: ProgressCallback | None = None,
                   cancel: threading.Event | None = None) -> list[Path]:
     """Write the exports of ``results`` (frames of ``project``); the paths written.
 
@@ -127,7 +126,7 @@ def export_frames(project: Project, results: Sequence[FrameResult], out_dir: Pat
                 write_png(receipt, draw_receipt(rgb, annotation, result.record))
                 written.append(receipt)
             if progress is not None:
-                progress(done, len(results))
+                progress(Progress("write", done, len(results), name))
         check_cancel(cancel)
         summary, wide = out_dir / f"{stem}_results.json", out_dir / f"{stem}_wide.csv"
         write_json(summary, results_json(project, results, names))

@@ -48,11 +48,12 @@ def worker(qtbot):
 def test_exports_with_progress_and_receipts(worker, saved_project, qtbot, tmp_path):
     project, path, keys, still = saved_project
     steps = []
-    worker.progress.connect(lambda done, total: steps.append((done, total)))
+    worker.progress.connect(lambda p: steps.append((p.stage, p.step, p.total)))
     with qtbot.waitSignal(worker.finished, timeout=TIMEOUT_MS) as blocker:
         worker.start(project, path, keys, tmp_path / "out", "survey")
-    paths, skipped = blocker.args
-    assert steps == [(1, 6), (2, 6), (3, 6), (4, 5), (5, 5)]
+    paths, skipped = blocker.args[0]
+    assert steps == [("measure", 1, 6), ("measure", 2, 6), ("measure", 3, 6),
+                     ("write", 5, 6), ("write", 6, 6)]  # one frame left out: ends at 6 of 6
     assert len(skipped) == 1 and skipped[0].startswith("still.png frame 0: no body length")
     receipt = cv2.imread(str(tmp_path / "out" / "survey_receipts" / "still_dolphin-1.png"))
     assert receipt.shape == still.shape and not np.array_equal(receipt[..., ::-1], still)
@@ -67,7 +68,7 @@ def test_exports_with_progress_and_receipts(worker, saved_project, qtbot, tmp_pa
 def test_cancel_leaves_nothing(saved_project, qtbot, tmp_path):
     project, path, keys, _ = saved_project
     slow = ExportWorker(num_draws=20_000)  # each frame takes a while: the cancel lands first
-    slow.progress.connect(lambda done, total: slow.cancel())
+    slow.progress.connect(lambda _: slow.cancel())
     try:
         with qtbot.waitSignal(slow.cancelled, timeout=TIMEOUT_MS):
             slow.start(project, path, keys, tmp_path / "out", "survey")

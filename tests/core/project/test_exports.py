@@ -69,7 +69,7 @@ def exported(tmp_path_factory):
     out = tmp_path_factory.mktemp("exports")
     calls = []
     paths = export_frames(project, results, out, "survey", frames=_frame,
-                          progress=lambda done, total: calls.append((done, total)))
+                          progress=lambda p: calls.append((p.stage, p.step, p.total)))
     return project, results, out, paths, calls
 
 
@@ -80,7 +80,7 @@ def test_writes_every_file(exported):
                 *(out / "survey_mmx" / f"{n}.csv" for n in names),
                 *(out / "survey_receipts" / f"{n}.png" for n in names)}
     assert set(paths) == expected and all(p.is_file() for p in paths)
-    assert calls == [(1, 3), (2, 3), (3, 3)]
+    assert calls == [("write", 1, 3), ("write", 2, 3), ("write", 3, 3)]
 
 
 def test_wide_csv_rows_match_the_measurements(exported):
@@ -147,7 +147,7 @@ def test_cancel_removes_what_was_written(tmp_path):
     cancel = threading.Event()
     with pytest.raises(Cancelled):
         export_frames(project, _results(project), tmp_path, "cut", frames=_frame,
-                      progress=lambda done, total: cancel.set(), cancel=cancel)
+                      progress=lambda _: cancel.set(), cancel=cancel)
     assert list(tmp_path.iterdir()) == []
 
 

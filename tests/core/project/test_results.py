@@ -73,7 +73,7 @@ def test_project_results_open_each_clip_and_report_unmeasurable_frames(tmp_path,
     write_project(path, project)
     done = []
     results, skipped = frame_results(project, path, all_keys(project), num_draws=50,
-                                     progress=lambda i, n: done.append((i, n)))
+                                     progress=lambda p: done.append((p.step, p.total)))
     assert [r.image_id for r in results] == ["clip_f000003", "clip_f000007"]
     assert results[0].estimate.interval is not None and skipped == []
     assert done[-1] == (2, 2)

@@ -1,0 +1,40 @@
+"""What the comparison panel and the 3D viewer show of both methods, computed off the GUI
+thread: the rows of core.project.comparison, the fitted model's station widths and heights
+beside the measured and HW-ratio ones, and the elliptical model as a solid."""
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from core.fit.result import FitResult
+from core.measure.baseline import BaselineEstimate
+from core.measure.elliptical_solid import elliptical_solid
+from core.project.comparison import ComparisonRow, compare
+
+
+@dataclass(frozen=True, eq=False)
+class ComparisonView:
+    """Rows for the table, (S,) profiles in metres for the plot, the elliptical solid."""
+
+    rows: list[ComparisonRow]
+    measured_widths_m: np.ndarray
+    hw_heights_m: np.ndarray
+    fitted_widths_m: np.ndarray
+    fitted_heights_m: np.ndarray
+    solid_verts: np.ndarray
+    solid_faces: np.ndarray
+
+
+def comparison_view(estimate: BaselineEstimate, fit: FitResult) -> ComparisonView:
+    """Both methods of one animal (loads torch for the fitted profile: worker only)."""
+    from core.measure.hw_from_model import station_extents
+    from core.model.template import load_template
+
+    fitted_widths, fitted_heights = station_extents(fit.rest_verts,
+                                                    load_template().station_rings)
+    point = estimate.point
+    verts, faces = elliptical_solid(float(point.length_m), point.widths_m, point.heights_m)
+    return ComparisonView(rows=compare(estimate, fit),
+                          measured_widths_m=estimate.measured.widths_px * estimate.m_per_px,
+                          hw_heights_m=point.heights_m, fitted_widths_m=fitted_widths,
+                          fitted_heights_m=fitted_heights, solid_verts=verts, solid_faces=faces)

@@ -1,0 +1,218 @@
+"""The 3D fit in the app: the fit panel starts and cancels the current animal's fit in a
+worker; a finished (or cancelled, partial) fit is saved in the animal's fit folder and recorded
+in the project as an undoable edit; the current animal's fit is read back when shown, posed in
+the 3D viewer at the current frame, and compared with the elliptical baseline."""
+
+from dataclasses import replace
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+from PySide6.QtCore import QObject
+
+from core.errors import InputError
+from core.fit.result import FitResult
+from core.fit.result_io import read_fit_result
+from core.measure.stations import STATION_PCT
+from core.progress import Progress
+from core.project.fit_settings import FitSettings, fit_dir
+from core.project.model import Animal, with_animal
+from core.project.project_file import media_path, relative_media_path
+from core.project.results import FrameResult
+from ui.commands import push_edit
+from ui.comparison_job import ComparisonView, comparison_view
+from ui.comparison_panel import ComparisonPanel
+from ui.fit_panel import FitPanel
+from ui.fit_worker import FitJob, FitWorker
+from ui.project_model import Change
+from ui.viewer3d import Viewer3D
+
+if TYPE_CHECKING:
+    from ui.main_window import MainWindow
+
+
+def describe_fit(result: FitResult) -> str:
+    """One line on a fit: its status in words, its mean IoU and figures."""
+    head = ("3D fit complete" if result.status == "complete"
+            else f"3D fit {result.status} (partial result): {result.status_message}")
+    return (f"{head}. {len(result.frame_idx)} frames, mean IoU {float(result.iou.mean()):.3f}; "
+            f"length {result.length_m:.3f} m, volume {result.volume_m3:.4f} m³, "
+            f"mass {result.mass_kg:.1f} kg")
+
+
+class FitController(QObject):
+    """Owns the fit panel, the 3D viewer, the comparison panel and the fit worker."""
+
+    def __init__(self, window: "MainWindow") -> None:
+        super().__init__(window)
+        self.window = window
+        self.panel = FitPanel()
+        self.viewer = Viewer3D()
+        self.comparison = ComparisonPanel()
+        self.worker = FitWorker(self)
+        self._fits: dict[Path, FitResult] = {}   # fits read or made this session, by folder
+        self._shown: Path | None = None          # the fit folder on show
+        self._running: tuple[int, str] | None = None  # clip index, animal ID being fitted
+        self.panel.start_requested.connect(self.start)
+        self.panel.cancel_requested.connect(self.worker.cancel)
+        self.panel.settings_changed.connect(self._store_settings)
+        self.worker.progress.connect(self._on_progress)
+        self.worker.finished.connect(self._on_finished)
+        self.worker.failed.connect(self._on_failed)
+        self.worker.cancelled.connect(
+            lambda: self._on_failed("cancelled before the first step: nothing to keep"))
+        model = window.model
+        model.selection_changed.connect(self.refresh)
+        model.changed.connect(lambda _: self.refresh())
+        window.frame_shown.connect(self.viewer.set_frame)
+        window.results.result_shown.connect(self._on_elliptical)
+
+    # ----- the current animal
+    def _animal(self) -> tuple[int, int, Animal] | None:
+        m = self.window.model
+        if m.clip_idx is None or m.animal_idx is None:
+            return None
+        return m.clip_idx, m.animal_idx, m.project.clips[m.clip_idx].animals[m.animal_idx]
+
+    def _fit_folder(self, animal: Animal) -> Path | None:
+        path = self.window.model.path
+        if animal.fit_path is None or path is None:
+            return None
+        return (path.parent / animal.fit_path).resolve()
+
+    def refresh(self) -> None:
+        """Show the current animal's settings and fit (read back in the background)."""
+        current = self._animal()
+        if current is None:
+            self._show(None)
+            return
+        _, _, animal = current
+        session = self.window.session
+        duration = None if session is None else session.source.clip.duration_s
+        self.panel.set_settings(animal.fit_settings, duration)
+        folder = self._fit_folder(animal)
+        if folder is None or folder == self._shown:
+            if folder is None:
+                self._show(None)
+            return
+        if folder in self._fits:
+            self._show(folder)
+            return
+        self.window.jobs.run(lambda: read_fit_result(folder),
+                             lambda result: self._read(folder, result),
+                             lambda why: self.panel.show_status(f"⚠ saved fit not read: {why}"))
+
+    def _read(self, folder: Path, result: FitResult) -> None:
+        self._fits[folder] = result
+        current = self._animal()
+        if current is not None and self._fit_folder(current[2]) == folder:
+            self._show(folder)
+
+    def _show(self, folder: Path | None) -> None:
+        self._shown = folder
+        if folder is None:
+            self.viewer.clear()
+            self.comparison.show_comparison(None, "No 3D fit of this animal yet.")
+            if not self.worker.is_running:
+                self.panel.show_status("Measure the animal, then fit the 3D model to the clip.")
+            return
+        result = self._fits[folder]
+        self.viewer.set_fitted(result.faces, result.frame_idx, result.posed_verts,
+                               result.rest_verts)
+        self.viewer.set_frame(self.window.frame_idx)
+        self.panel.show_status(describe_fit(result))
+        self._on_elliptical(self.window.results.current_result())
+
+    # ----- comparison
+    def _on_elliptical(self, frame_result: FrameResult | None) -> None:
+        """Compare once the elliptical result has its interval and a fit is shown."""
+        if self._shown is None or frame_result is None or frame_result.estimate.interval is None:
+            return
+        fit, folder = self._fits[self._shown], self._shown
+        self.window.jobs.run(lambda: comparison_view(frame_result.estimate, fit),
+                             lambda view: self._show_comparison(folder, view),
+                             lambda why: self.comparison.show_comparison(None, f"⚠ {why}"))
+
+    def _show_comparison(self, folder: Path, view: ComparisonView) -> None:
+        if folder != self._shown:
+            return
+        self.comparison.show_comparison(view.rows, describe_fit(self._fits[folder]))
+        self.comparison.show_profiles(STATION_PCT, view.measured_widths_m, view.fitted_widths_m,
+                                      view.hw_heights_m, view.fitted_heights_m)
+        self.viewer.set_elliptical(view.solid_verts, view.solid_faces)
+
+    # ----- running a fit
+    def _store_settings(self, settings: FitSettings) -> None:
+        current = self._animal()
+        if current is None or current[2].fit_settings == settings:
+            return
+        clip_idx, animal_idx, animal = current
+        model = self.window.model
+        push_edit(model, with_animal(model.project, clip_idx, animal_idx,
+                                     replace(animal, fit_settings=settings)),
+                  "fit settings", Change("clip", clip=clip_idx),
+                  merge_tag=("fit settings", clip_idx, animal_idx))
+
+    def start(self, settings: FitSettings) -> None:
+        """Fit the current animal with ``settings`` (checked here, said in words if not)."""
+        try:
+            job = self._job(settings)
+        except InputError as exc:
+            self.panel.show_status(f"⚠ {exc}")
+            return
+        self._store_settings(settings)
+        current = self._animal()
+        if self.worker.start(job):
+            self._running = (current[0], current[2].animal_id)
+            self.panel.set_running(True)
+
+    def _job(self, settings: FitSettings) -> FitJob:
+        window, current = self.window, self._animal()
+        if current is None:
+            raise InputError("select an animal to fit (Clip → Add animal)")
+        clip_idx, _, animal = current
+        session, path = window.session, window.model.path
+        if session is None or session.clip_idx != clip_idx:
+            raise InputError("the clip is still opening")
+        if session.telemetry is None:
+            raise InputError(session.telemetry_error or "no altitude: Clip → Altitude…")
+        clip = window.model.project.clips[clip_idx]
+        if clip.masks_path is None:
+            raise InputError("the fit needs the dolphin's masks: choose them with Clip → Masks…")
+        return FitJob(media=media_path(path, clip), telemetry=session.telemetry,
+                      masks=(path.parent / clip.masks_path).resolve(), camera=clip.camera,
+                      settings=settings,
+                      out_dir=fit_dir(path, clip.media_path, animal.animal_id))
+
+    def _on_progress(self, progress: Progress) -> None:
+        self.panel.show_progress(progress)
+
+    def _on_failed(self, why: str) -> None:
+        self._running = None
+        self.panel.set_running(False)
+        self.panel.show_status(f"⚠ fit stopped: {why}")
+
+    def _on_finished(self, outcome: tuple[FitResult, Path]) -> None:
+        """Record the saved fit on its animal (found by ID: the tree may have changed)."""
+        result, folder = outcome
+        clip_idx, animal_id = self._running
+        self._running = None
+        self.panel.set_running(False)
+        self._fits[folder.resolve()] = result
+        model = self.window.model
+        clips = model.project.clips
+        animals = clips[clip_idx].animals if clip_idx < len(clips) else ()
+        index = next((i for i, a in enumerate(animals) if a.animal_id == animal_id), None)
+        if index is None:
+            self.panel.show_status(f"{describe_fit(result)} — saved in {folder}, but its "
+                                   "animal is gone from the project")
+            return
+        self._shown = None  # show it afresh
+        push_edit(model, with_animal(model.project, clip_idx, index, replace(
+            animals[index], fit_path=relative_media_path(model.path.parent, folder))),
+            f"3D fit of {animal_id}", Change("clip", clip=clip_idx))
+        self.refresh()
+
+    def shutdown(self) -> None:
+        """Cancel a running fit and wait for it; release the 3D view."""
+        self.worker.shutdown()
+        self.viewer.close_viewer()

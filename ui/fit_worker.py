@@ -1,0 +1,65 @@
+"""The model-based fit of one animal in a worker (ui/job_worker.py): its own reader of the
+clip, the clip's masks and altitude, the animal's fit settings; the outputs are written into
+the animal's fit folder, replacing an older fit only once the new one is complete on disk.
+``finished`` carries (FitResult, fit folder); a cancelled or diverged fit is a result too,
+with its status and the best state it reached."""
+
+import shutil
+import threading
+from dataclasses import dataclass
+from pathlib import Path
+
+from core.camera_presets import CameraPreset, preset_resolution_mismatch
+from core.errors import InputError
+from core.io.masks import read_masks
+from core.io.media import open_media
+from core.io.telemetry import Telemetry
+from core.progress import ProgressCallback
+from core.project.fit_settings import FitSettings, fit_config
+from ui.job_worker import JobWorker
+
+PARTIAL_SUFFIX = ".partial"  # the folder a fit is written into before it replaces the old one
+
+
+@dataclass(frozen=True, eq=False)
+class FitJob:
+    """Everything one fit needs, read on the GUI thread before it starts."""
+
+    media: Path
+    telemetry: Telemetry
+    masks: Path
+    camera: CameraPreset
+    settings: FitSettings
+    out_dir: Path
+
+
+def run_fit_job(job: FitJob, progress: ProgressCallback, cancel: threading.Event) -> tuple:
+    """Fit, write the outputs, return (FitResult, fit folder). Loads torch: worker only."""
+    from core.fit.outputs import write_outputs
+    from core.fit.pipeline import fit_clip
+    from core.model.template import load_template
+    from core.runtime import configure_threads
+
+    configure_threads()
+    with open_media(job.media) as frames:
+        mismatch = preset_resolution_mismatch(job.camera, frames.clip.width_px,
+                                              frames.clip.height_px)
+        if mismatch:
+            raise InputError(f"camera: {mismatch}; fix it in Clip → Camera… before fitting")
+        masks = read_masks(job.masks, frames.clip)
+        run = fit_clip(frames, job.telemetry, masks, job.camera.intrinsics(),
+                       fit_config(job.settings), progress=progress, cancel=cancel)
+    partial = job.out_dir.with_name(job.out_dir.name + PARTIAL_SUFFIX)
+    shutil.rmtree(partial, ignore_errors=True)
+    write_outputs(run.result, run.data, load_template(), partial)
+    shutil.rmtree(job.out_dir, ignore_errors=True)
+    partial.rename(job.out_dir)
+    return run.result, job.out_dir
+
+
+class FitWorker(JobWorker):
+    """One fit at a time, off the GUI thread."""
+
+    def start(self, job: FitJob) -> bool:
+        """Fit in the background; False if a fit is already running."""
+        return self.run_job(lambda progress, cancel: run_fit_job(job, progress, cancel))
