@@ -2,7 +2,7 @@
 #   make run    installs into .venv (first time only) and opens the app on the sample project
 #   make test   installs into .venv (first time only) and runs the test suite
 #   make demo   the headless main job (fit the sample clip), for machines without a screen
-#   make screenshot   the README's screenshot of the app (under Xvfb when there is no display)
+#   make screenshot   the README's screenshots of the app (under Xvfb when there is no display)
 VENV ?= .venv
 PY := $(VENV)/bin/python
 STAMP := $(VENV)/.installed

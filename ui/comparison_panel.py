@@ -60,7 +60,8 @@ class ComparisonPanel(QWidget):
             self.table.setItem(i, 0, item)
             self.table.setItem(i, 1, _cell(ell))
             self.table.setItem(i, 2, _cell(format(row.fitted.value, fmt)))
-            self.table.setItem(i, 3, _cell(f"{row.difference_pct:+.1f} %"))
+            self.table.setItem(i, 3, _cell(f"{row.difference:+.1f} %" if row.is_relative
+                                           else f"{row.difference:+.3f}"))
         self.table.setFixedHeight(self.table.horizontalHeader().sizeHint().height()
                                   + self.table.verticalHeader().defaultSectionSize()
                                   * max(1, len(rows)) + 4)

@@ -7,17 +7,22 @@ from dataclasses import replace
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from PySide6.QtCore import QObject
+import numpy as np
+from PySide6.QtCore import QObject, QPointF
+from PySide6.QtGui import QColor, QPainterPath, QPen, QPolygonF
+from PySide6.QtWidgets import QGraphicsPathItem
 
 from core.errors import InputError
 from core.fit.result import FitResult
 from core.fit.result_io import read_fit_result
 from core.measure.stations import STATION_PCT
 from core.progress import Progress
+from core.project.fit_overlay import silhouette_outlines
+from core.project.fit_playback import posed_at
 from core.project.fit_settings import FitSettings, fit_dir
 from core.project.model import Animal, with_animal
 from core.project.project_file import media_path, relative_media_path
-from core.project.results import FrameResult
+from core.project.results import FrameResult, frame_altitude
 from ui.commands import push_edit
 from ui.comparison_job import ComparisonView, comparison_view
 from ui.comparison_panel import ComparisonPanel
@@ -28,6 +33,9 @@ from ui.viewer3d import Viewer3D
 
 if TYPE_CHECKING:
     from ui.main_window import MainWindow
+
+SILHOUETTE_COLOUR = "#ff8c1a"  # orange: apart from the measuring handles and the water
+SILHOUETTE_Z = 0.5             # above the frame, under the measuring overlay
 
 
 def describe_fit(result: FitResult) -> str:
@@ -64,7 +72,16 @@ class FitController(QObject):
         model.selection_changed.connect(self.refresh)
         model.changed.connect(lambda _: self.refresh())
         window.frame_shown.connect(self.viewer.set_frame)
+        window.frame_shown.connect(self._update_silhouette)
         window.results.result_shown.connect(self._on_elliptical)
+        self.silhouette = QGraphicsPathItem()
+        pen = QPen(QColor(SILHOUETTE_COLOUR), 1.5)
+        pen.setCosmetic(True)
+        self.silhouette.setPen(pen)
+        self.silhouette.setZValue(SILHOUETTE_Z)
+        self.silhouette.setVisible(False)
+        window.canvas.scene().addItem(self.silhouette)
+        self._silhouette_on = True
 
     # ----- the current animal
     def _animal(self) -> tuple[int, int, Animal] | None:
@@ -110,6 +127,7 @@ class FitController(QObject):
     def _show(self, folder: Path | None) -> None:
         self._shown = folder
         if folder is None:
+            self.silhouette.setVisible(False)
             self.viewer.clear()
             self.comparison.show_comparison(None, "No 3D fit of this animal yet.")
             if not self.worker.is_running:
@@ -119,8 +137,44 @@ class FitController(QObject):
         self.viewer.set_fitted(result.faces, result.frame_idx, result.posed_verts,
                                result.rest_verts)
         self.viewer.set_frame(self.window.frame_idx)
+        self._update_silhouette(self.window.frame_idx)
         self.panel.show_status(describe_fit(result))
         self._on_elliptical(self.window.results.current_result())
+
+    # ----- the fitted silhouette over the frame
+    def set_silhouette_visible(self, visible: bool) -> None:
+        self._silhouette_on = visible
+        self._update_silhouette(self.window.frame_idx)
+
+    def _update_silhouette(self, frame_idx: int) -> None:
+        """Outline the fit posed at ``frame_idx`` (worked out in the background)."""
+        session, folder = self.window.session, self._shown
+        if not self._silhouette_on or folder is None or session is None \
+                or session.clip_idx != self.window.model.clip_idx:
+            self.silhouette.setVisible(False)
+            return
+        try:
+            altitude = frame_altitude(session.telemetry, frame_idx)
+        except InputError:
+            self.silhouette.setVisible(False)
+            return
+        result = self._fits[folder]
+        intrinsics = self.window.model.project.clips[session.clip_idx].camera.intrinsics()
+        verts, _ = posed_at(result.frame_idx, result.posed_verts, frame_idx)
+        self.window.jobs.run(
+            lambda: silhouette_outlines(verts, result.faces, intrinsics, altitude),
+            lambda outlines: self._draw_silhouette(frame_idx, outlines),
+            lambda why: self.silhouette.setVisible(False))
+
+    def _draw_silhouette(self, frame_idx: int, outlines: list[np.ndarray]) -> None:
+        if frame_idx != self.window.frame_idx:
+            return
+        path = QPainterPath()
+        for outline in outlines:
+            path.addPolygon(QPolygonF([QPointF(u, v) for u, v in outline]))
+            path.closeSubpath()
+        self.silhouette.setPath(path)
+        self.silhouette.setVisible(True)
 
     # ----- comparison
     def _on_elliptical(self, frame_result: FrameResult | None) -> None:

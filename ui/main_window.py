@@ -2,6 +2,7 @@
 panel to the project model, and turns each menu action (resources/ui/actions.json) into a
 command. Questions to the user are ``_ask_*`` methods, apart from the changes they lead to."""
 
+import threading
 from collections.abc import Callable
 from dataclasses import asdict, replace
 from pathlib import Path
@@ -18,7 +19,8 @@ from core.camera_presets import preset_resolution_mismatch
 from core.errors import InputError
 from core.io.masks import read_masks
 from core.io.media import MEDIA_SUFFIXES
-from core.progress import Progress
+from core.progress import Progress, ProgressCallback
+from core.project.comparison import project_comparison_rows, write_comparison_csv
 from core.project.evaluate import all_keys
 from core.project.model import (
     AltitudeSpec, Animal, ClipEntry, Measurement, MeasurementKey, Project, add_animal,
@@ -165,6 +167,7 @@ class MainWindow(QMainWindow):
                      "suggest_edges", "fit_view"):
             toolbar.addAction(actions[name])
         actions["mirror_none"].setChecked(True)
+        actions["fit_silhouette"].setChecked(True)
         actions["length_mode"].setChecked(True)
         return actions
 
@@ -676,6 +679,29 @@ class MainWindow(QMainWindow):
         path = self.model.path
         self._export(all_keys(self.model.project), path.stem if path else "project")
 
+    def _ask_comparison_path(self) -> Path | None:
+        start = str(self.model.path.with_name(self.model.path.stem + "_comparison.csv"))
+        name, _ = QFileDialog.getSaveFileName(self, "Export comparison", start, "CSV (*.csv)")
+        return Path(name) if name else None
+
+    def on_export_comparison(self) -> None:
+        """One row per animal with a 3D fit: both methods' figures and their difference."""
+        if self.model.path is None or self.exporter.is_running:
+            self._error("Export", "open a project first" if self.model.path is None
+                        else "an export is already running")
+            return
+        target = self._ask_comparison_path()
+        if target is None:
+            return
+        project, path, draws = self.model.project, self.model.path, self.exporter.num_draws
+
+        def job(progress: ProgressCallback, cancel: threading.Event) -> tuple[list, list]:
+            rows, notes = project_comparison_rows(project, path, draws, progress, cancel)
+            write_comparison_csv(target, rows)
+            return [target], notes
+
+        self.exporter.run_job(job)
+
     def _close_export_progress(self) -> None:
         if self._export_progress is not None:
             self._export_progress.reset()
@@ -748,6 +774,9 @@ class MainWindow(QMainWindow):
                                         self.frame_idx, 0, last)
         if ok:
             self._seek(value)
+
+    def on_fit_silhouette(self, checked: bool) -> None:
+        self.fits.set_silhouette_visible(checked)
 
     def on_auto_zoom(self, checked: bool) -> None:
         self.overlay.auto_zoom = checked

@@ -1,12 +1,16 @@
-"""The README's screenshot: the app on the sample project with the dolphin measured.
+"""The README's screenshots: the app on the sample project with the dolphin measured, then
+with a quick 3D fit beside it (PNG and PNG_fit.png).
 
 The measurement is made the way a user would start one: "measure this frame", a length
 suggested from the clip's mask (core.measure.mask_midline) and the widths from "suggest edges
 from the mask"; the stations where the flippers join the outline (25 %, 30 %) are skipped, as
 a user reviewing the suggestion would, and left to interpolation. Then the window waits for
-the Monte Carlo intervals and saves itself to a PNG. Nothing is saved to the project.
+the Monte Carlo intervals and saves itself to a PNG. For the second picture it runs a quick
+fit of the first second of the clip from the fit panel, waits for it, and shows the comparison.
+The work happens in a copy of the project in a temporary folder; the sample stays as it was.
 """
 
+import tempfile
 import time
 from dataclasses import replace
 from pathlib import Path
@@ -16,15 +20,16 @@ from PySide6.QtCore import QRectF
 from core.io.masks import read_masks
 from core.measure.mask_midline import midline_from_mask
 from core.project.edits import set_skipped
-from core.project.project_file import autosave_path
+from core.project.fit_settings import FitSettings
 from ui.app import application
 from ui.commands import edit_measurement
 from ui.main_window import MainWindow
 
 SCREENSHOT_FRAME = 24     # the sample dolphin lies flat and whole in the frame here
 FLIPPER_STATIONS = (4, 5)  # 25 % and 30 %: the mask's outline runs round the flippers there
-WINDOW_SIZE = (1600, 1000)
-TIMEOUT_S = 60.0
+SCREENSHOT_FIT = FitSettings(start_s=2.0, end_s=3.0, fps=5.0, quality="quick")
+WINDOW_SIZE = (1900, 1150)
+TIMEOUT_S = 600.0
 ZOOM_MARGIN = 0.35        # view this much of the body length around the dolphin
 
 
@@ -39,19 +44,39 @@ def _wait_until(condition, what: str) -> None:
 
 
 def save_screenshot(project_path: Path, out_png: Path) -> int:
-    """Open ``project_path``, measure its first clip's dolphin, save the window to PNG."""
+    """Open ``project_path``, measure its first clip's dolphin, save the window to PNG; fit
+    it and save the window again to PNG_fit.png."""
     application()
     window = MainWindow()
     window.resize(*WINDOW_SIZE)
     window.show()
     window.open_path(project_path)
     _wait_until(lambda: window.session is not None, "the clip to open")
+    with tempfile.TemporaryDirectory() as work:
+        if not window.save(Path(work) / project_path.name):  # Save As: the fit goes there
+            raise OSError(f"{work}: could not save a working copy of the sample project")
+        _measure_and_fit(window, out_png)
+    print(f"wrote {out_png} and {_fit_png(out_png)}")
+    return 0
+
+
+def _fit_png(out_png: Path) -> Path:
+    return out_png.with_name(out_png.stem + "_fit" + out_png.suffix)
+
+
+def _grab(window: MainWindow, out_png: Path) -> None:
+    out_png.parent.mkdir(parents=True, exist_ok=True)
+    if not window.grab().save(str(out_png)):
+        raise OSError(f"{out_png}: could not write the screenshot")
+
+
+def _measure_and_fit(window: MainWindow, out_png: Path) -> None:
     window.go_to_frame(SCREENSHOT_FRAME)
     _wait_until(lambda: window.canvas.image_rect().width() > 0, "the frame")
     window.on_measure_frame()
     model = window.model
     clip = model.project.clips[model.clip_idx]
-    mask = read_masks(project_path.parent / clip.masks_path).mask(SCREENSHOT_FRAME)
+    mask = read_masks(model.path.parent / clip.masks_path).mask(SCREENSHOT_FRAME)
     key = model.current_key()
     edit_measurement(model, key, replace(model.current_measurement(),
                                          midline_px=midline_from_mask(mask)), "suggest length")
@@ -70,11 +95,14 @@ def save_screenshot(project_path: Path, out_png: Path) -> int:
     _wait_until(lambda: window.results.current_result() is not None
                 and window.results.current_result().estimate.interval is not None,
                 "the Monte Carlo intervals")
-    out_png.parent.mkdir(parents=True, exist_ok=True)
-    if not window.grab().save(str(out_png)):
-        raise OSError(f"{out_png}: could not write the screenshot")
-    model.mark_saved()  # the demonstration measurement is not kept
-    autosave_path(project_path).unlink(missing_ok=True)
+    _grab(window, out_png)
+    fits = window.fits
+    fits.panel.set_settings(SCREENSHOT_FIT, window.session.source.clip.duration_s)
+    fits.panel.start_button.click()
+    _wait_until(lambda: not fits.worker.is_running, "the 3D fit")
+    _wait_until(lambda: fits.comparison.table.rowCount() > 0, "the comparison")
+    _wait_until(fits.silhouette.isVisible, "the fitted silhouette")
+    window.docks["Comparison"].raise_()
+    _grab(window, _fit_png(out_png))
+    window.model.mark_saved()  # nothing of the demonstration is kept
     window.close()
-    print(f"wrote {out_png}")
-    return 0

@@ -206,7 +206,7 @@ class _Problem:
 
     def step_loss(self, params: SceneParams, pyramid_weight: float) -> tuple[dict, torch.Tensor]:
         """Accumulate gradients of the total loss; returns term values and per-frame IoU."""
-        weights, config = self.config.weights, self.config
+        weights = self.config.weights
         num_frames = self.num_used
         terms = {"mask": 0.0, "rgb": 0.0, "pyramid": 0.0, "total": 0.0}
         ious = []

@@ -1,15 +1,24 @@
 """Both methods side by side for one animal: the elliptical baseline of a measured frame and
-the model-based 3D fit, with the difference in % of the elliptical value, and the row per
-animal that the comparison CSV holds (joinable with CollatriX tables on ``Image``).
+the model-based 3D fit, with their difference (in % of the elliptical value; for BCI, in BCI
+units), and the row per animal that the comparison CSV holds (joinable with CollatriX tables
+on ``Image``).
 
 The fit carries no interval of its own yet: its bounds are None.
 """
 
+import threading
 from dataclasses import dataclass
+from pathlib import Path
 
+from core.errors import InputError
 from core.fit.result import FitResult
+from core.fit.result_io import read_fit_result
+from core.io.collatrix import write_wide_csv
 from core.measure.baseline import BaselineEstimate
 from core.measure.uncertainty import Summary
+from core.progress import ProgressCallback, check_cancel
+from core.project.evaluate import frame_results
+from core.project.model import MeasurementKey, Project
 
 QUANTITIES = (  # result key, label, unit
     ("length_m", "Length", "m"), ("volume_m3", "Volume", "m³"), ("bci", "BCI", ""),
@@ -45,7 +54,8 @@ class MethodValue:
 
 @dataclass(frozen=True)
 class ComparisonRow:
-    """A quantity by both methods; ``difference_pct`` = (fit − elliptical) / elliptical × 100."""
+    """A quantity by both methods and their difference: (fit − elliptical) / elliptical in
+    %, except for BCI, itself a relative difference near 0, where it is fit − elliptical."""
 
     key: str
     label: str
@@ -54,8 +64,14 @@ class ComparisonRow:
     fitted: MethodValue
 
     @property
-    def difference_pct(self) -> float:
-        return 100.0 * (self.fitted.value / self.elliptical.value - 1.0)
+    def is_relative(self) -> bool:
+        """Whether ``difference`` is in % of the elliptical value."""
+        return self.key != "bci"
+
+    @property
+    def difference(self) -> float:
+        change = self.fitted.value - self.elliptical.value
+        return 100.0 * change / self.elliptical.value if self.is_relative else change
 
 
 def _elliptical_value(estimate: BaselineEstimate, key: str) -> float:
@@ -81,10 +97,46 @@ def comparison_csv_row(image: str, animal_id: str, fit_status: str,
                        rows: list[ComparisonRow]) -> dict[str, object]:
     """One CSV row per animal: ``Image`` (the measured frame's image ID, CollatriX's join
     key), the animal, then per quantity the elliptical value and interval, the fit's value
-    and the difference in %."""
+    and the difference (``_diff_pct`` in %, ``bci_diff`` in BCI units)."""
     row: dict[str, object] = {"Image": image, "animal_id": animal_id, "fit_status": fit_status}
     for r in rows:
         row.update({f"{r.key}_ell": r.elliptical.value, f"{r.key}_ell_lo95": r.elliptical.low,
                     f"{r.key}_ell_hi95": r.elliptical.high, f"{r.key}_fit": r.fitted.value,
-                    f"{r.key}_diff_pct": r.difference_pct})
+                    f"{r.key}_diff{'_pct' if r.is_relative else ''}": r.difference})
     return row
+
+
+def project_comparison_rows(project: Project, project_path: Path, num_draws: int,
+                            progress: ProgressCallback | None = None,
+                            cancel: threading.Event | None = None) -> tuple[list[dict], list[str]]:
+    """One comparison row per animal that has a saved fit and a measured frame (its first),
+    and, for the animals left out, why."""
+    keys, fits, notes = [], [], []
+    for c, clip in enumerate(project.clips):
+        for a, animal in enumerate(clip.animals):
+            where = f"{clip.name} {animal.animal_id}"
+            if animal.fit_path is None or not animal.measurements:
+                why = "no 3D fit" if animal.fit_path is None else "not measured"
+                notes.append(f"{where}: {why}")
+                continue
+            keys.append(MeasurementKey(c, a, 0))
+            fits.append(project_path.parent / animal.fit_path)
+    results, skipped = frame_results(project, project_path, keys, num_draws, progress, cancel)
+    by_key = {r.key: r for r in results}
+    rows = []
+    for key, folder in zip(keys, fits):
+        if key not in by_key:
+            continue
+        check_cancel(cancel)
+        fit = read_fit_result(folder)
+        animal = project.clips[key.clip].animals[key.animal]
+        rows.append(comparison_csv_row(by_key[key].image_id, animal.animal_id, fit.status,
+                                       compare(by_key[key].estimate, fit)))
+    return rows, notes + skipped
+
+
+def write_comparison_csv(path: Path, rows: list[dict]) -> None:
+    """The comparison CSV (atomic); InputError when there is nothing to write."""
+    if not rows:
+        raise InputError("nothing to compare: no animal has both a measured frame and a 3D fit")
+    write_wide_csv(path, rows)

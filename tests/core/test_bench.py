@@ -54,7 +54,6 @@ def test_bench_render_quick_reports_consistent_ratios(capsys):
 
 def test_fit_suite_scores_clips_against_their_truth(tmp_path, monkeypatch):
     """A one-clip suite in two variants reports per-clip errors and a summary per variant."""
-    from dataclasses import replace
 
     from core.bench import fit_bench
     from core.fit.config import FitConfig

@@ -2,16 +2,21 @@
 while the GUI keeps turning, is saved with the project and shown in the 3D viewer; a second
 fit cancelled midway keeps its best state as a partial result; reopening finds the fit."""
 
+import csv
 import time
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
 import pytest
-from PySide6.QtCore import QTimer
+from PySide6.QtCore import QRectF, QTimer
 
 from core.fit.result_io import read_fit_result
+from core.io.masks import read_masks
+from core.measure.mask_midline import midline_from_mask
 from core.project.fit_settings import FitSettings
 from core.project.sample import ensure_sample_project
+from ui.commands import edit_measurement
 from ui.main_window import MainWindow
 
 FIT_TIMEOUT_MS = 300_000
@@ -39,6 +44,17 @@ def _window(qtbot) -> MainWindow:
 def _open(qtbot, window: MainWindow, path: Path) -> None:
     with qtbot.waitSignal(window.session_opened, timeout=30_000):
         window.open_path(path)
+
+
+def _measure_from_mask(window: MainWindow, mask: np.ndarray) -> None:
+    """Measure the current frame as the README's screenshot does: length and widths from
+    the mask (the suggestions a user reviews)."""
+    window.on_measure_frame()
+    model = window.model
+    key = model.current_key()
+    edit_measurement(model, key, replace(model.current_measurement(),
+                                         midline_px=midline_from_mask(mask)), "length")
+    window.overlay.suggest_edges(mask)
 
 
 def test_fit_runs_saves_shows_and_cancels(qtbot, sample_copy):
@@ -75,6 +91,15 @@ def test_fit_runs_saves_shows_and_cancels(qtbot, sample_copy):
         assert f"volume {saved.volume_m3:.4f} m³" in fits.panel.status.text()
         assert "3D fit complete" in fits.panel.status.text()
 
+        # the fitted silhouette is drawn over the frame, where the dolphin's mask is
+        qtbot.waitUntil(fits.silhouette.isVisible, timeout=10_000)
+        box = fits.silhouette.path().boundingRect()
+        clip = window.model.project.clips[0]
+        mask = read_masks(path.parent / clip.masks_path).mask(window.frame_idx)
+        v, u = np.nonzero(mask)
+        overlap = box.intersected(QRectF(u.min(), v.min(), np.ptp(u), np.ptp(v)))
+        assert overlap.width() * overlap.height() > 0.5 * box.width() * box.height()
+
         # the 3D viewer holds the fitted mesh and poses it at the frame shown
         if fits.viewer.plotter is not None:
             first = np.array(fits.viewer.fitted_points(), copy=True)
@@ -93,6 +118,22 @@ def test_fit_runs_saves_shows_and_cancels(qtbot, sample_copy):
         assert "partial result" in fits.panel.status.text()
         assert np.isfinite(partial.volume_m3)
         assert window.save()
+
+        # the comparison CSV: none before a frame is measured, then one row for the animal
+        window._ask_comparison_path = lambda: path.with_name("comparison.csv")
+        errors = []
+        window._error = lambda title, text: errors.append(text)  # the dialog's words
+        with qtbot.waitSignal(window.exporter.failed, timeout=60_000):
+            window.actions_by_name["export_comparison"].trigger()
+        assert "nothing to compare" in errors[-1]
+        _measure_from_mask(window, read_masks(path.parent / clip.masks_path).mask(window.frame_idx))
+        with qtbot.waitSignal(window.exporter.finished, timeout=120_000):
+            window.actions_by_name["export_comparison"].trigger()
+        with path.with_name("comparison.csv").open(newline="", encoding="utf-8") as file:
+            rows = list(csv.DictReader(file))
+        assert len(rows) == 1 and rows[0]["fit_status"] == "cancelled"
+        assert float(rows[0]["volume_m3_fit"]) == pytest.approx(partial.volume_m3)
+        assert rows[0]["Image"] == f"clip_f{window.frame_idx:06d}"
     finally:
         window.shutdown()
 

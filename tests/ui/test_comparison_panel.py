@@ -19,6 +19,7 @@ def test_table_and_profiles(qtbot):
     assert panel.table.item(0, 1).text() == "0.2000 (0.1500–0.2600)"
     assert panel.table.item(0, 3).text() == "+15.0 %"
     assert panel.table.item(1, 1).text() == "+0.100"  # no interval: value only
+    assert panel.table.item(1, 3).text() == "+0.020"  # BCI: a difference, not a % of it
     widths = 0.4 * np.sin(np.pi * STATION_PCT / 100)
     panel.show_profiles(STATION_PCT, widths, widths * 1.05, None, widths * 1.2)
     top, bottom = panel.figure.axes

@@ -3,7 +3,6 @@
 import math
 
 import numpy as np
-import pytest
 import torch
 
 from core.render.interpolate import barycentrics, interpolate_vertex_values
