@@ -266,6 +266,10 @@ class FitController(QObject):
             f"3D fit of {animal_id}", Change("clip", clip=clip_idx))
         self.refresh()
 
+    def shown_fit(self) -> FitResult | None:
+        """The current animal's fit on show, if any."""
+        return None if self._shown is None else self._fits[self._shown]
+
     def shutdown(self) -> None:
         """Cancel a running fit and wait for it; release the 3D view."""
         self.worker.shutdown()

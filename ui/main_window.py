@@ -19,6 +19,9 @@ from core.camera_presets import preset_resolution_mismatch
 from core.errors import InputError
 from core.io.masks import read_masks
 from core.io.media import MEDIA_SUFFIXES
+from core.fit.mesh_files import export_fit_meshes
+from core.io.mesh_export import MESH_SUFFIXES
+from core.model.template import load_template
 from core.progress import Progress, ProgressCallback
 from core.project.comparison import project_comparison_rows, write_comparison_csv
 from core.project.evaluate import all_keys
@@ -699,6 +702,32 @@ class MainWindow(QMainWindow):
             rows, notes = project_comparison_rows(project, path, draws, progress, cancel)
             write_comparison_csv(target, rows)
             return [target], notes
+
+        self.exporter.run_job(job)
+
+    def _ask_mesh_export(self) -> tuple[Path, str] | None:
+        """A folder and a mesh format, or None."""
+        suffix, ok = QInputDialog.getItem(self, "Export 3D fit meshes", "Format:",
+                                          list(MESH_SUFFIXES), 0, False)
+        if not ok:
+            return None
+        folder = self._ask_export_dir()
+        return None if folder is None else (folder, suffix)
+
+    def on_export_meshes(self) -> None:
+        """The current animal's fitted meshes: rest pose and every fitted frame."""
+        fit = self.fits.shown_fit()
+        if fit is None or self.exporter.is_running:
+            self._error("Export", "this animal has no 3D fit" if fit is None
+                        else "an export is already running")
+            return
+        choice = self._ask_mesh_export()
+        if choice is None:
+            return
+        folder, suffix = choice
+
+        def job(progress: ProgressCallback, cancel: threading.Event) -> tuple[list, list]:
+            return export_fit_meshes(fit, load_template(), folder, suffix, progress, cancel), []
 
         self.exporter.run_job(job)
 

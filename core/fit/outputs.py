@@ -10,7 +10,7 @@ import torch
 from core.fit.data import FitData
 from core.fit.result import FitResult
 from core.fit.result_io import write_fit_result
-from core.io.mesh_export import export_mesh
+from core.fit.mesh_files import export_fit_meshes
 from core.model.template import Template
 from core.render.render import Appearance, render
 from core.render.settings import Viewport
@@ -24,15 +24,7 @@ def write_outputs(result: FitResult, data: FitData, template: Template, out_dir:
     """Write everything a user needs from a fit into ``out_dir``; returns the paths."""
     out_dir = Path(out_dir)
     written = write_fit_result(result, out_dir)
-    rest = out_dir / "rest_mesh.ply"
-    export_mesh(rest, result.rest_verts, template.faces, template.uvs, template.face_uvs_idx,
-                template.albedo)
-    written.append(rest)
-    for frame, verts in zip(result.frame_idx, result.posed_verts):
-        path = out_dir / "posed" / f"{int(frame):06d}.ply"
-        export_mesh(path, verts, template.faces, template.uvs, template.face_uvs_idx,
-                    template.albedo)
-        written.append(path)
+    written += export_fit_meshes(result, template, out_dir, ".ply")
     for t in np.linspace(0, data.num_frames - 1, min(NUM_OVERLAYS, data.num_frames)).astype(int):
         path = out_dir / "overlays" / f"{int(result.frame_idx[t]):06d}.png"
         path.parent.mkdir(parents=True, exist_ok=True)

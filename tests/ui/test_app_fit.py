@@ -9,6 +9,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+import trimesh
 from PySide6.QtCore import QRectF, QTimer
 
 from core.fit.result_io import read_fit_result
@@ -90,6 +91,16 @@ def test_fit_runs_saves_shows_and_cancels(qtbot, sample_copy):
         assert saved.volume_m3 == result.volume_m3
         assert f"volume {saved.volume_m3:.4f} m³" in fits.panel.status.text()
         assert "3D fit complete" in fits.panel.status.text()
+
+        # the fitted meshes in another format, read back with trimesh
+        meshes = path.parent / "meshes"
+        window._ask_mesh_export = lambda: (meshes, ".obj")
+        with qtbot.waitSignal(window.exporter.finished, timeout=120_000):
+            window.actions_by_name["export_meshes"].trigger()
+        rest = trimesh.load(meshes / "rest_mesh.obj", force="mesh")
+        np.testing.assert_allclose(rest.bounds, [result.rest_verts.min(axis=0),
+                                                 result.rest_verts.max(axis=0)], atol=1e-5)
+        assert len(list((meshes / "posed").glob("*.obj"))) == len(result.frame_idx)
 
         # the fitted silhouette is drawn over the frame, where the dolphin's mask is
         qtbot.waitUntil(fits.silhouette.isVisible, timeout=10_000)

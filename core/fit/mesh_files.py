@@ -1,0 +1,28 @@
+"""A fit's meshes as files: the rest-pose mesh and one posed mesh per fitted frame, in PLY,
+OBJ or GLB (core/io/mesh_export.py), textured with the fit's own albedo."""
+
+import threading
+from pathlib import Path
+
+import numpy as np
+
+from core.fit.result import FitResult
+from core.io.mesh_export import export_mesh
+from core.model.template import Template
+from core.progress import Progress, ProgressCallback, check_cancel
+
+
+def export_fit_meshes(result: FitResult, template: Template, out_dir: Path, suffix: str = ".ply",
+                      progress: ProgressCallback | None = None,
+                      cancel: threading.Event | None = None) -> list[Path]:
+    """Write ``rest_mesh.SUFFIX`` and ``posed/%06d.SUFFIX`` into ``out_dir``; the paths."""
+    albedo = np.round(np.clip(result.albedo, 0.0, 1.0) * 255).astype(np.uint8)
+    jobs = [(Path(out_dir) / f"rest_mesh{suffix}", result.rest_verts)]
+    jobs += [(Path(out_dir) / "posed" / f"{int(frame):06d}{suffix}", verts)
+             for frame, verts in zip(result.frame_idx, result.posed_verts)]
+    for done, (path, verts) in enumerate(jobs, start=1):
+        check_cancel(cancel)
+        export_mesh(path, verts, template.faces, template.uvs, template.face_uvs_idx, albedo)
+        if progress is not None:
+            progress(Progress("meshes", done, len(jobs), path.name))
+    return [path for path, _ in jobs]
