@@ -8,9 +8,10 @@ from collections.abc import Sequence
 import numpy as np
 from matplotlib.backends.backend_qtagg import FigureCanvasQTAgg
 from matplotlib.figure import Figure
-from PySide6.QtCore import Qt
+from PySide6.QtCore import Qt, Signal
 from PySide6.QtWidgets import (
-    QAbstractItemView, QHeaderView, QLabel, QTableWidget, QTableWidgetItem, QVBoxLayout, QWidget,
+    QAbstractItemView, QHeaderView, QLabel, QPushButton, QTableWidget, QTableWidgetItem,
+    QVBoxLayout, QWidget,
 )
 
 from core.project.comparison import ComparisonRow
@@ -19,6 +20,7 @@ COLUMNS = ("Quantity", "Elliptical (95 %)", "3D fit", "Fit − ell.")
 FORMATS = {"length_m": ".3f", "volume_m3": ".4f", "bci": "+.3f", "density_kg_m3": ".1f",
            "mass_kg": ".1f"}
 PLOT_SIZE_IN = (3.6, 3.4)
+PLOT_MIN_HEIGHT_PX = 260
 
 
 def _cell(text: str) -> QTableWidgetItem:
@@ -28,11 +30,20 @@ def _cell(text: str) -> QTableWidgetItem:
 
 
 class ComparisonPanel(QWidget):
-    """Shows what it is given; the window computes the comparison off the GUI thread."""
+    """Shows what it is given; the window computes the comparison off the GUI thread.
+    ``hw_from_fit_requested``: the user wants the elliptical method to take its HW ratios
+    from the fitted model."""
+
+    hw_from_fit_requested = Signal()
 
     def __init__(self, parent: QWidget | None = None) -> None:
         super().__init__(parent)
         self.status = QLabel("No 3D fit yet: start one in the fit panel.", wordWrap=True)
+        self.hw_button = QPushButton("Use the fit's HW ratios for the elliptical method",
+                                     enabled=False)
+        self.hw_button.setToolTip("Heights / widths of the fitted mesh at the 19 stations, "
+                                  "saved as a table beside the project, with their source")
+        self.hw_button.clicked.connect(self.hw_from_fit_requested)
         self.table = QTableWidget(0, len(COLUMNS))
         self.table.setHorizontalHeaderLabels(COLUMNS)
         self.table.verticalHeader().hide()
@@ -40,13 +51,15 @@ class ComparisonPanel(QWidget):
         self.table.horizontalHeader().setSectionResizeMode(QHeaderView.ResizeMode.Stretch)
         self.figure = Figure(figsize=PLOT_SIZE_IN, layout="constrained")
         self.canvas = FigureCanvasQTAgg(self.figure)
+        self.canvas.setMinimumHeight(PLOT_MIN_HEIGHT_PX)  # room for both plots, even hidden
         layout = QVBoxLayout(self)
-        for widget in (self.status, self.table, self.canvas):
+        for widget in (self.status, self.table, self.canvas, self.hw_button):
             layout.addWidget(widget)
 
     def show_comparison(self, rows: Sequence[ComparisonRow] | None, status: str) -> None:
         """Fill the table (empty with ``rows`` None) and say what the fit is."""
         self.status.setText(status)
+        self.hw_button.setEnabled(rows is not None)
         rows = list(rows or [])
         self.table.setRowCount(len(rows))
         for i, row in enumerate(rows):

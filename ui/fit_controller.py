@@ -19,7 +19,8 @@ from core.measure.stations import STATION_PCT
 from core.progress import Progress
 from core.project.fit_overlay import silhouette_outlines
 from core.project.fit_playback import posed_at
-from core.project.fit_settings import FitSettings, fit_dir
+from core.measure.hw_ratios import write_hw_csv
+from core.project.fit_settings import FitSettings, fit_dir, hw_table_path
 from core.project.model import Animal, with_animal
 from core.project.project_file import media_path, relative_media_path
 from core.project.results import FrameResult, frame_altitude
@@ -66,6 +67,7 @@ class FitController(QObject):
         self.worker.progress.connect(self._on_progress)
         self.worker.finished.connect(self._on_finished)
         self.worker.failed.connect(self._on_failed)
+        self.comparison.hw_from_fit_requested.connect(self.use_fit_hw)
         self.worker.cancelled.connect(
             lambda: self._on_failed("cancelled before the first step: nothing to keep"))
         model = window.model
@@ -265,6 +267,33 @@ class FitController(QObject):
             animals[index], fit_path=relative_media_path(model.path.parent, folder))),
             f"3D fit of {animal_id}", Change("clip", clip=clip_idx))
         self.refresh()
+
+    def use_fit_hw(self) -> None:
+        """Save the shown fit's HW ratios beside the project and make them the project's
+        (one undoable edit); the source names the fit, so results say where they came from."""
+        current, folder, path = self._animal(), self._shown, self.window.model.path
+        if current is None or folder is None or path is None:
+            return
+        clip = self.window.model.project.clips[current[0]]
+        animal_id, fit = current[2].animal_id, self._fits[folder]
+        table = hw_table_path(path, clip.media_path, animal_id)
+
+        def make() -> str:
+            from core.measure.hw_from_model import hw_from_mesh
+            from core.model.template import load_template
+            hw = hw_from_mesh(fit.rest_verts, load_template().station_rings,
+                              name=f"3D fit of {animal_id} ({clip.name})",
+                              source=f"heights / widths of the fitted mesh at the stations, "
+                                     f"{folder} ({fit.status})", is_provisional=False)
+            write_hw_csv(table, hw)
+            return relative_media_path(path.parent, table)
+
+        def use(relative: str) -> None:
+            model = self.window.model
+            push_edit(model, replace(model.project, hw_ratios=relative),
+                      f"HW ratios from the 3D fit of {animal_id}", Change("settings"))
+
+        self.window.jobs.run(make, use, lambda why: self.panel.show_status(f"⚠ {why}"))
 
     def shown_fit(self) -> FitResult | None:
         """The current animal's fit on show, if any."""

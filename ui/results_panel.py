@@ -115,6 +115,8 @@ class ResultsPanel(QWidget):
         self.worker.animal_ready.connect(self._on_animal)
         model.changed.connect(self.refresh)
         model.selection_changed.connect(self.refresh)
+        model.path_changed.connect(self._on_path_changed)
+        self._on_path_changed()
         self.refresh()
 
     # ----- public
@@ -229,6 +231,10 @@ class ResultsPanel(QWidget):
             self._model.project, clip_idx, animal_idx, altitudes)
 
     # ----- settings
+    def _on_path_changed(self) -> None:
+        path = self._model.path
+        self.worker.project_dir = None if path is None else path.parent
+
     def _sync_settings(self) -> None:
         """Show the project's HW table and tail option without pushing an edit."""
         project = self._model.project

@@ -10,6 +10,7 @@ The Monte Carlo seed is fixed, so the same measurement always shows the same int
 import logging
 import threading
 import time
+from pathlib import Path
 from dataclasses import dataclass
 
 from PySide6.QtCore import QObject, Qt, Signal, Slot
@@ -18,7 +19,9 @@ from core.errors import InputError
 from core.measure.hw_ratios import HWRatios, resolve_hw
 from core.measure.uncertainty import DEFAULT_NUM_DRAWS
 from core.project.model import MeasurementKey, Project
-from core.project.results import FrameResult, Spread, animal_summary, measure_frame
+from core.project.results import (
+    FrameResult, Spread, animal_summary, measure_frame, project_hw_spec,
+)
 
 log = logging.getLogger(__name__)
 
@@ -76,6 +79,7 @@ class ResultsWorker(QObject):
                  parent: QObject | None = None) -> None:
         super().__init__(parent)
         self.num_draws = num_draws
+        self.project_dir: Path | None = None  # where HW-table CSVs of the project are relative to
         self._debounce_s = debounce_s
         self._cond = threading.Condition()
         self._frame_job: _FrameJob | None = None
@@ -196,7 +200,8 @@ class ResultsWorker(QObject):
 
     def _measure(self, job: _FrameJob, num_draws: int) -> FrameResult:
         return measure_frame(job.project, job.key, job.altitude_m, job.altitude_source,
-                             self._hw(job.project.hw_ratios), num_draws, SEED)
+                             self._hw(project_hw_spec(job.project, self.project_dir)),
+                             num_draws, SEED)
 
     def _animal_results(self, job: _AnimalJob) -> tuple[list[FrameResult], AnimalSummary]:
         """Nominal results of the animal's frames; frames that cannot be measured left out
@@ -210,7 +215,9 @@ class ResultsWorker(QObject):
             key = MeasurementKey(job.clip_idx, job.animal_idx, m)
             try:
                 results.append(measure_frame(job.project, key, altitude_m, source,
-                                             self._hw(job.project.hw_ratios), 0, SEED))
+                                             self._hw(project_hw_spec(job.project,
+                                                                      self.project_dir)),
+                                             0, SEED))
             except (InputError, ValueError):
                 continue
         return results, AnimalSummary(job.request_id, job.clip_idx, job.animal_idx,

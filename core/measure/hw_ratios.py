@@ -20,6 +20,7 @@ from pathlib import Path
 import numpy as np
 
 from core.errors import InputError
+from core.io.atomic import atomic_path
 from core.io.text_input import cell_number, read_text
 from core.measure.elliptical import TAIL_IDX, TAIL_SOURCE_IDX
 from core.measure.stations import STATION_PCT
@@ -110,6 +111,18 @@ def read_hw_csv(path: Path) -> HWRatios:
     return HWRatios(name=header.get("name", path.stem), ratios=ratios, sd=sd,
                     source=header.get("source", str(path)), is_provisional=YES_NO[provisional],
                     description=header.get("description", ""))
+
+
+def write_hw_csv(path: Path, hw: HWRatios) -> None:
+    """Write an HW table in the format ``read_hw_csv`` reads (atomically); stations without
+    data (90 % and 95 % only) are left empty."""
+    lines = [f"# name: {hw.name}", f"# description: {hw.description}", f"# source: {hw.source}",
+             f"# provisional: {'yes' if hw.is_provisional else 'no'}",
+             ",".join((*REQUIRED_COLUMNS, SD_COLUMN))]
+    lines += [f"{pct:g},{'' if np.isnan(ratio) else repr(float(ratio))},{float(sd)!r}"
+              for pct, ratio, sd in zip(STATION_PCT, hw.ratios, hw.sd)]
+    with atomic_path(Path(path)) as tmp:
+        tmp.write_text("\n".join(lines) + "\n", encoding="utf-8")
 
 
 def preset_names() -> list[str]:

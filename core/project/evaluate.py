@@ -12,14 +12,16 @@ from core.measure.hw_ratios import resolve_hw
 from core.progress import Progress, ProgressCallback, check_cancel
 from core.project.model import MeasurementKey, Project, get_measurement
 from core.project.project_file import media_path
-from core.project.results import FrameResult, clip_telemetry, frame_altitude, measure_frame
+from core.project.results import (
+    FrameResult, clip_telemetry, frame_altitude, measure_frame, project_hw_spec,
+)
 
 
 def frame_results(project: Project, project_path: Path, keys: Sequence[MeasurementKey],
                   num_draws: int, progress: ProgressCallback | None = None,
                   cancel: threading.Event | None = None) -> tuple[list[FrameResult], list[str]]:
     """The results of ``keys`` and, for the frames that could not be measured, why."""
-    hw = resolve_hw(project.hw_ratios)
+    hw = resolve_hw(project_hw_spec(project, project_path.parent))
     results, skipped = [], []
     telemetry = {}
     for done, key in enumerate(keys):

@@ -54,7 +54,18 @@ def fit_config(settings: FitSettings, base: FitConfig = FitConfig()) -> FitConfi
                    use_refraction=settings.refraction, use_roi=settings.roi)
 
 
+def _animal_name(clip_media: str, animal_id: str) -> str:
+    return f"{Path(clip_media).stem}_{animal_id}".replace(" ", "-").replace("/", "-")
+
+
 def fit_dir(project_path: Path, clip_media: str, animal_id: str) -> Path:
     """Where an animal's fit is kept: ``PROJECT.fits/<clip stem>_<animal id>/``."""
-    name = f"{Path(clip_media).stem}_{animal_id}".replace(" ", "-").replace("/", "-")
-    return project_path.with_name(project_path.stem + FITS_SUFFIX) / name
+    return (project_path.with_name(project_path.stem + FITS_SUFFIX)
+            / _animal_name(clip_media, animal_id))
+
+
+def hw_table_path(project_path: Path, clip_media: str, animal_id: str) -> Path:
+    """Where the HW ratios taken from an animal's fit are kept:
+    ``PROJECT.fits/<clip stem>_<animal id>_hw.csv``."""
+    return (project_path.with_name(project_path.stem + FITS_SUFFIX)
+            / f"{_animal_name(clip_media, animal_id)}_hw.csv")

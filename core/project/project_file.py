@@ -274,8 +274,8 @@ def media_path(project_path: Path, clip: ClipEntry) -> Path:
 
 
 def rebase_media(project: Project, old_dir: Path, new_dir: Path) -> Project:
-    """The project with its media, altitude, masks and fit paths made relative to ``new_dir``
-    (Save As)."""
+    """The project with its media, altitude, masks, fit and HW-table paths made relative to
+    ``new_dir`` (Save As)."""
     def moved(rel: str) -> str:
         return relative_media_path(new_dir, (old_dir / rel).resolve())
 
@@ -287,7 +287,10 @@ def rebase_media(project: Project, old_dir: Path, new_dir: Path) -> Project:
         animals=tuple(a if a.fit_path is None else replace(a, fit_path=moved(a.fit_path))
                       for a in clip.animals))
         for clip in project.clips)
-    return replace(project, clips=clips)
+    hw = project.hw_ratios
+    if hw.lower().endswith(".csv") and not Path(hw).is_absolute():
+        hw = moved(hw)  # a table of the project's own (e.g. from a fit)
+    return replace(project, clips=clips, hw_ratios=hw)
 
 
 def missing_media(project_path: Path, project: Project) -> list[int]:

@@ -27,6 +27,15 @@ from core.project.model import ClipEntry, MeasurementKey, Project, get_measureme
 SUMMARY_KEYS = ("length_m", "volume_m3", "bci", "density_kg_m3", "mass_kg")
 
 
+def project_hw_spec(project: Project, project_dir: Path | None) -> str:
+    """The project's HW table as ``resolve_hw`` takes it: a CSV path stored relative to the
+    project file made absolute; a preset name (or "model") as it is."""
+    spec = project.hw_ratios
+    if project_dir is not None and spec.lower().endswith(".csv") and not Path(spec).is_absolute():
+        return str(project_dir / spec)
+    return spec
+
+
 def clip_telemetry(project_dir: Path, clip: ClipEntry, media: Clip) -> Telemetry | None:
     """Altitude per frame of a clip from its AltitudeSpec; None when none was given."""
     spec = clip.altitude

@@ -145,6 +145,17 @@ def test_fit_runs_saves_shows_and_cancels(qtbot, sample_copy):
         assert len(rows) == 1 and rows[0]["fit_status"] == "cancelled"
         assert float(rows[0]["volume_m3_fit"]) == pytest.approx(partial.volume_m3)
         assert rows[0]["Image"] == f"clip_f{window.frame_idx:06d}"
+
+        # the comparison shows both methods; the fit's HW ratios become the project's table
+        qtbot.waitUntil(lambda: fits.comparison.table.rowCount() == 5, timeout=60_000)
+        fits.comparison.hw_button.click()
+        qtbot.waitUntil(lambda: window.model.project.hw_ratios.endswith("_hw.csv"),
+                        timeout=60_000)
+        qtbot.waitUntil(lambda: window.results.current_result() is not None and
+                        window.results.current_result().estimate.settings.hw.name
+                        == "3D fit of dolphin 1 (clip.mp4)", timeout=60_000)
+        hw = window.results.current_result().record["settings"]["hw_ratios"]
+        assert "survey.fits" in hw["source"] and not hw["is_provisional"]
     finally:
         window.shutdown()
 

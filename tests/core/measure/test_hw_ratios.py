@@ -7,7 +7,7 @@ import torch
 from core.errors import InputError
 from core.measure.hw_from_model import hw_from_template
 from core.measure.hw_ratios import (
-    FROM_MODEL, load_hw_preset, preset_names, read_hw_csv, resolve_hw,
+    FROM_MODEL, load_hw_preset, preset_names, read_hw_csv, resolve_hw, write_hw_csv,
 )
 from core.measure.mesh import station_profile
 from core.model.template import load_template
@@ -82,3 +82,14 @@ def test_ratios_from_the_model_are_its_station_heights_over_widths():
     np.testing.assert_allclose(hw.ratios[:3], 1.0, atol=1e-3)
     assert hw.ratios[15:17].min() > 1.4 and hw.is_provisional
     assert hw_from_template(template).name == FROM_MODEL
+
+
+def test_written_tables_read_back_with_their_provenance(tmp_path):
+    table = hw_from_template()
+    path = tmp_path / "fit_hw.csv"
+    write_hw_csv(path, table)
+    back = read_hw_csv(path)
+    np.testing.assert_array_equal(back.ratios, table.ratios)
+    np.testing.assert_array_equal(back.sd, table.sd)
+    assert (back.name, back.source, back.is_provisional) == (table.name, table.source,
+                                                              table.is_provisional)

@@ -123,3 +123,16 @@ def test_recent_projects_newest_first_and_existing_only(tmp_path, monkeypatch):
         recent.add_recent(tmp_path / f"q{i}.dolphinfit")
     assert len(recent.recent_projects()) == recent.MAX_RECENT
     assert isinstance(recent.recent_path(), Path)
+
+
+def test_the_projects_own_hw_table_follows_save_as(tmp_path, project):
+    from dataclasses import replace
+
+    from core.project.results import project_hw_spec
+
+    own = replace(project, hw_ratios="p.fits/clip_dolphin-1_hw.csv")
+    assert project_hw_spec(own, tmp_path) == str(tmp_path / "p.fits/clip_dolphin-1_hw.csv")
+    assert project_hw_spec(project, tmp_path) == project.hw_ratios  # a preset name
+    moved = rebase_media(own, tmp_path, tmp_path / "elsewhere")
+    assert moved.hw_ratios == "../p.fits/clip_dolphin-1_hw.csv"
+    assert rebase_media(project, tmp_path, tmp_path / "x").hw_ratios == project.hw_ratios
