@@ -15,6 +15,7 @@ from PySide6.QtWidgets import QGraphicsPathItem
 from core.errors import InputError
 from core.fit.result import FitResult
 from core.fit.result_io import read_fit_result
+from core.io.video import frame_range, step_for_fps
 from core.measure.stations import STATION_PCT
 from core.progress import Progress
 from core.project.fit_overlay import silhouette_outlines
@@ -108,6 +109,7 @@ class FitController(QObject):
         session = self.window.session
         duration = None if session is None else session.source.clip.duration_s
         self.panel.set_settings(animal.fit_settings, duration)
+        self._tick_fit_frames(animal.fit_settings)
         folder = self._fit_folder(animal)
         if folder is None or folder == self._shown:
             if folder is None:
@@ -119,6 +121,15 @@ class FitController(QObject):
         self.window.jobs.run(lambda: read_fit_result(folder),
                              lambda result: self._read(folder, result),
                              lambda why: self.panel.show_status(f"⚠ saved fit not read: {why}"))
+
+    def _tick_fit_frames(self, settings: FitSettings) -> None:
+        """Mark on the timeline the frames a fit with ``settings`` would use."""
+        session = self.window.session
+        if session is None:
+            return
+        media = session.source.clip
+        self.window.timeline.set_fit_frames(frame_range(
+            media, settings.start_s, settings.end_s, step_for_fps(media, settings.fps)))
 
     def _read(self, folder: Path, result: FitResult) -> None:
         self._fits[folder] = result

@@ -53,6 +53,7 @@ from ui.export_worker import ExportWorker
 from ui.fit_controller import FitController
 from ui.frame_loader import FrameLoader
 from ui.handle_style import HandleStyle
+from ui.mask_controller import MaskController
 from ui.measure_overlay import COARSE_NUDGE_PX, FINE_NUDGE_PX, NUDGE_PX, MeasureOverlay
 from ui.playback import Playback
 from ui.preferences import load_preferences, save_preference
@@ -69,6 +70,7 @@ NUDGE_ACTIONS = {  # action → (direction, image px): outward +1, inward −1
 STEP_ACTIONS = {"next_frame": 1, "previous_frame": -1, "next_10": 10, "previous_10": -10,
                 "next_100": 100, "previous_100": -100}
 MIRROR_ACTIONS = {"mirror_none": None, "mirror_a": "A", "mirror_b": "B"}
+MASK_TOOL_ACTIONS = {"mask_tool_off": None, "mask_brush": "brush", "mask_eraser": "eraser"}
 
 
 class MainWindow(QMainWindow):
@@ -97,6 +99,7 @@ class MainWindow(QMainWindow):
         self.project_panel = ProjectPanel(self.model)
         self.exporter = ExportWorker(self)
         self.fits = FitController(self)
+        self.masks = MaskController(self)
         self._export_progress: QProgressDialog | None = None
         self._build_layout()
         self.actions_by_name = self._build_menus()
@@ -145,6 +148,7 @@ class MainWindow(QMainWindow):
         actions: dict[str, QAction] = {}
         mirror_group = QActionGroup(self)
         mode_group = QActionGroup(self)
+        tool_group = QActionGroup(self)
         for spec in specs:
             action = QAction(spec.label, self)
             action.setObjectName(spec.name)
@@ -159,6 +163,8 @@ class MainWindow(QMainWindow):
                 mirror_group.addAction(action)
             if spec.name in ("length_mode", "widths_mode"):
                 mode_group.addAction(action)
+            if spec.name in MASK_TOOL_ACTIONS:
+                tool_group.addAction(action)
             bar[spec.menu].addAction(action)
             if spec.name == "open":
                 self.recent_menu = bar[spec.menu].addMenu("Open recent")
@@ -171,6 +177,8 @@ class MainWindow(QMainWindow):
             toolbar.addAction(actions[name])
         actions["mirror_none"].setChecked(True)
         actions["fit_silhouette"].setChecked(True)
+        actions["show_masks"].setChecked(True)
+        actions["mask_tool_off"].setChecked(True)
         actions["length_mode"].setChecked(True)
         return actions
 
@@ -182,6 +190,8 @@ class MainWindow(QMainWindow):
             return lambda *_: self.overlay.set_mirror_side(MIRROR_ACTIONS[name])
         if name in NUDGE_ACTIONS:
             return lambda *_: self.overlay.nudge(*NUDGE_ACTIONS[name])
+        if name in MASK_TOOL_ACTIONS:
+            return lambda *_: self.masks.set_tool(MASK_TOOL_ACTIONS[name])
         return getattr(self, f"on_{name}")
 
     def _connect(self) -> None:
@@ -593,6 +603,7 @@ class MainWindow(QMainWindow):
         self.results.shutdown()
         self.exporter.shutdown()
         self.fits.shutdown()
+        self.masks.shutdown()
         self.jobs.wait()
 
     # ------------------------------------------------------------------ actions: File
@@ -803,6 +814,15 @@ class MainWindow(QMainWindow):
                                         self.frame_idx, 0, last)
         if ok:
             self._seek(value)
+
+    def on_show_masks(self, checked: bool) -> None:
+        self.masks.layer.set_visible(checked)
+
+    def on_track_click(self) -> None:
+        self.masks.arm_click_seed()
+
+    def on_retrack(self) -> None:
+        self.masks.retrack_here()
 
     def on_fit_silhouette(self, checked: bool) -> None:
         self.fits.set_silhouette_visible(checked)

@@ -1,4 +1,5 @@
-"""The timeline under the frame view: frame slider, measured-frame marks, altitude strip.
+"""The timeline under the frame view: frame slider, measured-frame marks, mask coverage with
+the fit's frames, altitude strip.
 
 Frames are shown as their stored 0-based index. The strips share the slider's column and
 place frame k where the slider's handle centre would be, so marks line up with the handle.
@@ -8,13 +9,14 @@ from collections.abc import Sequence
 
 import numpy as np
 from PySide6.QtCore import QPointF, QRectF, Qt, Signal
-from PySide6.QtGui import (QColor, QMouseEvent, QPainter, QPaintEvent, QPen, QPixmap, QPolygonF,
-                           QResizeEvent)
-from PySide6.QtWidgets import QGridLayout, QLabel, QSizePolicy, QSlider, QStyle, QWidget
+from PySide6.QtGui import (QColor, QMouseEvent, QPainter, QPaintEvent, QPen, QPolygonF)
+from PySide6.QtWidgets import QGridLayout, QLabel, QSlider, QStyle, QWidget
 
-STRIP_BACKGROUND = QColor(40, 40, 40)
+from core.project.mask_store import Coverage
+from ui.coverage_strip import CoverageStrip
+from ui.frame_strip import STRIP_BACKGROUND, FrameStrip, PlottedStrip
+
 MARK_COLOUR = QColor(255, 200, 60)
-CURRENT_COLOUR = QColor(240, 240, 240)
 MEASURED_COLOUR = QColor(90, 170, 255)
 INTERPOLATED_COLOUR = QColor(185, 210, 235, 120)  # paler than the measured curve
 MISSING_COLOUR = QColor(230, 50, 50)
@@ -26,46 +28,7 @@ PLOT_TOP_PX = 15  # room for the label above the curve
 PLOT_BOTTOM_PX = 7  # room for the missing-sample ticks below it
 
 
-class _FrameStrip(QWidget):
-    """A strip whose x axis is the clip's frames, aligned with the slider's handle centre."""
-
-    frame_requested = Signal(int)
-
-    def __init__(self, inset_px: float, height_px: int, parent: QWidget | None = None) -> None:
-        super().__init__(parent)
-        self._inset_px = inset_px
-        self._num_frames = 0
-        self._frame = 0
-        self.setFixedHeight(height_px)
-        self.setSizePolicy(QSizePolicy.Policy.Expanding, QSizePolicy.Policy.Fixed)
-
-    def set_num_frames(self, num_frames: int) -> None:
-        self._num_frames = num_frames
-        self.update()
-
-    def set_frame(self, frame_idx: int) -> None:
-        self._frame = frame_idx
-        self.update()
-
-    def x_of(self, frame_idx: np.ndarray | int) -> np.ndarray:
-        """Widget x of frame(s) ``frame_idx``."""
-        span = self.width() - 2 * self._inset_px
-        return self._inset_px + span * np.asarray(frame_idx) / max(self._num_frames - 1, 1)
-
-    def frame_at(self, x: float) -> int:
-        """The frame nearest to widget x, clamped to the clip."""
-        span = max(self.width() - 2 * self._inset_px, 1.0)
-        frame_idx = round((x - self._inset_px) / span * (self._num_frames - 1))
-        return min(max(frame_idx, 0), max(self._num_frames - 1, 0))
-
-    def _draw_current(self, painter: QPainter) -> None:
-        if self._num_frames:
-            painter.setPen(QPen(CURRENT_COLOUR, 1))
-            x = float(self.x_of(self._frame))
-            painter.drawLine(QPointF(x, 0), QPointF(x, self.height()))
-
-
-class _MarkStrip(_FrameStrip):
+class _MarkStrip(FrameStrip):
     """Ticks at the measured frames; a press near one jumps to it."""
 
     def __init__(self, inset_px: float, parent: QWidget | None = None) -> None:
@@ -95,7 +58,7 @@ class _MarkStrip(_FrameStrip):
             self.frame_requested.emit(int(self._marks[nearest]))
 
 
-class _AltitudeStrip(_FrameStrip):
+class _AltitudeStrip(PlottedStrip):
     """Altitude over the clip: measured samples, interpolated ones lighter, missing ones as red
     ticks, the current frame as a line; pressing or dragging seeks."""
 
@@ -105,7 +68,6 @@ class _AltitudeStrip(_FrameStrip):
         self._is_interpolated = np.zeros(0, dtype=bool)
         self._is_missing = np.zeros(0, dtype=bool)
         self._label = ""
-        self._plot: QPixmap | None = None  # the static part, redrawn on new data or size
         self.setToolTip("Drone altitude per frame: lighter where interpolated, red ticks where "
                         "missing; click or drag to seek")
 
@@ -119,45 +81,9 @@ class _AltitudeStrip(_FrameStrip):
             self._is_interpolated = _mask(is_interpolated, n, "is_interpolated")
             self._is_missing = _mask(is_missing, n, "is_missing")
         self._label = label
-        self._invalidate()
+        self.invalidate()
 
-    def set_num_frames(self, num_frames: int) -> None:
-        super().set_num_frames(num_frames)
-        self._invalidate()
-
-    def resizeEvent(self, event: QResizeEvent) -> None:
-        self._invalidate()
-
-    def _invalidate(self) -> None:
-        self._plot = None
-        self.update()
-
-    def paintEvent(self, event: QPaintEvent) -> None:
-        if self._plot is None:
-            self._plot = self._render_plot()
-        painter = QPainter(self)
-        painter.drawPixmap(0, 0, self._plot)
-        self._draw_current(painter)
-
-    def mousePressEvent(self, event: QMouseEvent) -> None:
-        if event.button() == Qt.MouseButton.LeftButton:
-            self._seek(event.position().x())
-
-    def mouseMoveEvent(self, event: QMouseEvent) -> None:
-        if event.buttons() & Qt.MouseButton.LeftButton:
-            self._seek(event.position().x())
-
-    def _seek(self, x: float) -> None:
-        if self._num_frames:
-            self.frame_requested.emit(self.frame_at(x))
-
-    def _render_plot(self) -> QPixmap:
-        ratio = self.devicePixelRatioF()
-        plot = QPixmap(self.size() * ratio)
-        plot.setDevicePixelRatio(ratio)
-        plot.fill(STRIP_BACKGROUND)
-        painter = QPainter(plot)
-        painter.setRenderHint(QPainter.RenderHint.Antialiasing)
+    def draw_plot(self, painter: QPainter) -> None:
         summary = "no altitude"
         if self._altitude_m is not None and self._num_frames:
             shown = np.where(self._is_missing, np.nan, self._altitude_m)
@@ -171,8 +97,6 @@ class _AltitudeStrip(_FrameStrip):
         painter.drawText(QRectF(4, 0, self.width() - 8, PLOT_TOP_PX),
                          Qt.AlignmentFlag.AlignLeft | Qt.AlignmentFlag.AlignVCenter,
                          f"{self._label}  {summary}".strip())
-        painter.end()
-        return plot
 
     def _draw_curve(self, painter: QPainter, shown: np.ndarray, low: float, high: float) -> None:
         """Polylines through at most two samples per pixel column, coloured by kind."""
@@ -238,6 +162,7 @@ class Timeline(QWidget):
         inset = self._slider.style().pixelMetric(QStyle.PixelMetric.PM_SliderLength, None,
                                                  self._slider) / 2
         self._marks = _MarkStrip(inset)
+        self._coverage = CoverageStrip(inset)
         self._altitude = _AltitudeStrip(inset)
         layout = QGridLayout(self)
         layout.setContentsMargins(4, 2, 4, 2)
@@ -245,11 +170,12 @@ class Timeline(QWidget):
         layout.addWidget(self._slider, 0, 0)
         layout.addWidget(self._label, 0, 1)
         layout.addWidget(self._marks, 1, 0)
-        layout.addWidget(self._altitude, 2, 0)
+        layout.addWidget(self._coverage, 2, 0)
+        layout.addWidget(self._altitude, 3, 0)
         layout.setColumnStretch(0, 1)
         self._slider.valueChanged.connect(self.frame_requested)
-        self._marks.frame_requested.connect(self.frame_requested)
-        self._altitude.frame_requested.connect(self.frame_requested)
+        for strip in (self._marks, self._coverage, self._altitude):
+            strip.frame_requested.connect(self.frame_requested)
         self._update_label(0)
 
     def set_clip(self, num_frames: int, fps: float) -> None:
@@ -260,7 +186,7 @@ class Timeline(QWidget):
         self._slider.blockSignals(True)
         self._slider.setRange(0, max(num_frames - 1, 0))
         self._slider.blockSignals(False)
-        for strip in (self._marks, self._altitude):
+        for strip in (self._marks, self._coverage, self._altitude):
             strip.set_num_frames(num_frames)
         metrics = self._label.fontMetrics()  # wide enough for the last frame: no jitter
         self._label.setMinimumWidth(metrics.horizontalAdvance(self._label_text(num_frames - 1))
@@ -273,13 +199,21 @@ class Timeline(QWidget):
             self._slider.blockSignals(True)
             self._slider.setValue(frame_idx)
             self._slider.blockSignals(False)
-        for strip in (self._marks, self._altitude):
+        for strip in (self._marks, self._coverage, self._altitude):
             strip.set_frame(frame_idx)
         self._update_label(frame_idx)
 
     def set_marks(self, frames: Sequence[int]) -> None:
         """Mark the measured frames (0-based indices)."""
         self._marks.set_marks(frames)
+
+    def set_coverage(self, coverage: Coverage | None) -> None:
+        """Per-frame mask coverage of the clip (None: no masks)."""
+        self._coverage.set_coverage(coverage)
+
+    def set_fit_frames(self, frames: Sequence[int]) -> None:
+        """The frames the fit will use, ticked on the coverage strip."""
+        self._coverage.set_fit_frames(frames)
 
     def set_altitude(self, altitude_m: np.ndarray | None, is_interpolated: np.ndarray | None,
                      is_missing: np.ndarray | None, label: str) -> None:

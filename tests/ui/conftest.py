@@ -51,3 +51,46 @@ def collect_after_each_test():
     """Each test's garbage is collected here, on the GUI thread, before the next test."""
     yield
     gc.collect()
+
+
+@pytest.fixture
+def shown_canvas(qtbot):
+    """Makes a FrameCanvas of a given size showing a frame."""
+    from ui.canvas import FrameCanvas
+
+    def make(frame, size: tuple[int, int]) -> FrameCanvas:
+        view = FrameCanvas()
+        qtbot.addWidget(view)
+        view.resize(*size)
+        view.show()
+        qtbot.waitExposed(view)
+        view.set_frame(frame)
+        return view
+
+    return make
+
+
+@pytest.fixture
+def make_window(qtbot):
+    """Makes shown, active main windows that close without asking about unsaved work (a test
+    that cares overrides ``_ask_save_changes``); every worker stops after the test."""
+    from ui.main_window import MainWindow
+
+    windows = []
+
+    def make(size: tuple[int, int] = (1500, 950)) -> MainWindow:
+        window = MainWindow()
+        window._ask_save_changes = lambda: "discard"
+        qtbot.addWidget(window)
+        window.resize(*size)
+        window.show()
+        qtbot.waitExposed(window)
+        window.activateWindow()
+        qtbot.waitActive(window)  # window shortcuts fire only in the active window
+        windows.append(window)
+        return window
+
+    yield make
+    for window in windows:
+        window.shutdown()  # also for a window a test left open with unsaved work
+        window.model.undo_stack.clear()

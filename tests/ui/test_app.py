@@ -46,29 +46,16 @@ def still(tmp_path: Path) -> Path:
 
 
 @pytest.fixture
-def new_window(qtbot):
+def new_window(make_window):
     """Makes main windows that close without asking (a test that cares overrides it) and
     answer the altitude question that opening new media asks with a constant 20 m."""
-    windows = []
-
     def make() -> MainWindow:
-        window = MainWindow()
-        window._ask_save_changes = lambda: "discard"
+        window = make_window((1400, 900))
         # what the altitude dialog returns for a constant (the dialog is tested on its own)
         window._ask_altitude = lambda clip: AltitudeSpec(constant_m=ALTITUDE_M, source="laser")
-        qtbot.addWidget(window)
-        window.resize(1400, 900)
-        window.show()
-        qtbot.waitExposed(window)
-        window.activateWindow()
-        qtbot.waitActive(window)  # window shortcuts fire only in the active window
-        windows.append(window)
         return window
 
-    yield make
-    for window in windows:
-        window.shutdown()  # also for a window a test left open with unsaved work
-        window.model.undo_stack.clear()
+    return make
 
 
 def open_and_wait(qtbot, window: MainWindow, path: Path) -> None:

@@ -32,16 +32,6 @@ def sample_copy(tmp_path) -> Path:
     return source, tmp_path / "survey.dolphinfit"
 
 
-def _window(qtbot) -> MainWindow:
-    window = MainWindow()
-    window._ask_save_changes = lambda: "discard"
-    qtbot.addWidget(window)
-    window.resize(1500, 950)
-    window.show()
-    qtbot.waitExposed(window)
-    return window
-
-
 def _open(qtbot, window: MainWindow, path: Path) -> None:
     with qtbot.waitSignal(window.session_opened, timeout=30_000):
         window.open_path(path)
@@ -58,9 +48,9 @@ def _measure_from_mask(window: MainWindow, mask: np.ndarray) -> None:
     window.overlay.suggest_edges(mask)
 
 
-def test_fit_runs_saves_shows_and_cancels(qtbot, sample_copy):
+def test_fit_runs_saves_shows_and_cancels(qtbot, sample_copy, make_window):
     source, path = sample_copy
-    window = _window(qtbot)
+    window = make_window()
     try:
         _open(qtbot, window, source)
         assert window.save(path)  # Save As into the test folder: the fit goes beside it
@@ -159,7 +149,7 @@ def test_fit_runs_saves_shows_and_cancels(qtbot, sample_copy):
     finally:
         window.shutdown()
 
-    again = _window(qtbot)
+    again = make_window()
     try:
         _open(qtbot, again, path)
         qtbot.waitUntil(lambda: "3D fit cancelled" in again.fits.panel.status.text(),

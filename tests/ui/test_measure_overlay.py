@@ -34,13 +34,8 @@ def widths_of(model: ProjectModel) -> np.ndarray:
 
 
 @pytest.fixture
-def canvas(qtbot) -> FrameCanvas:
-    view = FrameCanvas()
-    qtbot.addWidget(view)
-    view.resize(*VIEW_SIZE)
-    view.show()
-    qtbot.waitExposed(view)
-    view.set_frame(dolphin_frame())
+def canvas(shown_canvas) -> FrameCanvas:
+    view = shown_canvas(dolphin_frame(), VIEW_SIZE)
     assert view.view_scale() == pytest.approx(1.5)
     return view
 

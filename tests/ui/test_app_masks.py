@@ -1,0 +1,74 @@
+"""Masks in the app on the sample project: the tracker seeded by a click on the dolphin,
+its masks kept beside the project and shown as an outline and a coverage strip, a frame
+corrected with the brush, and the switch of masks undone."""
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+from PySide6.QtCore import QPointF, Qt
+
+from core.io.masks import read_masks
+from core.project.sample import ensure_sample_project
+from ui.main_window import MainWindow
+
+TIMEOUT_MS = 120_000
+LEFT = Qt.MouseButton.LeftButton
+
+
+@pytest.fixture
+def window(qtbot, tmp_path, make_window) -> MainWindow:
+    window = make_window()
+    with qtbot.waitSignal(window.session_opened, timeout=30_000):
+        window.open_path(ensure_sample_project())
+    assert window.save(tmp_path / "survey.dolphinfit")
+    return window
+
+
+def _iou(a: np.ndarray, b: np.ndarray) -> float:
+    return float((a & b).sum() / (a | b).sum())
+
+
+def test_track_from_a_click_then_correct_with_the_brush(qtbot, window):
+    truth = read_masks(window.model.path.parent / window.model.project.clips[0].masks_path)
+    with qtbot.waitSignal(window.frame_shown, timeout=10_000):
+        window.go_to_frame(20)
+    v, u = np.nonzero(truth.mask(20))
+    window.canvas.setFocus()
+    qtbot.keyClick(window.canvas, Qt.Key.Key_T, Qt.KeyboardModifier.ControlModifier)
+    with qtbot.waitSignal(window.masks.tracker.finished, timeout=TIMEOUT_MS) as tracked:
+        qtbot.mouseClick(window.canvas.viewport(), LEFT,
+                         pos=window.canvas.mapFromScene(QPointF(u.mean(), v.mean())))
+    track = tracked.args[0]
+    assert window.model.current_measurement() is None  # the click seeded, measured nothing
+    qtbot.waitUntil(lambda: window.model.project.clips[0].masks_path == "survey.masks/clip.npz",
+                    timeout=10_000)
+    for frame in (0, 20, 49):
+        assert _iou(track.mask(frame), truth.mask(frame)) > 0.7
+    # the frame's outline is drawn around the tracked mask
+    qtbot.waitUntil(lambda: not window.masks.layer.outline_path().isEmpty(), timeout=10_000)
+    box = window.masks.layer.outline_path().boundingRect()
+    assert box.contains(QPointF(u.mean(), v.mean()))
+
+    # correct frame 20 with the brush: a stroke over open water joins the mask
+    window.canvas.setFocus()
+    qtbot.keyClick(window.canvas, Qt.Key.Key_B)
+    assert window.masks.layer.tool == "brush"
+    qtbot.wait(200)  # the frame's mask is handed to the tool in the background
+    start, end = (QPointF(60.0, 60.0), QPointF(90.0, 60.0))
+    viewport = window.canvas.viewport()
+    with qtbot.waitSignal(window.masks.layer.mask_edited, timeout=10_000):
+        qtbot.mousePress(viewport, LEFT, pos=window.canvas.mapFromScene(start))
+        for x in np.linspace(60.0, 90.0, 8):
+            qtbot.mouseMove(viewport, pos=window.canvas.mapFromScene(QPointF(x, 60.0)))
+        qtbot.mouseRelease(viewport, LEFT, pos=window.canvas.mapFromScene(end))
+    saved = Path(window.model.path.parent / "survey.masks" / "clip.npz")
+    qtbot.waitUntil(lambda: read_masks(saved).mask(20)[60, 75], timeout=10_000)
+    assert not read_masks(saved).mask(21)[60, 75]  # only the corrected frame changed
+
+    # undo the switch to the tracked masks: the clip reads its old masks again
+    window.masks.set_tool(None)
+    window.model.undo_stack.undo()
+    assert window.model.project.clips[0].masks_path.endswith("masks")
+    qtbot.waitUntil(lambda: window.masks.track is not None
+                    and window.masks.track.num_frames == truth.num_frames, timeout=10_000)

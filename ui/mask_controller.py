@@ -1,0 +1,177 @@
+"""Masks in the app: the clip's masks loaded with its session, the current frame's outline on
+the canvas, the coverage strip under the timeline, the built-in tracker started from a click
+or re-run from a corrected frame, and brush / eraser corrections. Tracked and corrected masks
+are kept losslessly in the project's folder (``PROJECT.masks/<clip>.npz``); pointing the clip
+at them is an undoable edit."""
+
+from dataclasses import replace
+from typing import TYPE_CHECKING
+
+import numpy as np
+from PySide6.QtCore import QObject
+
+from core.io.masks import MaskTrack, read_masks
+from core.project.mask_store import coverage, masks_file, outlines, save_track, with_frame
+from core.project.model import with_clip
+from core.project.project_file import relative_media_path
+from core.segment.segmenter import PointSeed
+from ui.commands import push_edit
+from ui.job_worker import JobWorker
+from ui.mask_layer import MaskLayer
+from ui.project_model import Change
+from ui.tracker_jobs import track_job
+
+if TYPE_CHECKING:
+    from ui.main_window import MainWindow
+
+
+class MaskController(QObject):
+    """Owns the mask layer, the tracking worker and the open clip's MaskTrack."""
+
+    def __init__(self, window: "MainWindow") -> None:
+        super().__init__(window)
+        self.window = window
+        self.layer = MaskLayer(window.canvas)
+        self.tracker = JobWorker(self)
+        self.track: MaskTrack | None = None
+        self._track_clip: int | None = None
+        self._loaded: str | None = None  # the masks_path the track was read from or saved to
+        self._seeding = False
+        self.tracker.progress.connect(lambda p: window.statusBar().showMessage(
+            f"tracking: frame {p.step} of {p.total}"))
+        self.tracker.finished.connect(self._on_tracked)
+        self.tracker.failed.connect(lambda why: window._error("Tracking failed", why))
+        self.tracker.cancelled.connect(
+            lambda: window.statusBar().showMessage("tracking cancelled", 5000))
+        self.layer.mask_edited.connect(self._on_edited)
+        window.session_opened.connect(lambda _: self.load())
+        window.frame_shown.connect(self.show_frame)
+        window.canvas.image_clicked.connect(self._on_click)
+        window.model.changed.connect(self._on_model_changed)
+
+    # ----- loading and showing
+    def _clip(self):
+        session = self.window.session
+        return None if session is None else self.window.model.project.clips[session.clip_idx]
+
+    def load(self) -> None:
+        """Read the open clip's masks (in the background); none: clear the views."""
+        session, clip = self.window.session, self._clip()
+        self.track, self._track_clip = None, None
+        self._loaded = None if clip is None else clip.masks_path
+        self.layer.clear()
+        self.window.timeline.set_coverage(None)
+        if clip is None or clip.masks_path is None:
+            return
+        masks = (self.window.model.path.parent / clip.masks_path).resolve()
+        self.window.jobs.run(lambda: read_masks(masks, session.source.clip),
+                             lambda track: self._set_track(session.clip_idx, track),
+                             lambda why: self.window.statusBar().showMessage(
+                                 f"masks not read: {why}", 10_000))
+
+    def _set_track(self, clip_idx: int, track: MaskTrack) -> None:
+        session = self.window.session
+        if session is None or session.clip_idx != clip_idx:
+            return
+        self.track, self._track_clip = track, clip_idx
+        self.window.jobs.run(lambda: coverage(track), self.window.timeline.set_coverage,
+                             lambda why: None)
+        self.show_frame(self.window.frame_idx)
+
+    def show_frame(self, frame_idx: int) -> None:
+        """The frame's mask outline (and, with a tool on, its mask to edit)."""
+        track = self.track
+        if track is None:
+            return
+
+        def shown(result: tuple[np.ndarray, list]) -> None:
+            mask, polygons = result
+            if frame_idx == self.window.frame_idx and track is self.track:
+                self.layer.show_outlines(frame_idx, polygons)
+                if self.layer.tool is not None:
+                    self.layer.begin_edit(frame_idx, mask)
+
+        def read() -> tuple[np.ndarray, list]:
+            mask = track.mask(frame_idx)
+            return mask, outlines(mask)
+
+        self.window.jobs.run(read, shown, lambda why: None)
+
+    def _on_model_changed(self, change: Change) -> None:
+        clip = self._clip()
+        if clip is not None and clip.masks_path != self._loaded:
+            self.load()  # chosen (Clip → Masks…), changed or undone
+
+    # ----- tracking
+    def arm_click_seed(self) -> None:
+        """The next click on the frame seeds the tracker there (both directions)."""
+        if self.window.session is None:
+            return
+        self._seeding = True
+        self.window.overlay.set_frame(None)  # the click is the tracker's, not a length point
+        self.window.statusBar().showMessage("click on the dolphin to track it from this frame")
+
+    def _on_click(self, u: float, v: float, _modifiers: object) -> None:
+        if not self._seeding:
+            return
+        self._seeding = False
+        self.window.overlay.set_frame(self.window.frame_idx)
+        self._start(PointSeed(u, v), "both")
+
+    def retrack_here(self) -> None:
+        """Track forwards and backwards from the current frame's (corrected) mask."""
+        if self.track is None:
+            self.window._error("Re-track", "this clip has no masks yet: track from a click")
+            return
+        self._start(self.track.mask(self.window.frame_idx), "both")
+
+    def _start(self, seed: object, direction: str) -> None:
+        session, path = self.window.session, self.window.model.path
+        clip = self._clip()
+        media = (path.parent / clip.media_path).resolve()
+        self._track_clip = session.clip_idx
+        self.tracker.run_job(track_job(media, seed, self.window.frame_idx, direction,
+                                       self.track))
+
+    def _on_tracked(self, track: MaskTrack) -> None:
+        self._store(track, "track masks")
+
+    # ----- corrections and storage
+    def set_tool(self, tool: str | None) -> None:
+        """Brush, eraser or none; a tool edits the current frame's mask."""
+        self.layer.set_tool(tool)
+        if tool is not None:
+            if self.track is None:
+                self.window._error("Masks", "this clip has no masks to correct yet")
+                self.layer.set_tool(None)
+                return
+            self.show_frame(self.window.frame_idx)
+
+    def _on_edited(self, frame_idx: int, mask: np.ndarray) -> None:
+        if self.track is not None:
+            self._store(with_frame(self.track, frame_idx, mask), "correct mask")
+
+    def _store(self, track: MaskTrack, what: str) -> None:
+        """Save the track beside the project (background) and point the clip at it."""
+        clip_idx, path = self._track_clip, self.window.model.path
+        clip = self.window.model.project.clips[clip_idx]
+        target = masks_file(path, clip.media_path)
+        self.track = track
+
+        def saved(_: object) -> None:
+            model = self.window.model
+            relative = relative_media_path(path.parent, target)
+            current = model.project.clips[clip_idx]
+            self._loaded = relative
+            if current.masks_path != relative:
+                push_edit(model, with_clip(model.project, clip_idx,
+                                           replace(current, masks_path=relative)),
+                          what, Change("clip", clip=clip_idx))
+            self._set_track(clip_idx, track)
+            self.window.statusBar().showMessage(f"masks saved in {target.name}", 5000)
+
+        self.window.jobs.run(lambda: save_track(track, target), saved,
+                             lambda why: self.window._error("Masks not saved", why))
+
+    def shutdown(self) -> None:
+        self.tracker.shutdown()
