@@ -6,7 +6,9 @@ second while it works. ``step`` counts the job's units of work (optimisation ste
 draws) and never decreases or exceeds ``total``; a job that finishes reports ``step == total``
 last. ``stage`` names what the job is doing, ``message`` says it in words, ``eta_s`` is the
 remaining time estimated from the measured rate (None until there is a rate) and ``metrics``
-carries numbers worth showing (losses, IoU).
+carries numbers worth showing (losses, IoU). ``preview``, when a job has one, is a snapshot of
+its current state for display (the fit's: a core.fit.reporter.FitPreview, at most about once a
+second); consumers must not keep it beyond showing it.
 
 Cancel: the caller passes a ``threading.Event``; the job checks it between units of work
 (``check_cancel``) and raises :class:`Cancelled` once it is set, leaving no partial output,
@@ -28,6 +30,7 @@ class Progress:
     message: str = ""
     eta_s: float | None = None
     metrics: Mapping[str, float] = field(default_factory=dict)
+    preview: object | None = None
 
     @property
     def fraction(self) -> float:

@@ -13,10 +13,12 @@ from PySide6.QtGui import QColor, QPainterPath, QPen, QPolygonF
 from PySide6.QtWidgets import QGraphicsPathItem
 
 from core.errors import InputError
+from core.fit.reporter import FitPreview
 from core.fit.result import FitResult
 from core.fit.result_io import read_fit_result
 from core.io.video import frame_range, step_for_fps
 from core.measure.stations import STATION_PCT
+from core.model.template import load_template
 from core.progress import Progress
 from core.project.fit_overlay import silhouette_outlines
 from core.project.fit_playback import posed_at
@@ -62,6 +64,8 @@ class FitController(QObject):
         self._fits: dict[Path, FitResult] = {}   # fits read or made this session, by folder
         self._shown: Path | None = None          # the fit folder on show
         self._running: tuple[int, str] | None = None  # clip index, animal ID being fitted
+        self._live: FitPreview | None = None     # the running fit's latest state
+        self._faces: np.ndarray | None = None
         self.panel.start_requested.connect(self.start)
         self.panel.cancel_requested.connect(self.worker.cancel)
         self.panel.settings_changed.connect(self._store_settings)
@@ -161,8 +165,8 @@ class FitController(QObject):
 
     def _update_silhouette(self, frame_idx: int) -> None:
         """Outline the fit posed at ``frame_idx`` (worked out in the background)."""
-        session, folder = self.window.session, self._shown
-        if not self._silhouette_on or folder is None or session is None \
+        session, folder, live = self.window.session, self._shown, self._live
+        if not self._silhouette_on or (folder is None and live is None) or session is None \
                 or session.clip_idx != self.window.model.clip_idx:
             self.silhouette.setVisible(False)
             return
@@ -171,13 +175,21 @@ class FitController(QObject):
         except InputError:
             self.silhouette.setVisible(False)
             return
-        result = self._fits[folder]
+        # while a fit runs its latest state is drawn, else the saved fit of the animal shown
+        source = live if live is not None else self._fits[folder]
+        faces = self._template_faces() if live is not None else source.faces
         intrinsics = self.window.model.project.clips[session.clip_idx].camera.intrinsics()
-        verts, _ = posed_at(result.frame_idx, result.posed_verts, frame_idx)
+        verts, _ = posed_at(source.frame_idx, source.posed_verts, frame_idx)
         self.window.jobs.run(
-            lambda: silhouette_outlines(verts, result.faces, intrinsics, altitude),
+            lambda: silhouette_outlines(verts, faces, intrinsics, altitude),
             lambda outlines: self._draw_silhouette(frame_idx, outlines),
             lambda why: self.silhouette.setVisible(False))
+
+    def _template_faces(self) -> np.ndarray:
+        """The model's faces (every fit shares the template's), read once."""
+        if self._faces is None:
+            self._faces = load_template().faces
+        return self._faces
 
     def _draw_silhouette(self, frame_idx: int, outlines: list[np.ndarray]) -> None:
         if frame_idx != self.window.frame_idx:
@@ -252,9 +264,12 @@ class FitController(QObject):
 
     def _on_progress(self, progress: Progress) -> None:
         self.panel.show_progress(progress)
+        if isinstance(progress.preview, FitPreview):
+            self._live = progress.preview  # the running fit's state, drawn over the frame
+            self._update_silhouette(self.window.frame_idx)
 
     def _on_failed(self, why: str) -> None:
-        self._running = None
+        self._running, self._live = None, None
         self.panel.set_running(False)
         self.panel.show_status(f"⚠ fit stopped: {why}")
 
@@ -262,7 +277,7 @@ class FitController(QObject):
         """Record the saved fit on its animal (found by ID: the tree may have changed)."""
         result, folder = outcome
         clip_idx, animal_id = self._running
-        self._running = None
+        self._running, self._live = None, None
         self.panel.set_running(False)
         self._fits[folder.resolve()] = result
         model = self.window.model

@@ -25,6 +25,7 @@ from core.model.template import load_template
 from core.progress import Progress, ProgressCallback
 from core.project.comparison import project_comparison_rows, write_comparison_csv
 from core.project.evaluate import all_keys
+from core.project.mask_store import masks_file, save_track
 from core.project.model import (
     AltitudeSpec, Animal, ClipEntry, Measurement, MeasurementKey, Project, add_animal,
     add_measurement, get_measurement, next_animal_id, remove_animal, remove_measurement,
@@ -1001,18 +1002,22 @@ class MainWindow(QMainWindow):
             self.set_masks(clip_idx, Path(name))
 
     def set_masks(self, clip_idx: int, masks: Path) -> None:
-        """Check that ``masks`` fit the clip (in the background), then store them."""
+        """Check that ``masks`` fit the clip and keep a lossless copy with the project (in the
+        background), then make them the clip's (undoable)."""
         media = self.session.source.clip
-        project_dir = self.model.path.parent
+        project_path = self.model.path
+        copy = masks_file(project_path, self.model.project.clips[clip_idx].media_path)
+
+        def keep() -> None:
+            save_track(read_masks(masks, media), copy)
 
         def stored(_: object) -> None:
             clip = self.model.project.clips[clip_idx]
             push_edit(self.model, with_clip(self.model.project, clip_idx, replace(
-                clip, masks_path=relative_media_path(project_dir, masks))),
-                "set masks", Change("clip", clip=clip_idx))
+                clip, masks_path=relative_media_path(project_path.parent, copy))),
+                f"masks from {masks.name}", Change("clip", clip=clip_idx))
 
-        self.jobs.run(lambda: read_masks(masks, media), stored,
-                      lambda why: self._error("Cannot use these masks", why))
+        self.jobs.run(keep, stored, lambda why: self._error("Cannot use these masks", why))
 
     # ------------------------------------------------------------------ actions: Help
     def on_shortcuts(self) -> None:

@@ -21,7 +21,9 @@ from core.fit import losses
 from core.fit.config import FitConfig
 from core.fit.data import FitData
 from core.fit.init import initial_state, root_positions, silhouette_centroid_offset
-from core.fit.reporter import HEADING_STAGE, PREPARE_STAGE, RESULT_STAGE, FitReporter
+from core.fit.reporter import (
+    HEADING_STAGE, PREPARE_STAGE, RESULT_STAGE, FitPreview, FitReporter,
+)
 from core.fit.result import STATUS_CANCELLED, STATUS_COMPLETE, STATUS_DIVERGED, FitResult
 from core.fit.target import edge_profile, soft_targets
 from core.measure.condition import body_condition
@@ -344,6 +346,7 @@ def _run_stage(problem: _Problem, params: SceneParams, stage: str, steps: int,
     weights and frames, so they compare) and raise _Stop."""
     label = label or stage
     optimiser = torch.optim.Adam(_stage_groups(params, stage, problem.config))
+    problem.reporter.preview_source = lambda: _preview(problem, params)
     best_total, best = math.inf, params.snapshot()
     total = math.inf
     for k in range(steps):
@@ -369,6 +372,13 @@ def _run_stage(problem: _Problem, params: SceneParams, stage: str, steps: int,
         history.append({"stage": label, "step": k, **terms, "mean_iou": mean_iou})
         problem.reporter.step_done(label, terms, mean_iou)
     return total
+
+
+def _preview(problem: _Problem, params: SceneParams) -> FitPreview:
+    """The posed meshes of the current state, for display while the fit runs."""
+    with torch.no_grad():
+        posed = problem.model(params.full_betas(), params.pose(), params.transl).verts
+    return FitPreview(frame_idx=problem.data.frame_idx, posed_verts=posed.numpy().copy())
 
 
 def _debiased_targets(problem: _Problem, params: SceneParams) -> torch.Tensor:

@@ -7,8 +7,12 @@ the optimisation ended at, ``total`` for a complete fit. ``eta_s`` is the measur
 step times the steps left while optimising, None in "prepare" and "result".
 """
 
+import math
 import time
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass
+
+import numpy as np
 
 from core.progress import Progress, ProgressCallback
 
@@ -17,6 +21,16 @@ HEADING_STAGE = "heading"
 RESULT_STAGE = "result"
 STAGE_ORDER = (PREPARE_STAGE, HEADING_STAGE, "global", "body", "shape", RESULT_STAGE)
 HEARTBEAT_S = 0.5   # within a long step, the last report is repeated this often
+PREVIEW_INTERVAL_S = 1.0  # a step's report carries the current state at most this often
+
+
+@dataclass(frozen=True, eq=False)
+class FitPreview:
+    """The fit's current state for display: posed_verts (T, V, 3) float32 metres at the
+    fitted clip frames frame_idx (T,)."""
+
+    frame_idx: np.ndarray
+    posed_verts: np.ndarray
 
 
 class FitReporter:
@@ -29,6 +43,8 @@ class FitReporter:
         self.metrics: Mapping[str, float] = {}
         self._rate_started: float | None = None
         self._last_sent = time.perf_counter()
+        self.preview_source: Callable[[], FitPreview] | None = None  # set by the running stage
+        self._last_preview = -math.inf
 
     def step_started(self) -> None:
         """Start the rate's clock at the first optimisation step."""
@@ -38,12 +54,18 @@ class FitReporter:
     def step_done(self, stage: str, terms: Mapping[str, float], mean_iou: float) -> None:
         """One more optimisation step, with its loss terms and mean IoU."""
         self.step += 1
-        self.report(stage, f"mean IoU {mean_iou:.3f}", {**terms, "mean_iou": mean_iou})
+        preview = None
+        now = time.perf_counter()
+        if self.preview_source is not None and now - self._last_preview >= PREVIEW_INTERVAL_S:
+            preview, self._last_preview = self.preview_source(), now
+        self.report(stage, f"mean IoU {mean_iou:.3f}", {**terms, "mean_iou": mean_iou},
+                    preview)
 
-    def report(self, stage: str, message: str, metrics: Mapping[str, float] | None = None) -> None:
-        """Send where the fit is now."""
+    def report(self, stage: str, message: str, metrics: Mapping[str, float] | None = None,
+               preview: FitPreview | None = None) -> None:
+        """Send where the fit is now (with a preview of its state, if given)."""
         self.stage, self.message, self.metrics = stage, message, metrics or {}
-        self._send()
+        self._send(preview)
 
     def heartbeat(self) -> None:
         """Repeat the last report if it is older than HEARTBEAT_S (keeps the ETA fresh)."""
@@ -58,8 +80,8 @@ class FitReporter:
         per_step = (time.perf_counter() - self._rate_started) / self.step
         return per_step * (self.total - self.step)
 
-    def _send(self) -> None:
+    def _send(self, preview: FitPreview | None = None) -> None:
         self._last_sent = time.perf_counter()
         if self.callback is not None:
             self.callback(Progress(self.stage, self.step, self.total, self.message,
-                                   self.eta_s(), dict(self.metrics)))
+                                   self.eta_s(), dict(self.metrics), preview))

@@ -71,6 +71,8 @@ def test_fit_runs_saves_shows_and_cancels(qtbot, sample_copy, make_window):
         # the event loop kept turning: ticks every 50 ms, none missing by more than 1 s
         gaps = np.diff([started, *[t for t in ticks if t >= started]])
         assert len(gaps) >= 0.5 * elapsed / 0.05 and gaps.max() < 1.0
+        previews = [r.preview for r in reports if r.preview is not None]
+        assert previews and previews[-1].posed_verts.shape[0] == len(previews[-1].frame_idx)
         steps = [r.step for r in reports]
         assert steps == sorted(steps) and reports[-1].step == reports[-1].total
         result, folder = done.args[0]

@@ -72,3 +72,16 @@ def test_track_from_a_click_then_correct_with_the_brush(qtbot, window):
     assert window.model.project.clips[0].masks_path.endswith("masks")
     qtbot.waitUntil(lambda: window.masks.track is not None
                     and window.masks.track.num_frames == truth.num_frames, timeout=10_000)
+
+
+def test_imported_masks_are_kept_with_the_project(qtbot, window):
+    clip = window.model.project.clips[0]
+    source = (window.model.path.parent / clip.masks_path).resolve()  # the sample's PNG folder
+    window.set_masks(0, source)
+    qtbot.waitUntil(lambda: window.model.project.clips[0].masks_path == "survey.masks/clip.npz",
+                    timeout=30_000)
+    kept, original = (read_masks(window.model.path.parent / "survey.masks" / "clip.npz"),
+                      read_masks(source))
+    np.testing.assert_array_equal(kept.stack(), original.stack())
+    window.model.undo_stack.undo()
+    assert window.model.project.clips[0].masks_path == clip.masks_path
