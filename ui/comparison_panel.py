@@ -20,7 +20,7 @@ COLUMNS = ("Quantity", "Elliptical (95 %)", "3D fit", "Fit − ell.")
 FORMATS = {"length_m": ".3f", "volume_m3": ".4f", "bci": "+.3f", "density_kg_m3": ".1f",
            "mass_kg": ".1f"}
 PLOT_SIZE_IN = (3.6, 3.4)
-PLOT_MIN_HEIGHT_PX = 260
+PLOT_MIN_HEIGHT_PX = 160
 
 
 def _cell(text: str) -> QTableWidgetItem:
@@ -53,8 +53,10 @@ class ComparisonPanel(QWidget):
         self.canvas = FigureCanvasQTAgg(self.figure)
         self.canvas.setMinimumHeight(PLOT_MIN_HEIGHT_PX)  # room for both plots, even hidden
         layout = QVBoxLayout(self)
-        for widget in (self.status, self.table, self.canvas, self.hw_button):
-            layout.addWidget(widget)
+        layout.addWidget(self.status)
+        layout.addWidget(self.table)
+        layout.addWidget(self.canvas, stretch=1)  # the plot takes the room left
+        layout.addWidget(self.hw_button)
 
     def show_comparison(self, rows: Sequence[ComparisonRow] | None, status: str) -> None:
         """Fill the table (empty with ``rows`` None) and say what the fit is."""

@@ -8,7 +8,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 import numpy as np
-from PySide6.QtCore import QObject, QPointF
+from PySide6.QtCore import QObject, QPointF, Signal
 from PySide6.QtGui import QColor, QPainterPath, QPen, QPolygonF
 from PySide6.QtWidgets import QGraphicsPathItem
 
@@ -29,17 +29,28 @@ from core.project.project_file import media_path, relative_media_path
 from core.project.results import FrameResult, frame_altitude
 from ui.commands import push_edit
 from ui.comparison_job import ComparisonView, comparison_view
-from ui.comparison_panel import ComparisonPanel
 from ui.fit_panel import FitPanel
 from ui.fit_worker import FitJob, FitWorker
+from ui.lazy_widget import LazyWidget
 from ui.project_model import Change
-from ui.viewer3d import Viewer3D
 
 if TYPE_CHECKING:
+    from ui.comparison_panel import ComparisonPanel
     from ui.main_window import MainWindow
+    from ui.viewer3d import Viewer3D
 
 SILHOUETTE_COLOUR = "#ff8c1a"  # orange: apart from the measuring handles and the water
 SILHOUETTE_Z = 0.5             # above the frame, under the measuring overlay
+
+
+def _make_viewer() -> "Viewer3D":
+    from ui.viewer3d import Viewer3D  # VTK: imported when the 3D view is first shown
+    return Viewer3D()
+
+
+def _make_comparison() -> "ComparisonPanel":
+    from ui.comparison_panel import ComparisonPanel  # matplotlib: on first show
+    return ComparisonPanel()
 
 
 def describe_fit(result: FitResult) -> str:
@@ -52,14 +63,21 @@ def describe_fit(result: FitResult) -> str:
 
 
 class FitController(QObject):
-    """Owns the fit panel, the 3D viewer, the comparison panel and the fit worker."""
+    """Owns the fit panel, the 3D viewer, the comparison panel and the fit worker.
+    ``fit_shown``: a fit is on show (the window then shows the 3D view)."""
+
+    fit_shown = Signal()
 
     def __init__(self, window: "MainWindow") -> None:
         super().__init__(window)
         self.window = window
         self.panel = FitPanel()
-        self.viewer = Viewer3D()
-        self.comparison = ComparisonPanel()
+        self.viewer_slot = LazyWidget(_make_viewer, "The 3D view opens with the first fit.")
+        self.comparison_slot = LazyWidget(_make_comparison, "No 3D fit of this animal yet.")
+        self.viewer_slot.built.connect(self._on_viewer_built)
+        self.comparison_slot.built.connect(self._on_comparison_built)
+        self._view: ComparisonView | None = None   # what the comparison shows, once computed
+        self._comparison_status = "No 3D fit of this animal yet."
         self.worker = FitWorker(self)
         self._fits: dict[Path, FitResult] = {}   # fits read or made this session, by folder
         self._shown: Path | None = None          # the fit folder on show
@@ -72,13 +90,12 @@ class FitController(QObject):
         self.worker.progress.connect(self._on_progress)
         self.worker.finished.connect(self._on_finished)
         self.worker.failed.connect(self._on_failed)
-        self.comparison.hw_from_fit_requested.connect(self.use_fit_hw)
         self.worker.cancelled.connect(
             lambda: self._on_failed("cancelled before the first step: nothing to keep"))
         model = window.model
         model.selection_changed.connect(self.refresh)
         model.changed.connect(lambda _: self.refresh())
-        window.frame_shown.connect(self.viewer.set_frame)
+        window.frame_shown.connect(self._on_frame_shown)
         window.frame_shown.connect(self._update_silhouette)
         window.results.result_shown.connect(self._on_elliptical)
         self.silhouette = QGraphicsPathItem()
@@ -141,22 +158,68 @@ class FitController(QObject):
         if current is not None and self._fit_folder(current[2]) == folder:
             self._show(folder)
 
+    @property
+    def viewer(self) -> "Viewer3D | None":
+        """The 3D view, once its dock has been shown."""
+        return self.viewer_slot.widget
+
+    @property
+    def comparison(self) -> "ComparisonPanel | None":
+        """The comparison panel, once its dock has been shown."""
+        return self.comparison_slot.widget
+
     def _show(self, folder: Path | None) -> None:
-        self._shown = folder
+        self._shown, self._view = folder, None
         if folder is None:
             self.silhouette.setVisible(False)
-            self.viewer.clear()
-            self.comparison.show_comparison(None, "No 3D fit of this animal yet.")
+            self._comparison_status = "No 3D fit of this animal yet."
             if not self.worker.is_running:
                 self.panel.show_status("Measure the animal, then fit the 3D model to the clip.")
+        else:
+            result = self._fits[folder]
+            self._comparison_status = describe_fit(result)
+            self._update_silhouette(self.window.frame_idx)
+            self.panel.show_status(describe_fit(result))
+            self.fit_shown.emit()
+            self._on_elliptical(self.window.results.current_result())
+        self._sync_viewer()
+        self._sync_comparison()
+
+    def _on_viewer_built(self, viewer: "Viewer3D") -> None:
+        self._sync_viewer()
+
+    def _on_comparison_built(self, panel: "ComparisonPanel") -> None:
+        panel.hw_from_fit_requested.connect(self.use_fit_hw)
+        self._sync_comparison()
+
+    def _on_frame_shown(self, frame_idx: int) -> None:
+        if self.viewer is not None:
+            self.viewer.set_frame(frame_idx)
+        self._update_silhouette(frame_idx)
+
+    def _sync_viewer(self) -> None:
+        """Show the current fit (and the elliptical solid) in the 3D view, if it is built."""
+        viewer = self.viewer
+        if viewer is None:
             return
-        result = self._fits[folder]
-        self.viewer.set_fitted(result.faces, result.frame_idx, result.posed_verts,
-                               result.rest_verts)
-        self.viewer.set_frame(self.window.frame_idx)
-        self._update_silhouette(self.window.frame_idx)
-        self.panel.show_status(describe_fit(result))
-        self._on_elliptical(self.window.results.current_result())
+        if self._shown is None:
+            viewer.clear()
+            return
+        result = self._fits[self._shown]
+        viewer.set_fitted(result.faces, result.frame_idx, result.posed_verts, result.rest_verts)
+        viewer.set_frame(self.window.frame_idx)
+        if self._view is not None:
+            viewer.set_elliptical(self._view.solid_verts, self._view.solid_faces)
+
+    def _sync_comparison(self) -> None:
+        """Show the comparison as computed, if the panel is built."""
+        panel, view = self.comparison, self._view
+        if panel is None:
+            return
+        panel.show_comparison(None if view is None else view.rows, self._comparison_status)
+        if view is not None:
+            panel.show_profiles(STATION_PCT, view.measured_widths_m, view.fitted_widths_m,
+                                view.hw_heights_m, view.fitted_heights_m)
 
     # ----- the fitted silhouette over the frame
     def set_silhouette_visible(self, visible: bool) -> None:
@@ -209,15 +272,19 @@ class FitController(QObject):
         fit, folder = self._fits[self._shown], self._shown
         self.window.jobs.run(lambda: comparison_view(frame_result.estimate, fit),
                              lambda view: self._show_comparison(folder, view),
-                             lambda why: self.comparison.show_comparison(None, f"⚠ {why}"))
+                             lambda why: self._comparison_failed(folder, why))
+
+    def _comparison_failed(self, folder: Path, why: str) -> None:
+        if folder == self._shown:
+            self._view, self._comparison_status = None, f"⚠ {why}"
+            self._sync_comparison()
 
     def _show_comparison(self, folder: Path, view: ComparisonView) -> None:
         if folder != self._shown:
             return
-        self.comparison.show_comparison(view.rows, describe_fit(self._fits[folder]))
-        self.comparison.show_profiles(STATION_PCT, view.measured_widths_m, view.fitted_widths_m,
-                                      view.hw_heights_m, view.fitted_heights_m)
-        self.viewer.set_elliptical(view.solid_verts, view.solid_faces)
+        self._view, self._comparison_status = view, describe_fit(self._fits[folder])
+        self._sync_comparison()
+        self._sync_viewer()
 
     # ----- running a fit
     def _store_settings(self, settings: FitSettings) -> None:
@@ -328,4 +395,5 @@ class FitController(QObject):
     def shutdown(self) -> None:
         """Cancel a running fit and wait for it; release the 3D view."""
         self.worker.shutdown()
-        self.viewer.close_viewer()
+        if self.viewer is not None:
+            self.viewer.close_viewer()

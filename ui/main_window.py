@@ -19,8 +19,6 @@ from core.camera_presets import preset_resolution_mismatch
 from core.errors import InputError
 from core.io.masks import read_masks
 from core.io.media import MEDIA_SUFFIXES
-from core.fit.mesh_files import export_fit_meshes
-from core.io.mesh_export import MESH_SUFFIXES
 from core.model.template import load_template
 from core.progress import Progress, ProgressCallback
 from core.project.comparison import project_comparison_rows, write_comparison_csv
@@ -123,8 +121,8 @@ class MainWindow(QMainWindow):
                 ("Project", self.project_panel, Qt.LeftDockWidgetArea),
                 ("3D fit", self.fits.panel, Qt.LeftDockWidgetArea),
                 ("Results", self.results, Qt.RightDockWidgetArea),
-                ("Comparison", self.fits.comparison, Qt.RightDockWidgetArea),
-                ("3D view", self.fits.viewer, Qt.RightDockWidgetArea)):
+                ("Comparison", self.fits.comparison_slot, Qt.RightDockWidgetArea),
+                ("3D view", self.fits.viewer_slot, Qt.RightDockWidgetArea)):
             dock = QDockWidget(title, self)
             dock.setObjectName(title)
             dock.setWidget(widget)
@@ -133,6 +131,8 @@ class MainWindow(QMainWindow):
             docks[title] = dock
         self.tabifyDockWidget(docks["Results"], docks["Comparison"])
         docks["Results"].raise_()
+        docks["3D view"].hide()  # shown with the first fit: VTK loads only then
+        self.fits.fit_shown.connect(self._show_3d_view)
         self.resizeDocks([docks["Project"]], [300], Qt.Horizontal)
         self.resizeDocks([docks["Results"]], [400], Qt.Horizontal)
         self.docks = docks
@@ -142,6 +142,16 @@ class MainWindow(QMainWindow):
         self.camera_warning.setStyleSheet("color: #c00000; font-weight: bold")
         for label in (self.camera_warning, self.cursor_label, self.status_label):
             self.statusBar().addPermanentWidget(label)
+
+    def _show_3d_view(self) -> None:
+        """Show the 3D view dock (first time: two fifths of the right-hand column)."""
+        dock = self.docks["3D view"]
+        if dock.isVisible():
+            return
+        dock.show()
+        height = self.docks["Results"].height() + dock.height()
+        self.resizeDocks([self.docks["Results"], dock], [3 * height // 5, 2 * height // 5],
+                         Qt.Vertical)
 
     def _build_menus(self) -> dict[str, QAction]:
         menus, specs = load_action_table()
@@ -719,6 +729,7 @@ class MainWindow(QMainWindow):
 
     def _ask_mesh_export(self) -> tuple[Path, str] | None:
         """A folder and a mesh format, or None."""
+        from core.io.mesh_export import MESH_SUFFIXES  # trimesh: loaded when first needed
         suffix, ok = QInputDialog.getItem(self, "Export 3D fit meshes", "Format:",
                                           list(MESH_SUFFIXES), 0, False)
         if not ok:
@@ -739,6 +750,7 @@ class MainWindow(QMainWindow):
         folder, suffix = choice
 
         def job(progress: ProgressCallback, cancel: threading.Event) -> tuple[list, list]:
+            from core.fit.mesh_files import export_fit_meshes  # trimesh, in the worker
             return export_fit_meshes(fit, load_template(), folder, suffix, progress, cancel), []
 
         self.exporter.run_job(job)

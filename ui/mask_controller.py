@@ -32,6 +32,7 @@ class MaskController(QObject):
         super().__init__(window)
         self.window = window
         self.layer = MaskLayer(window.canvas)
+        self.layer.set_fill(False)  # an outline only: the body edge under it stays visible
         self.tracker = JobWorker(self)
         self.track: MaskTrack | None = None
         self._track_clip: int | None = None

@@ -30,6 +30,7 @@ FLIPPER_STATIONS = (4, 5)  # 25 % and 30 %: the mask's outline runs round the fl
 SCREENSHOT_FIT = FitSettings(start_s=2.0, end_s=3.0, fps=5.0, quality="quick")
 WINDOW_SIZE = (1900, 1150)
 TIMEOUT_S = 600.0
+SETTLE_S = 0.5
 ZOOM_MARGIN = 0.35        # view this much of the body length around the dolphin
 
 
@@ -65,9 +66,20 @@ def _fit_png(out_png: Path) -> Path:
 
 
 def _grab(window: MainWindow, out_png: Path) -> None:
+    settle = time.monotonic() + SETTLE_S  # layouts and renders queued by the last changes
+    _wait_until(lambda: time.monotonic() > settle, "the window to settle")
     out_png.parent.mkdir(parents=True, exist_ok=True)
     if not window.grab().save(str(out_png)):
         raise OSError(f"{out_png}: could not write the screenshot")
+
+
+def _zoom_to_dolphin(window: MainWindow) -> None:
+    """Zoom the frame onto the measured dolphin with a margin around it."""
+    midline = window.model.current_measurement().midline_px
+    low, high = midline.min(axis=0), midline.max(axis=0)
+    margin = ZOOM_MARGIN * (high - low).max()
+    window.canvas.zoom_to(QRectF(low[0] - margin, low[1] - margin,
+                                 high[0] - low[0] + 2 * margin, high[1] - low[1] + 2 * margin))
 
 
 def _measure_and_fit(window: MainWindow, out_png: Path) -> None:
@@ -87,11 +99,7 @@ def _measure_and_fit(window: MainWindow, out_png: Path) -> None:
                          "skip station")
     while window.overlay.selected_edge != (FLIPPER_STATIONS[-1] + 1, 0):
         window.overlay.next_handle()
-    midline = model.current_measurement().midline_px
-    low, high = midline.min(axis=0), midline.max(axis=0)
-    margin = ZOOM_MARGIN * (high - low).max()
-    window.canvas.zoom_to(QRectF(low[0] - margin, low[1] - margin,
-                                 high[0] - low[0] + 2 * margin, high[1] - low[1] + 2 * margin))
+    _zoom_to_dolphin(window)
     _wait_until(lambda: window.results.current_result() is not None
                 and window.results.current_result().estimate.interval is not None,
                 "the Monte Carlo intervals")
@@ -100,9 +108,12 @@ def _measure_and_fit(window: MainWindow, out_png: Path) -> None:
     fits.panel.set_settings(SCREENSHOT_FIT, window.session.source.clip.duration_s)
     fits.panel.start_button.click()
     _wait_until(lambda: not fits.worker.is_running, "the 3D fit")
-    _wait_until(lambda: fits.comparison.table.rowCount() > 0, "the comparison")
-    _wait_until(fits.silhouette.isVisible, "the fitted silhouette")
     window.docks["Comparison"].raise_()
+    _wait_until(lambda: fits.comparison is not None and fits.comparison.table.rowCount() > 0,
+                "the comparison")
+    _wait_until(fits.silhouette.isVisible, "the fitted silhouette")
+    _wait_until(lambda: fits.viewer is not None, "the 3D view")
+    _zoom_to_dolphin(window)
     _grab(window, _fit_png(out_png))
     window.model.mark_saved()  # nothing of the demonstration is kept
     window.close()

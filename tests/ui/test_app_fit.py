@@ -104,6 +104,8 @@ def test_fit_runs_saves_shows_and_cancels(qtbot, sample_copy, make_window):
         assert overlap.width() * overlap.height() > 0.5 * box.width() * box.height()
 
         # the 3D viewer holds the fitted mesh and poses it at the frame shown
+        # shown with the first fit, the 3D view loads then (not when the app opens)
+        qtbot.waitUntil(lambda: fits.viewer is not None, timeout=10_000)
         if fits.viewer.plotter is not None:
             first = np.array(fits.viewer.fitted_points(), copy=True)
             with qtbot.waitSignal(window.frame_shown, timeout=10_000):
@@ -139,7 +141,9 @@ def test_fit_runs_saves_shows_and_cancels(qtbot, sample_copy, make_window):
         assert rows[0]["Image"] == f"clip_f{window.frame_idx:06d}"
 
         # the comparison shows both methods; the fit's HW ratios become the project's table
-        qtbot.waitUntil(lambda: fits.comparison.table.rowCount() == 5, timeout=60_000)
+        window.docks["Comparison"].raise_()  # the panel is built when first shown
+        qtbot.waitUntil(lambda: fits.comparison is not None
+                        and fits.comparison.table.rowCount() == 5, timeout=60_000)
         fits.comparison.hw_button.click()
         qtbot.waitUntil(lambda: window.model.project.hw_ratios.endswith("_hw.csv"),
                         timeout=60_000)
