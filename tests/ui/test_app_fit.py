@@ -114,10 +114,20 @@ def test_fit_runs_saves_shows_and_cancels(qtbot, sample_copy, make_window):
 
         # a longer fit, cancelled once it optimises: the partial result is kept, labelled
         fits.panel.set_settings(LONGER, 5.0)
-        fits.worker.progress.connect(
-            lambda p: fits.panel.cancel_button.click() if p.stage == "global" else None)
+        moments = {}
+
+        def cancel_in_global(progress) -> None:
+            if progress.stage == "global" and "cancel" not in moments:
+                moments["cancel"] = time.monotonic()
+                fits.panel.cancel_button.click()
+            elif progress.stage == "result" and "stopped" not in moments:
+                moments["stopped"] = time.monotonic()
+
+        fits.worker.progress.connect(cancel_in_global)
         with qtbot.waitSignal(fits.worker.finished, timeout=FIT_TIMEOUT_MS) as cut:
             fits.panel.start_button.click()
+        # the optimisation stopped (and the result stage began) within 2 s of Cancel
+        assert moments["stopped"] - moments["cancel"] < 2.0
         partial, _ = cut.args[0]
         assert partial.status == "cancelled" and "cancelled by the user" in partial.status_message
         assert "partial result" in fits.panel.status.text()
