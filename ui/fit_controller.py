@@ -3,6 +3,7 @@ worker; a finished (or cancelled, partial) fit is saved in the animal's fit fold
 in the project as an undoable edit; the current animal's fit is read back when shown, posed in
 the 3D viewer at the current frame, and compared with the elliptical baseline."""
 
+import threading
 from dataclasses import replace
 from pathlib import Path
 from typing import TYPE_CHECKING
@@ -81,8 +82,10 @@ class FitController(QObject):
         self.worker = FitWorker(self)
         self._fits: dict[Path, FitResult] = {}   # fits read or made this session, by folder
         self._shown: Path | None = None          # the fit folder on show
-        self._running: tuple[int, str] | None = None  # clip index, animal ID being fitted
+        self._running: tuple | None = None  # clip index, animal ID, project path being fitted
         self._live: FitPreview | None = None     # the running fit's latest state
+        self._silhouette_generation = 0
+        self._closing = threading.Event()  # set on close: a fit cancelled then is not kept
         self._faces: np.ndarray | None = None
         self.panel.start_requested.connect(self.start)
         self.panel.cancel_requested.connect(self.worker.cancel)
@@ -96,7 +99,7 @@ class FitController(QObject):
         model.selection_changed.connect(self.refresh)
         model.changed.connect(lambda _: self.refresh())
         window.frame_shown.connect(self._on_frame_shown)
-        window.frame_shown.connect(self._update_silhouette)
+        window.session_opened.connect(lambda _: self.refresh())
         window.results.result_shown.connect(self._on_elliptical)
         self.silhouette = QGraphicsPathItem()
         pen = QPen(QColor(SILHOUETTE_COLOUR), 1.5)
@@ -126,8 +129,10 @@ class FitController(QObject):
         if current is None:
             self._show(None)
             return
-        _, _, animal = current
+        clip_idx, _, animal = current
         session = self.window.session
+        if session is not None and session.clip_idx != clip_idx:
+            session = None  # the animal's clip is still opening
         duration = None if session is None else session.source.clip.duration_s
         self.panel.set_settings(animal.fit_settings, duration)
         self._tick_fit_frames(animal.fit_settings)
@@ -146,14 +151,14 @@ class FitController(QObject):
     def _tick_fit_frames(self, settings: FitSettings) -> None:
         """Mark on the timeline the frames a fit with ``settings`` would use."""
         session = self.window.session
-        if session is None:
+        if session is None or session.clip_idx != self.window.model.clip_idx:
             return
         media = session.source.clip
         self.window.timeline.set_fit_frames(frame_range(
             media, settings.start_s, settings.end_s, step_for_fps(media, settings.fps)))
 
     def _read(self, folder: Path, result: FitResult) -> None:
-        self._fits[folder] = result
+        self._fits.setdefault(folder, result)  # a fit made meanwhile is newer than the file
         current = self._animal()
         if current is not None and self._fit_folder(current[2]) == folder:
             self._show(folder)
@@ -171,7 +176,7 @@ class FitController(QObject):
     def _show(self, folder: Path | None) -> None:
         self._shown, self._view = folder, None
         if folder is None:
-            self.silhouette.setVisible(False)
+            self._update_silhouette(self.window.frame_idx)  # hides it, unless a fit runs
             self._comparison_status = "No 3D fit of this animal yet."
             if not self.worker.is_running:
                 self.panel.show_status("Measure the animal, then fit the 3D model to the clip.")
@@ -208,7 +213,9 @@ class FitController(QObject):
         result = self._fits[self._shown]
         viewer.set_fitted(result.faces, result.frame_idx, result.posed_verts, result.rest_verts)
         viewer.set_frame(self.window.frame_idx)
-        if self._view is not None:
+        if self._view is None:
+            viewer.set_elliptical(None)
+        else:
             viewer.set_elliptical(self._view.solid_verts, self._view.solid_faces)
 
     def _sync_comparison(self) -> None:
@@ -228,7 +235,11 @@ class FitController(QObject):
 
     def _update_silhouette(self, frame_idx: int) -> None:
         """Outline the fit posed at ``frame_idx`` (worked out in the background)."""
+        self._silhouette_generation += 1  # outlines asked for before this one are stale
         session, folder, live = self.window.session, self._shown, self._live
+        if live is not None and (self._running is None or session is None
+                                 or self._running[0] != session.clip_idx):
+            live = None  # the running fit is of another clip
         if not self._silhouette_on or (folder is None and live is None) or session is None \
                 or session.clip_idx != self.window.model.clip_idx:
             self.silhouette.setVisible(False)
@@ -245,7 +256,7 @@ class FitController(QObject):
         verts, _ = posed_at(source.frame_idx, source.posed_verts, frame_idx)
         self.window.jobs.run(
             lambda: silhouette_outlines(verts, faces, intrinsics, altitude),
-            lambda outlines: self._draw_silhouette(frame_idx, outlines),
+            lambda outlines, g=self._silhouette_generation: self._draw_silhouette(g, outlines),
             lambda why: self.silhouette.setVisible(False))
 
     def _template_faces(self) -> np.ndarray:
@@ -254,8 +265,8 @@ class FitController(QObject):
             self._faces = load_template().faces
         return self._faces
 
-    def _draw_silhouette(self, frame_idx: int, outlines: list[np.ndarray]) -> None:
-        if frame_idx != self.window.frame_idx:
+    def _draw_silhouette(self, generation: int, outlines: list[np.ndarray]) -> None:
+        if generation != self._silhouette_generation or not self._silhouette_on:
             return
         path = QPainterPath()
         for outline in outlines:
@@ -269,6 +280,9 @@ class FitController(QObject):
         """Compare once the elliptical result has its interval and a fit is shown."""
         if self._shown is None or frame_result is None or frame_result.estimate.interval is None:
             return
+        m = self.window.model
+        if (frame_result.key.clip, frame_result.key.animal) != (m.clip_idx, m.animal_idx):
+            return  # the previous animal's result, still on show
         fit, folder = self._fits[self._shown], self._shown
         self.window.jobs.run(lambda: comparison_view(frame_result.estimate, fit),
                              lambda view: self._show_comparison(folder, view),
@@ -308,7 +322,7 @@ class FitController(QObject):
         self._store_settings(settings)
         current = self._animal()
         if self.worker.start(job):
-            self._running = (current[0], current[2].animal_id)
+            self._running = (current[0], current[2].animal_id, self.window.model.path)
             self.panel.set_running(True)
 
     def _job(self, settings: FitSettings) -> FitJob:
@@ -319,12 +333,15 @@ class FitController(QObject):
         session, path = window.session, window.model.path
         if session is None or session.clip_idx != clip_idx:
             raise InputError("the clip is still opening")
+        clip = window.model.project.clips[clip_idx]
+        if clip.altitude != session.altitude:
+            raise InputError("the altitude is being read again: start the fit in a moment")
         if session.telemetry is None:
             raise InputError(session.telemetry_error or "no altitude: Clip → Altitude…")
-        clip = window.model.project.clips[clip_idx]
         if clip.masks_path is None:
             raise InputError("the fit needs the dolphin's masks: choose them with Clip → Masks…")
-        return FitJob(media=media_path(path, clip), telemetry=session.telemetry,
+        return FitJob(discard=self._closing, media=media_path(path, clip),
+                      telemetry=session.telemetry,
                       masks=(path.parent / clip.masks_path).resolve(), camera=clip.camera,
                       settings=settings,
                       out_dir=fit_dir(path, clip.media_path, animal.animal_id))
@@ -338,16 +355,21 @@ class FitController(QObject):
     def _on_failed(self, why: str) -> None:
         self._running, self._live = None, None
         self.panel.set_running(False)
+        self._update_silhouette(self.window.frame_idx)
         self.panel.show_status(f"⚠ fit stopped: {why}")
 
     def _on_finished(self, outcome: tuple[FitResult, Path]) -> None:
         """Record the saved fit on its animal (found by ID: the tree may have changed)."""
         result, folder = outcome
-        clip_idx, animal_id = self._running
+        clip_idx, animal_id, project_path = self._running
         self._running, self._live = None, None
         self.panel.set_running(False)
         self._fits[folder.resolve()] = result
         model = self.window.model
+        if model.path != project_path:
+            self.panel.show_status(f"{describe_fit(result)} — saved in {folder}; its project "
+                                   "is no longer open")
+            return
         clips = model.project.clips
         animals = clips[clip_idx].animals if clip_idx < len(clips) else ()
         index = next((i for i, a in enumerate(animals) if a.animal_id == animal_id), None)
@@ -393,7 +415,9 @@ class FitController(QObject):
         return None if self._shown is None else self._fits[self._shown]
 
     def shutdown(self) -> None:
-        """Cancel a running fit and wait for it; release the 3D view."""
+        """Cancel a running fit (its partial state is not written) and wait for it; release
+        the 3D view."""
+        self._closing.set()
         self.worker.shutdown()
         if self.viewer is not None:
             self.viewer.close_viewer()

@@ -14,17 +14,19 @@ from core.errors import InputError
 from core.io.masks import read_masks
 from core.io.media import open_media
 from core.io.telemetry import Telemetry
-from core.progress import ProgressCallback
+from core.progress import Cancelled, ProgressCallback
 from core.project.fit_settings import FitSettings, fit_config
 from ui.job_worker import JobWorker
 
 PARTIAL_SUFFIX = ".partial"  # the folder a fit is written into before it replaces the old one
+OLD_SUFFIX = ".old"  # the replaced fit, until the new one is in place
 
 
 @dataclass(frozen=True, eq=False)
 class FitJob:
     """Everything one fit needs, read on the GUI thread before it starts."""
 
+    discard: threading.Event  # set: the app is closing, a result is not written
     media: Path
     telemetry: Telemetry
     masks: Path
@@ -49,11 +51,17 @@ def run_fit_job(job: FitJob, progress: ProgressCallback, cancel: threading.Event
         masks = read_masks(job.masks, frames.clip)
         run = fit_clip(frames, job.telemetry, masks, job.camera.intrinsics(),
                        fit_config(job.settings), progress=progress, cancel=cancel)
+    if job.discard.is_set():
+        raise Cancelled()  # closing: an older complete fit is not replaced by a partial one
     partial = job.out_dir.with_name(job.out_dir.name + PARTIAL_SUFFIX)
-    shutil.rmtree(partial, ignore_errors=True)
+    old = job.out_dir.with_name(job.out_dir.name + OLD_SUFFIX)
+    for leftover in (partial, old):
+        shutil.rmtree(leftover, ignore_errors=True)
     write_outputs(run.result, run.data, load_template(), partial)
-    shutil.rmtree(job.out_dir, ignore_errors=True)
+    if job.out_dir.exists():
+        job.out_dir.rename(old)  # the old fit stays whole until the new one is in place
     partial.rename(job.out_dir)
+    shutil.rmtree(old, ignore_errors=True)
     return run.result, job.out_dir
 
 

@@ -77,6 +77,7 @@ class MainWindow(QMainWindow):
 
     frame_shown = Signal(int)
     session_opened = Signal(int)   # clip index
+    session_closed = Signal()
 
     def __init__(self) -> None:
         super().__init__()
@@ -405,7 +406,8 @@ class MainWindow(QMainWindow):
         self.loader.set_source(None)
         if self.session is not None:
             self.session.close()
-        self.session = None
+            self.session = None
+            self.session_closed.emit()
 
     def _open_current_clip(self) -> None:
         clip_idx, path = self.model.clip_idx, self.model.path
@@ -1028,6 +1030,7 @@ class MainWindow(QMainWindow):
             push_edit(self.model, with_clip(self.model.project, clip_idx, replace(
                 clip, masks_path=relative_media_path(project_path.parent, copy))),
                 f"masks from {masks.name}", Change("clip", clip=clip_idx))
+            self.masks.load()  # the same file may hold new masks: read them again
 
         self.jobs.run(keep, stored, lambda why: self._error("Cannot use these masks", why))
 

@@ -10,6 +10,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 from PySide6.QtCore import QObject
 
+from core.errors import InputError
 from core.io.masks import MaskTrack, read_masks
 from core.project.mask_store import coverage, masks_file, outlines, save_track, with_frame
 from core.project.model import with_clip
@@ -37,6 +38,7 @@ class MaskController(QObject):
         self.track: MaskTrack | None = None
         self._track_clip: int | None = None
         self._loaded: str | None = None  # the masks_path the track was read from or saved to
+        self._target: tuple | None = None  # (project path, clip index) of the tracking job
         self._seeding = False
         self.tracker.progress.connect(lambda p: window.statusBar().showMessage(
             f"tracking: frame {p.step} of {p.total}"))
@@ -46,14 +48,18 @@ class MaskController(QObject):
             lambda: window.statusBar().showMessage("tracking cancelled", 5000))
         self.layer.mask_edited.connect(self._on_edited)
         window.session_opened.connect(lambda _: self.load())
+        window.session_closed.connect(self.load)
         window.frame_shown.connect(self.show_frame)
         window.canvas.image_clicked.connect(self._on_click)
         window.model.changed.connect(self._on_model_changed)
 
     # ----- loading and showing
     def _clip(self):
-        session = self.window.session
-        return None if session is None else self.window.model.project.clips[session.clip_idx]
+        """The open clip's entry; None without a session (or when its clip was removed)."""
+        session, clips = self.window.session, self.window.model.project.clips
+        if session is None or session.clip_idx >= len(clips):
+            return None
+        return clips[session.clip_idx]
 
     def load(self) -> None:
         """Read the open clip's masks (in the background); none: clear the views."""
@@ -75,9 +81,15 @@ class MaskController(QObject):
         if session is None or session.clip_idx != clip_idx:
             return
         self.track, self._track_clip = track, clip_idx
-        self.window.jobs.run(lambda: coverage(track), self.window.timeline.set_coverage,
-                             lambda why: None)
+        self._show_coverage(track)
         self.show_frame(self.window.frame_idx)
+
+    def _show_coverage(self, track: MaskTrack) -> None:
+        def shown(result: object) -> None:
+            if track is self.track:  # not a track replaced meanwhile
+                self.window.timeline.set_coverage(result)
+
+        self.window.jobs.run(lambda: coverage(track), shown, lambda why: None)
 
     def show_frame(self, frame_idx: int) -> None:
         """The frame's mask outline (and, with a tool on, its mask to edit)."""
@@ -100,7 +112,12 @@ class MaskController(QObject):
 
     def _on_model_changed(self, change: Change) -> None:
         clip = self._clip()
-        if clip is not None and clip.masks_path != self._loaded:
+        if clip is None:
+            if self.track is not None:  # the clip went (undo of adding it)
+                self.track, self._track_clip = None, None
+                self.layer.clear()
+            return
+        if clip.masks_path != self._loaded:
             self.load()  # chosen (Clip → Masks…), changed or undone
 
     # ----- tracking
@@ -121,20 +138,31 @@ class MaskController(QObject):
 
     def retrack_here(self) -> None:
         """Track forwards and backwards from the current frame's (corrected) mask."""
-        if self.track is None:
+        if self.track is None or self._clip() is None:
             self.window._error("Re-track", "this clip has no masks yet: track from a click")
             return
         self._start(self.track.mask(self.window.frame_idx), "both")
 
     def _start(self, seed: object, direction: str) -> None:
-        session, path = self.window.session, self.window.model.path
-        clip = self._clip()
+        session, path, clip = self.window.session, self.window.model.path, self._clip()
+        if clip is None or path is None:
+            return
         media = (path.parent / clip.media_path).resolve()
-        self._track_clip = session.clip_idx
-        self.tracker.run_job(track_job(media, seed, self.window.frame_idx, direction,
-                                       self.track))
+        try:
+            job = track_job(media, seed, self.window.frame_idx, direction, self.track)
+        except (InputError, ValueError) as exc:  # e.g. an empty mask to re-track from
+            self.window._error("Tracking", str(exc))
+            return
+        self._target = (path, session.clip_idx)
+        self.tracker.run_job(job)
 
     def _on_tracked(self, track: MaskTrack) -> None:
+        path, clip_idx = self._target
+        if path != self.window.model.path or self.window.session is None \
+                or self.window.session.clip_idx != clip_idx:
+            self.window._error("Tracking", "the tracked masks were not kept: another clip or "
+                               "project is open now")
+            return
         self._store(track, "track masks")
 
     # ----- corrections and storage
@@ -154,13 +182,15 @@ class MaskController(QObject):
 
     def _store(self, track: MaskTrack, what: str) -> None:
         """Save the track beside the project (background) and point the clip at it."""
-        clip_idx, path = self._track_clip, self.window.model.path
+        clip_idx, path = self.window.session.clip_idx, self.window.model.path
         clip = self.window.model.project.clips[clip_idx]
         target = masks_file(path, clip.media_path)
-        self.track = track
+        self.track, self._track_clip = track, clip_idx
 
         def saved(_: object) -> None:
             model = self.window.model
+            if model.path != path or clip_idx >= len(model.project.clips):
+                return  # another project is open now: the file is written, nothing points at it
             relative = relative_media_path(path.parent, target)
             current = model.project.clips[clip_idx]
             self._loaded = relative
@@ -168,7 +198,8 @@ class MaskController(QObject):
                 push_edit(model, with_clip(model.project, clip_idx,
                                            replace(current, masks_path=relative)),
                           what, Change("clip", clip=clip_idx))
-            self._set_track(clip_idx, track)
+            if track is self.track:  # later edits may be queued: never step back to this one
+                self._show_coverage(track)
             self.window.statusBar().showMessage(f"masks saved in {target.name}", 5000)
 
         self.window.jobs.run(lambda: save_track(track, target), saved,

@@ -128,8 +128,12 @@ def project_comparison_rows(project: Project, project_path: Path, num_draws: int
         if key not in by_key:
             continue
         check_cancel(cancel)
-        fit = read_fit_result(folder)
         animal = project.clips[key.clip].animals[key.animal]
+        try:
+            fit = read_fit_result(folder)
+        except (InputError, OSError) as exc:
+            notes.append(f"{project.clips[key.clip].name} {animal.animal_id}: {exc}")
+            continue
         rows.append(comparison_csv_row(by_key[key].image_id, animal.animal_id, fit.status,
                                        compare(by_key[key].estimate, fit)))
     return rows, notes + skipped

@@ -4,7 +4,9 @@ Quality presets scale the optimisation steps of the engine's defaults; the frame
 rate, refraction and the native-resolution crops map onto FitConfig's own fields.
 """
 
+import hashlib
 from dataclasses import dataclass, replace
+from datetime import datetime
 from pathlib import Path
 
 from core.fit.config import FitConfig
@@ -54,18 +56,27 @@ def fit_config(settings: FitSettings, base: FitConfig = FitConfig()) -> FitConfi
                    use_refraction=settings.refraction, use_roi=settings.roi)
 
 
+def clip_key(clip_media: str | Path) -> str:
+    """A file-name-safe key of a clip: its stem and a short hash of its path in the project
+    (DJI names repeat from card to card: DJI_0001.MP4 of two days must not share files)."""
+    digest = hashlib.sha1(Path(clip_media).as_posix().encode("utf-8")).hexdigest()[:6]
+    return f"{Path(clip_media).stem}-{digest}"
+
+
 def _animal_name(clip_media: str, animal_id: str) -> str:
-    return f"{Path(clip_media).stem}_{animal_id}".replace(" ", "-").replace("/", "-")
+    return f"{clip_key(clip_media)}_{animal_id}".replace(" ", "-").replace("/", "-")
 
 
 def fit_dir(project_path: Path, clip_media: str, animal_id: str) -> Path:
-    """Where an animal's fit is kept: ``PROJECT.fits/<clip stem>_<animal id>/``."""
+    """Where an animal's fit is kept: ``PROJECT.fits/<clip key>_<animal id>/``."""
     return (project_path.with_name(project_path.stem + FITS_SUFFIX)
             / _animal_name(clip_media, animal_id))
 
 
 def hw_table_path(project_path: Path, clip_media: str, animal_id: str) -> Path:
-    """Where the HW ratios taken from an animal's fit are kept:
-    ``PROJECT.fits/<clip stem>_<animal id>_hw.csv``."""
+    """Where HW ratios taken from an animal's fit are kept, a new table each time (the
+    results' table cache and undo both rely on a table never changing under its name):
+    ``PROJECT.fits/<clip key>_<animal id>_hw_<time>.csv``."""
+    stamp = datetime.now().strftime("%Y%m%d-%H%M%S-%f")
     return (project_path.with_name(project_path.stem + FITS_SUFFIX)
-            / f"{_animal_name(clip_media, animal_id)}_hw.csv")
+            / f"{_animal_name(clip_media, animal_id)}_hw_{stamp}.csv")

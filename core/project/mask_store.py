@@ -15,14 +15,15 @@ import numpy as np
 
 from core.io.masks import NPZ_SUFFIX, MaskTrack, check_against_clip, read_npz, write_npz
 from core.io.video import Clip
+from core.project.fit_settings import clip_key
 
 MASKS_SUFFIX = ".masks"  # beside PROJECT.dolphinfit: PROJECT.masks/<clip stem>.npz
 
 
 def masks_file(project_path: Path, clip_media: str | Path) -> Path:
-    """Where a clip's masks are kept: ``PROJECT.masks/<clip stem>.npz``."""
+    """Where a clip's masks are kept: ``PROJECT.masks/<clip key>.npz`` (fit_settings.clip_key)."""
     folder = project_path.with_name(project_path.stem + MASKS_SUFFIX)
-    return folder / (Path(clip_media).stem + NPZ_SUFFIX)
+    return folder / (clip_key(clip_media) + NPZ_SUFFIX)
 
 
 def save_track(track: MaskTrack, path: Path) -> None:

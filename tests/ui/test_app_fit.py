@@ -15,7 +15,8 @@ from PySide6.QtCore import QRectF, QTimer
 from core.fit.result_io import read_fit_result
 from core.io.masks import read_masks
 from core.measure.mask_midline import midline_from_mask
-from core.project.fit_settings import FitSettings
+from core.project.fit_settings import FitSettings, fit_dir
+from core.project.project_file import relative_media_path
 from core.project.sample import ensure_sample_project
 from ui.commands import edit_measurement
 from ui.main_window import MainWindow
@@ -54,6 +55,9 @@ def test_fit_runs_saves_shows_and_cancels(qtbot, sample_copy, make_window):
     try:
         _open(qtbot, window, source)
         assert window.save(path)  # Save As into the test folder: the fit goes beside it
+        # Save As rebases the altitude file's path: the clip's altitude is read again first
+        qtbot.waitUntil(lambda: window.session.altitude
+                        == window.model.project.clips[0].altitude, timeout=10_000)
         fits = window.fits
         ticks = []
         timer = QTimer(interval=50)
@@ -78,7 +82,9 @@ def test_fit_runs_saves_shows_and_cancels(qtbot, sample_copy, make_window):
         result, folder = done.args[0]
         assert result.status == "complete"
         animal = window.model.project.clips[0].animals[0]
-        assert animal.fit_path == "survey.fits/clip_dolphin-1" and window.model.is_dirty
+        expected = fit_dir(path, window.model.project.clips[0].media_path, "dolphin 1")
+        assert animal.fit_path == relative_media_path(path.parent, expected)
+        assert window.model.is_dirty
         saved = read_fit_result(folder)
         assert saved.volume_m3 == result.volume_m3
         assert f"volume {saved.volume_m3:.4f} m³" in fits.panel.status.text()
@@ -155,8 +161,8 @@ def test_fit_runs_saves_shows_and_cancels(qtbot, sample_copy, make_window):
         qtbot.waitUntil(lambda: fits.comparison is not None
                         and fits.comparison.table.rowCount() == 5, timeout=60_000)
         fits.comparison.hw_button.click()
-        qtbot.waitUntil(lambda: window.model.project.hw_ratios.endswith("_hw.csv"),
-                        timeout=60_000)
+        qtbot.waitUntil(lambda: "_hw_" in window.model.project.hw_ratios, timeout=60_000)
+        assert window.model.project.hw_ratios.endswith(".csv")
         qtbot.waitUntil(lambda: window.results.current_result() is not None and
                         window.results.current_result().estimate.settings.hw.name
                         == "3D fit of dolphin 1 (clip.mp4)", timeout=60_000)

@@ -2,13 +2,14 @@
 its masks kept beside the project and shown as an outline and a coverage strip, a frame
 corrected with the brush, and the switch of masks undone."""
 
-from pathlib import Path
 
 import numpy as np
 import pytest
 from PySide6.QtCore import QPointF, Qt
 
 from core.io.masks import read_masks
+from core.project.mask_store import masks_file
+from core.project.project_file import relative_media_path
 from core.project.sample import ensure_sample_project
 from ui.main_window import MainWindow
 
@@ -23,6 +24,13 @@ def window(qtbot, tmp_path, make_window) -> MainWindow:
         window.open_path(ensure_sample_project())
     assert window.save(tmp_path / "survey.dolphinfit")
     return window
+
+
+def _kept(window: MainWindow) -> str:
+    """Where the open clip's tracked or imported masks are kept, relative to the project."""
+    path = window.model.path
+    return relative_media_path(path.parent,
+                               masks_file(path, window.model.project.clips[0].media_path))
 
 
 def _iou(a: np.ndarray, b: np.ndarray) -> float:
@@ -41,7 +49,7 @@ def test_track_from_a_click_then_correct_with_the_brush(qtbot, window):
                          pos=window.canvas.mapFromScene(QPointF(u.mean(), v.mean())))
     track = tracked.args[0]
     assert window.model.current_measurement() is None  # the click seeded, measured nothing
-    qtbot.waitUntil(lambda: window.model.project.clips[0].masks_path == "survey.masks/clip.npz",
+    qtbot.waitUntil(lambda: window.model.project.clips[0].masks_path == _kept(window),
                     timeout=10_000)
     for frame in (0, 20, 49):
         assert _iou(track.mask(frame), truth.mask(frame)) > 0.7
@@ -62,7 +70,7 @@ def test_track_from_a_click_then_correct_with_the_brush(qtbot, window):
         for x in np.linspace(60.0, 90.0, 8):
             qtbot.mouseMove(viewport, pos=window.canvas.mapFromScene(QPointF(x, 60.0)))
         qtbot.mouseRelease(viewport, LEFT, pos=window.canvas.mapFromScene(end))
-    saved = Path(window.model.path.parent / "survey.masks" / "clip.npz")
+    saved = window.model.path.parent / _kept(window)
     qtbot.waitUntil(lambda: read_masks(saved).mask(20)[60, 75], timeout=10_000)
     assert not read_masks(saved).mask(21)[60, 75]  # only the corrected frame changed
 
@@ -78,10 +86,9 @@ def test_imported_masks_are_kept_with_the_project(qtbot, window):
     clip = window.model.project.clips[0]
     source = (window.model.path.parent / clip.masks_path).resolve()  # the sample's PNG folder
     window.set_masks(0, source)
-    qtbot.waitUntil(lambda: window.model.project.clips[0].masks_path == "survey.masks/clip.npz",
+    qtbot.waitUntil(lambda: window.model.project.clips[0].masks_path == _kept(window),
                     timeout=30_000)
-    kept, original = (read_masks(window.model.path.parent / "survey.masks" / "clip.npz"),
-                      read_masks(source))
+    kept, original = read_masks(window.model.path.parent / _kept(window)), read_masks(source)
     np.testing.assert_array_equal(kept.stack(), original.stack())
     window.model.undo_stack.undo()
     assert window.model.project.clips[0].masks_path == clip.masks_path

@@ -38,7 +38,9 @@ def _clip(num_frames: int = T, width_px: int = W, height_px: int = H) -> Clip:
 
 def test_masks_file_is_beside_the_project():
     path = masks_file(Path("/data/survey.dolphinfit"), "media/DJI_0042.MP4")
-    assert path == Path("/data/survey.masks/DJI_0042.npz")
+    assert path.parent == Path("/data/survey.masks") and path.name.startswith("DJI_0042-")
+    other_day = masks_file(Path("/data/survey.dolphinfit"), "day2/DJI_0042.MP4")
+    assert other_day != path  # the same camera file name from another card
 
 
 def test_round_trip_is_exact(tmp_path):
@@ -48,7 +50,7 @@ def test_round_trip_is_exact(tmp_path):
     track = load_track(path, _clip())
     np.testing.assert_array_equal(track.stack(), masks)
     np.testing.assert_array_equal(track.is_visible, [True, True, True, False, True])
-    assert [p.name for p in path.parent.iterdir()] == ["clip.npz"]  # no temporary left
+    assert [p.name for p in path.parent.iterdir()] == [path.name]  # no temporary left
 
 
 @pytest.mark.parametrize("clip, what", [(_clip(num_frames=T + 1), "frames"),

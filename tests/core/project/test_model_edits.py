@@ -121,5 +121,7 @@ def test_fit_settings_make_the_engines_configuration():
         with pytest.raises(ValueError):
             FitSettings(**bad)
     from pathlib import Path
-    assert fit_dir(Path("/d/survey.dolphinfit"), "a/DJI_1.MP4", "dolphin 1") == \
-        Path("/d/survey.fits/DJI_1_dolphin-1")
+    folder = fit_dir(Path("/d/survey.dolphinfit"), "a/DJI_1.MP4", "dolphin 1")
+    assert folder.parent == Path("/d/survey.fits")
+    assert folder.name.startswith("DJI_1-") and folder.name.endswith("_dolphin-1")
+    assert fit_dir(Path("/d/survey.dolphinfit"), "b/DJI_1.MP4", "dolphin 1") != folder
