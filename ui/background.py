@@ -8,8 +8,24 @@ from typing import Any
 from PySide6.QtCore import QObject, QRunnable, QThreadPool, Signal
 
 from core.errors import InputError
+from core.progress import Cancelled
 
 log = logging.getLogger(__name__)
+
+
+def guarded(fn: Callable[[], Any]) -> tuple[bool, Any]:
+    """Call ``fn`` off the GUI thread: (True, its result), or (False, the message the user
+    reads) for bad input, OS errors and internal errors (logged). A core.progress.Cancelled
+    passes through, for the caller to report as such."""
+    try:
+        return True, fn()
+    except Cancelled:
+        raise
+    except (InputError, ValueError, OSError) as exc:
+        return False, str(exc)
+    except Exception as exc:  # an internal error still reaches the user, as a message
+        log.exception("background job failed")
+        return False, f"internal error: {exc!r}"
 
 
 class _Relay(QObject):
@@ -25,14 +41,10 @@ class _Job(QRunnable):
 
     def run(self) -> None:
         try:
-            result = self._fn()
-        except (InputError, ValueError, OSError) as exc:
-            self._relay.failed.emit(str(exc))
-        except Exception as exc:  # an internal error still reaches the user, as a message
-            log.exception("background job failed")
-            self._relay.failed.emit(f"internal error: {exc!r}")
-        else:
-            self._relay.done.emit(result)
+            ok, value = guarded(self._fn)
+        except Cancelled as exc:  # one-shot jobs take no cancel: an internal error if raised
+            ok, value = False, f"internal error: {exc!r}"
+        (self._relay.done if ok else self._relay.failed).emit(value)
 
 
 class BackgroundJobs(QObject):

@@ -2,17 +2,14 @@
 (core/progress.py) carried to the GUI thread by signals: progress, finished, failed,
 cancelled. The exports and the fit run on it."""
 
-import logging
 import threading
 from collections.abc import Callable
 from typing import Any
 
 from PySide6.QtCore import QObject, QRunnable, Qt, QThreadPool, Signal, Slot
 
-from core.errors import InputError
 from core.progress import Cancelled, ProgressCallback
-
-log = logging.getLogger(__name__)
+from ui.background import guarded
 
 PROGRESS, FINISHED, FAILED, CANCELLED = "progress", "finished", "failed", "cancelled"
 Job = Callable[[ProgressCallback, threading.Event], Any]  # (progress, cancel) → result
@@ -27,16 +24,12 @@ class _Run(QRunnable):
     def run(self) -> None:
         report = self._report
         try:
-            result = self._job(lambda progress: report(PROGRESS, progress), self._cancel)
+            ok, value = guarded(lambda: self._job(lambda progress: report(PROGRESS, progress),
+                                                  self._cancel))
         except Cancelled:
             report(CANCELLED, None)
-        except (InputError, ValueError, OSError) as exc:
-            report(FAILED, str(exc))
-        except Exception as exc:  # an internal error still reaches the user, as a message
-            log.exception("background job failed")
-            report(FAILED, f"internal error: {exc!r}")
         else:
-            report(FINISHED, result)
+            report(FINISHED if ok else FAILED, value)
 
 
 class JobWorker(QObject):

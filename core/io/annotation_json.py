@@ -34,7 +34,7 @@ import numpy as np
 
 from core.camera_presets import CameraPreset, get_preset
 from core.errors import InputError
-from core.io.json_file import check_schema_version, read_json, write_json
+from core.io.json_file import check_schema_version, json_field, read_json, write_json
 from core.measure.annotation import (
     ALTITUDE_SOURCES, SIDES, Annotation, Calibration,
 )
@@ -58,16 +58,6 @@ class AnnotationFile:
     notes: str = ""
 
 
-def _field(data: Any, key: str, types: type | tuple[type, ...], where: str) -> Any:
-    """``data[key]`` checked against ``types`` (never bool); InputError naming ``where``."""
-    if not isinstance(data, dict) or key not in data:
-        raise InputError(f"{where}: missing {key!r}")
-    value = data[key]
-    if isinstance(value, bool) or not isinstance(value, types):  # JSON true is no number
-        raise InputError(f"{where}: {key!r} has the wrong type ({value!r})")
-    return value
-
-
 def _point(value: Any, where: str) -> np.ndarray:
     """A [u, v] pair of finite numbers as a (2,) array."""
     if (not isinstance(value, list) or len(value) != 2
@@ -80,12 +70,12 @@ def _point(value: Any, where: str) -> np.ndarray:
 def _camera(data: Any, where: str) -> tuple[CameraPreset, str | None]:
     """The camera section: a preset reference or explicit values."""
     if isinstance(data, dict) and set(data) == {"preset"}:
-        name = _field(data, "preset", str, where)
+        name = json_field(data, "preset", str, where)
         return get_preset(name), name
     if not isinstance(data, dict) or set(data) != set(EXPLICIT_CAMERA_KEYS):
         raise InputError(f"{where}: expected {{'preset': NAME}} or the keys "
                          f"{', '.join(EXPLICIT_CAMERA_KEYS)}")
-    values = {key: _field(data, key, int if key.endswith("_px") else (int, float), where)
+    values = {key: json_field(data, key, int if key.endswith("_px") else (int, float), where)
               for key in EXPLICIT_CAMERA_KEYS}
     try:
         return CameraPreset(name="explicit", description="explicit camera values",
@@ -102,7 +92,7 @@ def _stations(data: Any, mirror_side: str | None, where: str) -> np.ndarray:
     needed = SIDE_KEYS if mirror_side is None else (SIDE_KEYS[SIDES.index(mirror_side)],)
     for idx, (entry, pct) in enumerate(zip(data, STATION_PCT.tolist())):
         at = f"{where}[{idx}]"
-        if _field(entry, "station_pct", (int, float), at) != pct:
+        if json_field(entry, "station_pct", (int, float), at) != pct:
             raise InputError(f"{at}: station_pct {entry['station_pct']!r}, expected {pct:g} "
                              f"(stations run 5, 10, … 95 in order)")
         if entry.get("skipped") is True:
@@ -122,22 +112,22 @@ def annotation_from_json(data: Any, where: str) -> AnnotationFile:
     unknown = sorted(set(data) - TOP_KEYS)
     if unknown:
         raise InputError(f"{where}: unknown keys {unknown}")
-    image = _field(data, "image", dict, where)
-    camera, preset_name = _camera(_field(data, "camera", dict, where), f"{where}: camera")
-    altitude = _field(data, "altitude", dict, where)
-    altitude_m = _field(altitude, "altitude_m", (int, float), f"{where}: altitude")
-    source = _field(altitude, "source", str, f"{where}: altitude")
+    image = json_field(data, "image", dict, where)
+    camera, preset_name = _camera(json_field(data, "camera", dict, where), f"{where}: camera")
+    altitude = json_field(data, "altitude", dict, where)
+    altitude_m = json_field(altitude, "altitude_m", (int, float), f"{where}: altitude")
+    source = json_field(altitude, "source", str, f"{where}: altitude")
     if not (math.isfinite(altitude_m) and altitude_m > 0) or source not in ALTITUDE_SOURCES:
         raise InputError(f"{where}: altitude needs altitude_m > 0 and a source among "
                          f"{', '.join(ALTITUDE_SOURCES)}")
     midline = [_point(p, f"{where}: midline_px[{i}]")
-               for i, p in enumerate(_field(data, "midline_px", list, where))]
+               for i, p in enumerate(json_field(data, "midline_px", list, where))]
     mirror_side = data.get("mirror_side")
     if mirror_side not in (None, *SIDES):
         raise InputError(f"{where}: mirror_side must be null, \"A\" or \"B\"")
-    edges = _stations(_field(data, "stations", list, where), mirror_side, f"{where}: stations")
+    edges = _stations(json_field(data, "stations", list, where), mirror_side, f"{where}: stations")
     try:
-        annotation = Annotation(frame_idx=_field(image, "frame_idx", int, f"{where}: image"),
+        annotation = Annotation(frame_idx=json_field(image, "frame_idx", int, f"{where}: image"),
                                 midline_px=np.asarray(midline).reshape(-1, 2), edges_px=edges,
                                 mirror_side=mirror_side)
     except ValueError as exc:

@@ -30,6 +30,18 @@ def write_json(path: Path, data: Any) -> None:
         tmp.write_text(json.dumps(data, indent=2, ensure_ascii=False) + "\n", encoding="utf-8")
 
 
+def json_field(data: Any, key: str, types: type | tuple[type, ...], where: str) -> Any:
+    """``data[key]`` checked against ``types``; InputError naming ``where`` and the key. A
+    JSON true or false is no number: booleans pass only where ``types`` names bool."""
+    if not isinstance(data, dict) or key not in data:
+        raise InputError(f"{where}: missing {key!r}")
+    value = data[key]
+    allowed = types if isinstance(types, tuple) else (types,)
+    if (isinstance(value, bool) and bool not in allowed) or not isinstance(value, types):
+        raise InputError(f"{where}: {key!r} has the wrong type ({value!r})")
+    return value
+
+
 def check_schema_version(data: Any, version: int, where: str) -> None:
     """InputError naming ``where`` unless ``data`` is an object of schema ``version``."""
     if not isinstance(data, dict):

@@ -11,6 +11,7 @@ import cv2
 import numpy as np
 
 from core.intrinsics import CameraIntrinsics
+from core.project.mask_store import outlines
 
 MARGIN_PX = 2
 
@@ -36,5 +37,4 @@ def silhouette_outlines(verts: np.ndarray, faces: np.ndarray, intrinsics: Camera
     # pixel centres at integers: fillPoly's integer vertices with 4 fractional bits
     triangles = np.round((uv[faces] - origin) * 16).astype(np.int32)
     cv2.fillPoly(mask, list(triangles), 255, lineType=cv2.LINE_8, shift=4)
-    contours, _ = cv2.findContours(mask, cv2.RETR_EXTERNAL, cv2.CHAIN_APPROX_SIMPLE)
-    return [c.reshape(-1, 2).astype(np.float64) + origin for c in contours]
+    return [outline + origin for outline in outlines(mask)]

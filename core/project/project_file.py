@@ -39,7 +39,7 @@ import numpy as np
 
 from core.camera_presets import CameraPreset
 from core.errors import InputError
-from core.io.json_file import check_schema_version, read_json, write_json
+from core.io.json_file import check_schema_version, json_field, read_json, write_json
 from core.measure.stations import NUM_STATIONS, STATION_PCT
 from core.project.fit_settings import FitSettings
 from core.project.model import (
@@ -58,15 +58,9 @@ def _get(data: Any, key: str, types: type | tuple[type, ...], where: str,
     ``where`` and the key otherwise. ``optional``: a missing key or null gives None."""
     if not isinstance(data, dict):
         raise InputError(f"{where}: expected an object")
-    value = data.get(key)
-    if value is None and optional:
+    if optional and data.get(key) is None:
         return None
-    if key not in data:
-        raise InputError(f"{where}: missing {key!r}")
-    if isinstance(value, bool) and bool not in (types if isinstance(types, tuple) else (types,)):
-        raise InputError(f"{where}: {key!r} has the wrong type ({value!r})")
-    if not isinstance(value, types):
-        raise InputError(f"{where}: {key!r} has the wrong type ({value!r})")
+    value = json_field(data, key, types, where)
     if isinstance(value, float) and not math.isfinite(value):
         raise InputError(f"{where}: {key!r} is not a finite number")
     return value

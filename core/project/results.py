@@ -13,7 +13,7 @@ import numpy as np
 
 from core.errors import InputError
 from core.io.annotation_json import AnnotationFile
-from core.io.telemetry import Telemetry, align_to_frames, constant_telemetry, read_altitude
+from core.io.telemetry import Telemetry, load_telemetry
 from core.io.video import Clip
 from core.measure.annotation import Calibration
 from core.measure.baseline import BaselineEstimate, BaselineSettings, estimate_baseline
@@ -41,10 +41,8 @@ def clip_telemetry(project_dir: Path, clip: ClipEntry, media: Clip) -> Telemetry
     spec = clip.altitude
     if spec is None:
         return None
-    if spec.path is None:
-        return constant_telemetry(spec.constant_m, media)
-    samples = read_altitude(project_dir / spec.path, spec.launch_height_m, spec.time_offset_s)
-    return align_to_frames(samples, media)
+    source = spec.constant_m if spec.path is None else project_dir / spec.path
+    return load_telemetry(media, source, spec.launch_height_m, spec.time_offset_s)
 
 
 def frame_altitude(telemetry: Telemetry | None, frame_idx: int) -> float:
