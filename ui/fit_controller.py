@@ -97,7 +97,9 @@ class FitController(QObject):
             lambda: self._on_failed("cancelled before the first step: nothing to keep"))
         model = window.model
         model.selection_changed.connect(self.refresh)
-        model.changed.connect(lambda _: self.refresh())
+        # a measurement edit (every step of a drag) changes neither fit settings nor fits
+        model.changed.connect(lambda change: None if change.kind == "measurement"
+                              else self.refresh())
         window.frame_shown.connect(self._on_frame_shown)
         window.session_opened.connect(lambda _: self.refresh())
         window.results.result_shown.connect(self._on_elliptical)

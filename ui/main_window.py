@@ -555,8 +555,10 @@ class MainWindow(QMainWindow):
 
     # ------------------------------------------------------------------ model observers
     def _on_model_changed(self, change: Change) -> None:
-        self._update_marks()
         self._sync_mirror_actions()
+        if change.kind == "measurement":
+            return  # a drag step: marks, clips, altitude and camera stay as they are
+        self._update_marks()
         session, clips = self.session, self.model.project.clips
         if session is None:
             return
