@@ -14,6 +14,7 @@ from collections.abc import Sequence
 from types import ModuleType
 
 from core.errors import InputError
+from core.limits import count
 
 SUBCOMMANDS: dict[str, str] = {  # name → the first line of its module's docstring
     "gui": "The desktop app: measure length and widths by hand, see volume, BCI and mass at once.",
@@ -29,6 +30,8 @@ SUBCOMMANDS: dict[str, str] = {  # name → the first line of its module's docst
            "mass.",
     "demo": "The headless main job: fit the bundled sample clip and compare with its known "
             "truth.",
+    "batch": "Fit and measure many clips and animals as Dask tasks, resumably, into one "
+             "summary table.",
 }
 
 
@@ -70,12 +73,11 @@ def main(argv: Sequence[str] | None = None) -> int:
     command = next((arg for arg in argv if arg in SUBCOMMANDS), None)
     args = build_parser(command).parse_args(argv)
     try:
+        if args.threads is not None:
+            count(args.threads, 1, "--threads")
         if getattr(args.module, "LOADS_TORCH", True):
             from core.runtime import configure_threads
-            try:
-                configure_threads(args.threads)
-            except ValueError as exc:
-                raise InputError(f"--threads / $DOLPHINFIT_THREADS: {exc}") from exc
+            configure_threads(args.threads)
         return args.run(args)
     except InputError as exc:
         print(f"dolphinfit: error: {exc}", file=sys.stderr)

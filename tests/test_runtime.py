@@ -3,6 +3,7 @@
 import pytest
 import torch
 
+from core.errors import InputError
 from core.runtime import THREADS_ENV, configure_threads
 
 
@@ -24,5 +25,13 @@ def test_thread_count_from_environment(monkeypatch):
 
 def test_thread_count_below_one_is_rejected():
     """Zero threads is an error, not a silent default."""
-    with pytest.raises(ValueError, match="at least 1"):
+    with pytest.raises(InputError, match="at least 1"):
         configure_threads(0)
+
+
+@pytest.mark.parametrize("text", ["0", "-3", "two", "1.5", ""])
+def test_bad_thread_count_in_the_environment_names_the_variable(monkeypatch, text):
+    """A count below one or not a whole number in the variable is an error naming it."""
+    monkeypatch.setenv(THREADS_ENV, text)
+    with pytest.raises(InputError, match=rf"\${THREADS_ENV}"):
+        configure_threads()

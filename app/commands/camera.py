@@ -19,6 +19,7 @@ from core.camera_presets import (
     save_user_preset,
 )
 from core.errors import InputError
+from core.limits import ALTITUDE_M, FOCAL_MM, IMAGE_SIZE_PX, SENSOR_WIDTH_MM, in_range
 
 REFERENCE_ALTITUDE_M = 20.0  # mid-range of the 15–25 m flights of DESIGN.md §1
 CM_PER_M = 100.0
@@ -107,8 +108,7 @@ def run_list(args: argparse.Namespace) -> int:
 
 def run_show(args: argparse.Namespace) -> int:
     """Print one preset's intrinsics, field of view, GSD and footprint at an altitude."""
-    if not (math.isfinite(args.altitude_m) and args.altitude_m > 0):
-        raise InputError(f"--altitude-m must be a positive number, got {args.altitude_m}")
+    in_range(args.altitude_m, ALTITUDE_M, "--altitude-m")
     preset = get_preset(args.name)
     k = preset.intrinsics()
     gsd_m_per_px = k.gsd_m_per_px(args.altitude_m)
@@ -128,9 +128,11 @@ def run_show(args: argparse.Namespace) -> int:
     return 0
 
 
-_ADD_OPTIONS = {  # CameraPreset field → the `camera add` option that sets it
-    "focal_mm": "--focal-mm", "sensor_width_mm": "--sensor-width-mm",
-    "image_width_px": "--width-px", "image_height_px": "--height-px",
+_ADD_OPTIONS = {  # CameraPreset field → the `camera add` option that sets it, its range
+    "focal_mm": ("--focal-mm", FOCAL_MM),
+    "sensor_width_mm": ("--sensor-width-mm", SENSOR_WIDTH_MM),
+    "image_width_px": ("--width-px", IMAGE_SIZE_PX),
+    "image_height_px": ("--height-px", IMAGE_SIZE_PX),
 }
 
 
@@ -139,8 +141,7 @@ def run_add(args: argparse.Namespace) -> int:
     values = {"focal_mm": args.focal_mm, "sensor_width_mm": args.sensor_width_mm,
               "image_width_px": args.width_px, "image_height_px": args.height_px}
     for field, value in values.items():
-        if not (math.isfinite(value) and value > 0):
-            raise InputError(f"{_ADD_OPTIONS[field]} must be positive, got {value}")
+        in_range(value, _ADD_OPTIONS[field][1], _ADD_OPTIONS[field][0])
     if not args.name.strip():
         raise InputError("camera add: the preset name must not be empty")
     preset = CameraPreset(name=args.name, description=args.description, source=args.source,

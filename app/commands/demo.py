@@ -15,6 +15,7 @@ from pathlib import Path
 from app.commands.fit import report
 from app.progress import terminal_progress
 from core.fit.config import FitConfig
+from core.fit.outputs import check_fit_folder
 from core.fit.pipeline import CameraChoice, run_fit
 from core.io.json_file import read_json
 from core.synth.sample import SAMPLE_CONFIG, ensure_sample
@@ -29,6 +30,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Make (or reuse) the sample, fit it, compare with the truth."""
+    check_fit_folder(args.out, "--out ")
     print("sample clip: rendering on first use, then cached")
     files = ensure_sample()
     camera = CameraChoice(sensor_width_mm=SAMPLE_CONFIG.sensor_width_mm,

@@ -25,10 +25,14 @@ from pathlib import Path
 from app.progress import terminal_progress
 from core.errors import InputError
 from core.fit.config import FitConfig
-from core.fit.outputs import write_outputs
+from core.fit.outputs import check_fit_folder, write_outputs
 from core.fit.pipeline import CameraChoice, FitRun, run_fit
 from core.fit.result import STATUS_COMPLETE
 from core.io.json_file import read_json
+from core.limits import (
+    ALTITUDE_M, FOCAL_MM, FPS, LAUNCH_HEIGHT_M, SENSOR_WIDTH_MM, in_range, result_figures,
+    time_window,
+)
 from core.model.template import load_template
 
 
@@ -59,8 +63,13 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 def fit_config(args: argparse.Namespace) -> FitConfig:
     """The configuration from --config and the flags (flags win)."""
-    config = (FitConfig.from_json(read_json(args.config, "the fit configuration"))
-              if args.config else FitConfig())
+    config = FitConfig()
+    if args.config is not None:
+        data = read_json(args.config, "the fit configuration")
+        try:
+            config = FitConfig.from_json(data)
+        except InputError as exc:
+            raise InputError(f"{args.config}: {exc}") from None
     changes = {"use_roi": config.use_roi and not args.no_roi,
                "use_refraction": config.use_refraction or args.refraction,
                "use_vertical_prior": config.use_vertical_prior or args.vertical_prior,
@@ -71,13 +80,26 @@ def fit_config(args: argparse.Namespace) -> FitConfig:
     return replace(config, **changes)
 
 
+def check_options(args: argparse.Namespace) -> None:
+    """InputError naming the option whose value is outside its plausible range."""
+    in_range(args.launch_height, LAUNCH_HEIGHT_M, "--launch-height")
+    for value, limits, option in ((args.sensor_width_mm, SENSOR_WIDTH_MM, "--sensor-width-mm"),
+                                  (args.focal_mm, FOCAL_MM, "--focal-mm"),
+                                  (args.fps, FPS, "--fps")):
+        if value is not None:
+            in_range(value, limits, option)
+    time_window(args.start, args.end, "--start", "--end")
+
+
 def run(args: argparse.Namespace) -> int:
     """Fit, write the outputs, print the figures."""
+    check_options(args)
+    check_fit_folder(args.out, "--out ")
     camera = CameraChoice(args.camera, args.sensor_width_mm, args.focal_mm)
     altitude = args.altitude
     if not Path(altitude).exists():
         try:
-            altitude = float(altitude)
+            altitude = in_range(float(altitude), ALTITUDE_M, "--altitude")
         except ValueError:
             raise InputError(f"--altitude {altitude!r}: neither a number of metres nor a file")
     fit_run = run_fit(args.clip, altitude, args.masks, camera, fit_config(args),
@@ -86,8 +108,15 @@ def run(args: argparse.Namespace) -> int:
 
 
 def report(fit_run: FitRun, out_dir: Path) -> int:
-    """Write the outputs, print the figures and warnings; the exit code (module docstring)."""
+    """Write the outputs, print the figures and warnings; the exit code (module docstring).
+
+    A completed fit with an implausible length, or a volume or mass that is not positive, is
+    refused (exit 2) and not written."""
     result = fit_run.result
+    if result.status == STATUS_COMPLETE:
+        result_figures({"length_m": result.length_m, "volume_m3": result.volume_m3,
+                        "mass_kg": result.mass_kg},
+                       f"fit of {fit_run.clip.path.name} (check the altitude and the camera)")
     written = write_outputs(result, fit_run.data, load_template(), out_dir)
     print(f"fitted {len(result.frame_idx)} frames of {fit_run.clip.path.name} "
           f"in {result.timings_s.get('total', 0.0):.0f} s, mean IoU {result.iou.mean():.3f}")

@@ -16,13 +16,13 @@ frame's mask (a folder of %06d.png, an .npz or a mask video; non-zero = dolphin)
 N Monte Carlo samples (0: none) over altitude, camera, digitisation and HW-ratio errors, with
 defaults by altitude source (laser 1 %, barometer 5 %, manual 10 %).
 
-Writes DIR/<name>_measure.json, DIR/<name>_mmx.csv (MorphoMetriX v2 long) and
-DIR/<name>_wide.csv (CollatriX / Xcertainty); DIR defaults to the input's folder. The records
-are built by core/measure/records.py, shared with the GUI.
+Writes DIR/<name>_measure.json, DIR/<name>_mmx.csv (MorphoMetriX v2 long), DIR/<name>_wide.csv
+(ours: metres, pixels, Xcertainty's columns, results) and DIR/<name>_collatrix.csv (the table
+CollatriX's body-condition tool reads); DIR defaults to the input's folder. The records are
+built by core/measure/records.py, shared with the GUI.
 """
 
 import argparse
-import math
 from dataclasses import fields, replace
 from pathlib import Path
 
@@ -30,6 +30,8 @@ import numpy as np
 
 from core.errors import InputError
 from core.io.annotation_json import read_annotation_json
+from core.io.output_paths import check_output_folder
+from core.limits import ALTITUDE_M, at_least, body_measurements, count, in_range, result_figures
 from core.measure.annotation import ALTITUDE_SOURCES
 from core.measure.baseline import BaselineEstimate, BaselineSettings, estimate_baseline
 from core.measure.condition import MassModel
@@ -85,6 +87,7 @@ def run(args: argparse.Namespace) -> int:
     _check_options(args)
     source = (_from_annotation(args) if args.input.suffix.lower() == ".json"
               else _from_morphometrix(args))
+    _check_body(source, args.input)
     mass_model = (MassModel() if args.mass_model is None
                   else mass_model_from_json(args.mass_model))
     settings = BaselineSettings(hw=resolve_hw(args.hw), tail=args.tail, mass_model=mass_model)
@@ -95,6 +98,8 @@ def run(args: argparse.Namespace) -> int:
     except ValueError as exc:
         raise InputError(f"{args.input}: {exc}") from exc
     result = result_record(source, estimate, input_name=str(args.input), seed=args.seed)
+    result_figures({name: result[name] for name in ("length_m", "volume_m3", "mass_kg")},
+                   f"{args.input}")
     print(format_report(args.input, source, estimate, result))
     out_dir = args.out if args.out is not None else args.input.parent
     for path in write_exports(out_dir / args.input.stem, source, estimate, result):
@@ -103,17 +108,27 @@ def run(args: argparse.Namespace) -> int:
 
 
 def _check_options(args: argparse.Namespace) -> None:
-    """InputError for option values outside their range."""
+    """InputError for option values outside their range, and for an output folder that is
+    a file."""
     if args.mc < 0 or args.mc == 1:
         raise InputError(f"--mc must be 0 (no Monte Carlo) or at least 2, got {args.mc}")
-    if args.altitude_m is not None and not (math.isfinite(args.altitude_m)
-                                            and args.altitude_m > 0):
-        raise InputError(f"--altitude-m must be positive, got {args.altitude_m}")
+    count(args.seed, 0, "--seed")
+    if args.altitude_m is not None:
+        in_range(args.altitude_m, ALTITUDE_M, "--altitude-m")
     for option in ("digitisation_sd_px", "altitude_sd_fraction", "focal_sd_fraction"):
         value = getattr(args, option)
-        if value is not None and not (math.isfinite(value) and value >= 0):
-            raise InputError(f"--{option.replace('_', '-')} must be a non-negative number, "
-                             f"got {value}")
+        if value is not None:
+            at_least(value, 0.0, f"--{option.replace('_', '-')}")
+    if args.out is not None:
+        check_output_folder(args.out, "--out ")
+
+
+def _check_body(source: MeasureInput, where: Path) -> None:
+    """InputError naming the input when its length or widths, in metres at its altitude, are
+    implausible."""
+    m_per_px = source.record.altitude_m / source.focal_px
+    body_measurements(source.pixels.length_px * m_per_px,
+                      (source.pixels.widths_px * m_per_px).tolist(), str(where))
 
 
 def _from_annotation(args: argparse.Namespace) -> MeasureInput:

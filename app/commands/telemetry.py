@@ -21,10 +21,12 @@ from pathlib import Path
 from core.errors import InputError
 from core.io.altitude_csv import write_altitude_csv
 from core.io.altitude_samples import AltitudeSamples
+from core.io.output_paths import check_output_file
 from core.io.report import format_runs
 from core.io.srt import FAMILIES
 from core.io.telemetry import Telemetry, align_to_frames, read_altitude, summarize_samples
 from core.io.video import open_clip
+from core.limits import LAUNCH_HEIGHT_M, in_range, number
 
 SOURCE_NAMES = {"srt": "DJI SRT", "csv": "altitude CSV", "laser": "laser log (LidarBoX)"}
 
@@ -43,6 +45,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Read, summarise, and write the CSV if asked."""
+    in_range(args.launch_height, LAUNCH_HEIGHT_M, "--launch-height")
+    number(args.time_offset, "--time-offset")
+    if args.out is not None:
+        check_output_file(args.out, "--out ")
     samples = read_altitude(args.file, args.launch_height, args.time_offset)
     clip = open_clip(args.clip) if args.clip is not None else None
     if clip is None and samples.time_s is None:

@@ -19,6 +19,8 @@ import torch
 
 from core.errors import InputError
 from core.io.mesh_export import MESH_SUFFIXES, export_mesh
+from core.io.output_paths import check_output_file
+from core.limits import BODY_LENGTH_M, in_range, number
 from core.measure.mesh import body_length
 from core.model.builder import build_template
 from core.model.model import NUM_SHAPE_PARAMS, DolphinModel
@@ -51,6 +53,7 @@ def run(args: argparse.Namespace) -> int:
 
 
 def _build(args: argparse.Namespace) -> int:
+    check_output_file(args.out, "--out ")
     template = build_template()
     save_template(template, args.out)
     summary = summarize(template)
@@ -88,6 +91,9 @@ def format_summary(summary: TemplateSummary) -> str:
 
 
 def _export(args: argparse.Namespace) -> int:
+    check_output_file(args.out)
+    if args.length is not None:
+        in_range(args.length, BODY_LENGTH_M, "--length")
     template = load_template()
     model = DolphinModel(template, dtype=torch.float64)
     betas, pose, transl = model.zero_params(1)
@@ -96,8 +102,6 @@ def _export(args: argparse.Namespace) -> int:
     for part, values in _part_values(args.pose, model.group_names, 3, "--pose"):
         pose[0, part] = values * math.pi / 180.0
     if args.length is not None:
-        if not args.length > 0:
-            raise InputError(f"--length: must be positive, got {args.length}")
         rest_verts, _ = model.forward_rest(betas)
         current = body_length(rest_verts, model.rostrum_idx, model.notch_idx)
         betas[:, 0] += torch.log(args.length / current)
@@ -124,5 +128,6 @@ def _part_values(items: list[str], parts: tuple[str, ...], count: int,
             values = []
         if len(values) != count:
             raise InputError(f"{option} {item!r}: expected {count} comma-separated numbers")
+        values = [number(v, f"{option} {item!r}") for v in values]
         parsed.append((parts.index(name), torch.tensor(values, dtype=torch.float64)))
     return parsed

@@ -5,10 +5,15 @@ it gives them; every other default says why. Round-trips through JSON so each re
 how it was made.
 """
 
-from dataclasses import asdict, dataclass, field
+from dataclasses import asdict, dataclass, field, fields
 
 from core.errors import InputError
 from core.io.json_file import dataclass_from_json
+from core.limits import FPS, check_fields, count, time_window
+
+COUNT_MINIMUMS = {"heading_trial_steps": 0, "steps_global": 0, "steps_body": 0,
+                  "steps_shape": 0, "roi_margin_px": 0, "frames_per_chunk": 1,
+                  "paper_width_px": 1, "max_faces_per_pixel": 1}  # whole-number fields
 
 
 @dataclass(frozen=True)
@@ -28,6 +33,9 @@ class LossWeights:
     pyramid: float = 20.0           # wide-basin silhouette term, faded out (ours; rendering.md §8)
     vertical: float = 1.0           # the paper's vertical-motion nudge, when enabled
 
+    def __post_init__(self) -> None:
+        check_fields(self, "fit option weights.", minimum={f.name: 0.0 for f in fields(self)})
+
 
 @dataclass(frozen=True)
 class LearningRates:
@@ -39,6 +47,10 @@ class LearningRates:
     albedo: float = 0.001
     water: float = 0.001
     light: float = 0.01
+
+    def __post_init__(self) -> None:
+        check_fields(self, "fit option learning_rates.",
+                     minimum={f.name: 0.0 for f in fields(self)})
 
 
 @dataclass(frozen=True)
@@ -81,16 +93,13 @@ class FitConfig:
     # wide); 0.78 put mid-body widths within +0.5…1.3 %. An empirical calibration on synthetic
     # clips: `dolphinfit bench fit` measures its effect.
     target_edge_scale: float = 0.78
-    seed: int = 0
 
     def __post_init__(self) -> None:
-        for name in ("heading_trial_steps", "steps_global", "steps_body", "steps_shape",
-                     "frames_per_chunk"):
-            if getattr(self, name) < 0 or (name == "frames_per_chunk" and self.frames_per_chunk < 1):
-                raise InputError(f"fit option {name}: must be a non-negative count, "
-                                 f"got {getattr(self, name)}")
-        if not self.fps > 0:
-            raise InputError(f"fit option fps: must be positive, got {self.fps}")
+        for name, minimum in COUNT_MINIMUMS.items():
+            count(getattr(self, name), minimum, f"fit option {name}")
+        check_fields(self, "fit option ", ranges={"fps": FPS},
+                     minimum={"shape_iou_margin": 0.0, "target_edge_scale": 0.0})
+        time_window(self.start_s, self.end_s, "fit option start_s", "fit option end_s")
         if self.smooth_order not in (1, 2):
             raise InputError(f"fit option smooth_order: 1 or 2, got {self.smooth_order}")
 
@@ -106,5 +115,8 @@ class FitConfig:
 
     @classmethod
     def from_json(cls, data: dict) -> "FitConfig":
-        """Inverse of :meth:`to_json`; unknown keys are an InputError."""
+        """Inverse of :meth:`to_json`; unknown keys are an InputError, except ``seed``, which
+        configurations written before it was removed carry (nothing in a fit is random)."""
+        if isinstance(data, dict):
+            data = {key: value for key, value in data.items() if key != "seed"}
         return dataclass_from_json(cls, data, "fit config")

@@ -21,6 +21,7 @@ from core.fit.config import FitConfig
 from core.fit.reporter import PREPARE_STAGE
 from core.intrinsics import CameraIntrinsics
 from core.io.masks import MaskTrack
+from core.io.report import list_some
 from core.io.telemetry import Telemetry
 from core.io.video import Clip, crop_roi, frame_range, step_for_fps
 from core.progress import Progress, ProgressCallback, check_cancel
@@ -52,12 +53,11 @@ def select_frames(clip: Clip, masks: MaskTrack,
     """Frames to fit (in the time range, at the fit rate, with a visible dolphin inside the
     frame): their indices (T,), their masks (T, H, W) bool, and warnings."""
     candidates = frame_range(clip, config.start_s, config.end_s, step_for_fps(clip, config.fps))
-    chosen, chosen_masks, skipped_border = [], [], []
+    chosen, chosen_masks, skipped_border, empty = [], [], [], []
     for idx in candidates:
-        if not masks.is_visible[idx]:
-            continue
         mask = masks.mask(int(idx))
         if not mask.any():
+            empty.append(f"{int(idx)}")
             continue
         if mask[0].any() or mask[-1].any() or mask[:, 0].any() or mask[:, -1].any():
             skipped_border.append(int(idx))
@@ -69,8 +69,12 @@ def select_frames(clip: Clip, masks: MaskTrack,
         warnings.append(f"{len(skipped_border)} frame(s) skipped: the dolphin touches the image "
                         f"border (first: frame {skipped_border[0]})")
     if not chosen:
+        reasons = [f"{what} in frames {list_some(frames)}" for what, frames in (
+            ("empty masks", empty),
+            ("the dolphin touches the border", [str(i) for i in skipped_border])) if frames]
         raise InputError(f"{clip.path}: no frame with a visible dolphin in the chosen range "
-                         f"({len(candidates)} frames looked at)")
+                         f"({len(candidates)} frames looked at; {masks.source}: "
+                         f"{'; '.join(reasons)})")
     return np.asarray(chosen, dtype=np.int64), np.stack(chosen_masks), warnings
 
 

@@ -26,6 +26,7 @@ from core.fit.reporter import (
 )
 from core.fit.result import STATUS_CANCELLED, STATUS_COMPLETE, STATUS_DIVERGED, FitResult
 from core.fit.target import edge_profile, soft_targets
+from core.iou import mask_iou
 from core.measure.condition import body_condition
 from core.measure.mesh import body_length, mesh_volume
 from core.model.lbs import axis_angle_to_matrix
@@ -180,8 +181,8 @@ class _Problem:
         ious = []
         with torch.no_grad():
             for chunk in torch.arange(self.data.num_frames).split(self.config.frames_per_chunk):
-                ious.append(losses.mask_iou(self.render_chunk(params, chunk).coverage,
-                                            self.data.masks[chunk]))
+                ious.append(mask_iou(self.render_chunk(params, chunk).coverage,
+                                     self.data.masks[chunk] > 0.5))
                 self.reporter.heartbeat()
         return torch.cat(ious)
 
@@ -229,7 +230,7 @@ class _Problem:
             terms["mask"] += float(mask_term.detach())
             terms["rgb"] += float(rgb_term.detach())
             terms["total"] += float(total.detach())
-            ious.append(losses.mask_iou(out.coverage, self.data.masks[chunk]))
+            ious.append(mask_iou(out.coverage, self.data.masks[chunk] > 0.5))
         prior_terms = self.prior_terms(params)
         prior_total = sum(getattr(weights, name) * value for name, value in prior_terms.items())
         prior_total.backward()

@@ -14,13 +14,6 @@ def soft_iou_loss(soft: torch.Tensor, target: torch.Tensor) -> torch.Tensor:
     return (1.0 - inter / union).sum()
 
 
-def mask_iou(coverage: torch.Tensor, target: torch.Tensor) -> torch.Tensor:
-    """(T,) hard IoU of rendered coverage and target masks (no gradient)."""
-    rendered, wanted = coverage.bool(), target > 0.5
-    union = (rendered | wanted).sum((1, 2)).clamp(min=1)
-    return (rendered & wanted).sum((1, 2)) / union
-
-
 def rgb_loss(rgb: torch.Tensor, coverage: torch.Tensor, image: torch.Tensor,
              target: torch.Tensor) -> torch.Tensor:
     """Σ_t mean squared colour error over pixels covered by the render and the target mask."""

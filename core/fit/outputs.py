@@ -1,5 +1,10 @@
 """Writing a fit: result.json and result.npz (result_io), the rest mesh, a posed mesh per
-fitted frame, PNG overlays."""
+fitted frame, PNG overlays.
+
+All of it is written into a folder beside the output folder, which then replaces it: a kill
+leaves the old fit or the new one, complete. Other files in the output folder are kept; other
+folders are refused, since the folder is replaced as a whole.
+"""
 
 from pathlib import Path
 
@@ -7,31 +12,55 @@ import cv2
 import numpy as np
 import torch
 
+from core.errors import InputError
 from core.fit.data import FitData
+from core.fit.mesh_files import POSED_FOLDER, export_fit_meshes
 from core.fit.result import FitResult
-from core.fit.result_io import write_fit_result
-from core.fit.mesh_files import export_fit_meshes
+from core.fit.result_io import RESULT_JSON, RESULT_NPZ, write_fit_result
+from core.io.atomic import atomic_folder
+from core.io.output_paths import check_output_folder
+from core.io.receipt import write_png
+from core.io.report import list_some
 from core.model.template import Template
 from core.render.render import Appearance, render
 from core.render.settings import Viewport
 from core.render.shade import SGLight
 
 NUM_OVERLAYS = 4
+OVERLAY_FOLDER = "overlays"
+MESH_SUFFIX = ".ply"
+WRITTEN = frozenset({RESULT_JSON, RESULT_NPZ, f"rest_mesh{MESH_SUFFIX}", POSED_FOLDER,
+                     OVERLAY_FOLDER})  # what write_outputs writes into a fit folder
 MASK_COLOUR = np.array([255, 200, 0], dtype=np.float32)     # RGB outline of the target mask
 
 
-def write_outputs(result: FitResult, data: FitData, template: Template, out_dir: Path) -> list[Path]:
-    """Write everything a user needs from a fit into ``out_dir``; returns the paths."""
-    out_dir = Path(out_dir)
-    written = write_fit_result(result, out_dir)
-    written += export_fit_meshes(result, template, out_dir, ".ply")
-    for t in np.linspace(0, data.num_frames - 1, min(NUM_OVERLAYS, data.num_frames)).astype(int):
-        path = out_dir / "overlays" / f"{int(result.frame_idx[t]):06d}.png"
-        path.parent.mkdir(parents=True, exist_ok=True)
-        cv2.imwrite(str(path), cv2.cvtColor(overlay(result, data, template, int(t)),
-                                            cv2.COLOR_RGB2BGR))
-        written.append(path)
-    return written
+def check_fit_folder(out_dir: Path, what: str = "") -> Path:
+    """``out_dir`` if a fit can be written there: a new folder, or one whose sub-folders are
+    a fit's own; InputError naming it (after ``what``, e.g. "--out ") otherwise."""
+    out_dir = check_output_folder(Path(out_dir), what)
+    if out_dir.is_dir():
+        foreign = sorted(p.name for p in out_dir.iterdir()
+                         if p.is_dir() and p.name not in WRITTEN)
+        if foreign:
+            raise InputError(f"{what}{out_dir}: holds folders that are not a fit's "
+                             f"({list_some(foreign)}); give the fit a folder of its own")
+    return out_dir
+
+
+def write_outputs(result: FitResult, data: FitData, template: Template,
+                  out_dir: Path) -> list[Path]:
+    """Write everything a user needs from a fit into ``out_dir`` (see the module docstring);
+    returns the paths."""
+    out_dir = check_fit_folder(out_dir)
+    with atomic_folder(out_dir, carry=lambda entry: entry.name not in WRITTEN) as tmp:
+        written = write_fit_result(result, tmp)
+        written += export_fit_meshes(result, template, tmp, MESH_SUFFIX)
+        frames = np.linspace(0, data.num_frames - 1, min(NUM_OVERLAYS, data.num_frames))
+        for t in frames.astype(int):
+            path = tmp / OVERLAY_FOLDER / f"{int(result.frame_idx[t]):06d}.png"
+            write_png(path, overlay(result, data, template, int(t)))
+            written.append(path)
+    return [out_dir / path.relative_to(tmp) for path in written]
 
 
 def overlay(result: FitResult, data: FitData, template: Template, t: int) -> np.ndarray:

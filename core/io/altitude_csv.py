@@ -16,7 +16,7 @@ import numpy as np
 from core.errors import InputError
 from core.io.altitude_samples import AltitudeSamples, AltitudeSource
 from core.io.atomic import atomic_path
-from core.io.text_input import cell_number, read_text
+from core.io.text_input import cell_number, csv_rows
 
 KEY_COLUMNS = ("frame", "time_s")  # in order of preference
 ALTITUDE_COLUMN = "altitude_m"
@@ -25,15 +25,10 @@ DECIMALS = 6  # micrometres and microseconds: below any altimeter's or clock's r
 
 def _rows(path: Path) -> tuple[list[str], list[tuple[int, list[str]]]]:
     """Header and (line number, cells) of the non-blank rows; InputError if unreadable."""
-    try:
-        rows = [(line_no, row) for line_no, row in
-                enumerate(csv.reader(read_text(path).splitlines()), start=1)
-                if any(c.strip() for c in row)]
-    except csv.Error as exc:
-        raise InputError(f"{path}: cannot be read as CSV ({exc})") from None
+    rows = csv_rows(path)
     if not rows:
         raise InputError(f"{path}: the file is empty")
-    return [c.strip() for c in rows[0][1]], rows[1:]
+    return rows[0][1], rows[1:]
 
 
 def read_altitude_csv(path: Path | str) -> AltitudeSamples:

@@ -38,11 +38,14 @@ from core.io.json_file import check_schema_version, json_field, read_json, write
 from core.measure.annotation import (
     ALTITUDE_SOURCES, SIDES, Annotation, Calibration,
 )
+from core.limits import ALTITUDE_M, FOCAL_MM, IMAGE_SIZE_PX, SENSOR_WIDTH_MM, in_range
 from core.measure.stations import NUM_STATIONS, STATION_PCT
 
 SCHEMA_VERSION = 1
 SIDE_KEYS = ("side_a_px", "side_b_px")
 EXPLICIT_CAMERA_KEYS = ("focal_mm", "sensor_width_mm", "image_width_px", "image_height_px")
+CAMERA_LIMITS = {"focal_mm": FOCAL_MM, "sensor_width_mm": SENSOR_WIDTH_MM,
+                 "image_width_px": IMAGE_SIZE_PX, "image_height_px": IMAGE_SIZE_PX}
 TOP_KEYS = {"schema_version", "image", "camera", "altitude", "midline_px", "mirror_side",
             "stations", "notes"}
 
@@ -77,6 +80,8 @@ def _camera(data: Any, where: str) -> tuple[CameraPreset, str | None]:
                          f"{', '.join(EXPLICIT_CAMERA_KEYS)}")
     values = {key: json_field(data, key, int if key.endswith("_px") else (int, float), where)
               for key in EXPLICIT_CAMERA_KEYS}
+    for key, limits in CAMERA_LIMITS.items():
+        in_range(values[key], limits, f"{where}: {key}")
     try:
         return CameraPreset(name="explicit", description="explicit camera values",
                             source=where, approximate=False, **values), None
@@ -117,8 +122,9 @@ def annotation_from_json(data: Any, where: str) -> AnnotationFile:
     altitude = json_field(data, "altitude", dict, where)
     altitude_m = json_field(altitude, "altitude_m", (int, float), f"{where}: altitude")
     source = json_field(altitude, "source", str, f"{where}: altitude")
-    if not (math.isfinite(altitude_m) and altitude_m > 0) or source not in ALTITUDE_SOURCES:
-        raise InputError(f"{where}: altitude needs altitude_m > 0 and a source among "
+    in_range(altitude_m, ALTITUDE_M, f"{where}: altitude_m")
+    if source not in ALTITUDE_SOURCES:
+        raise InputError(f"{where}: altitude source {source!r} is not one of "
                          f"{', '.join(ALTITUDE_SOURCES)}")
     midline = [_point(p, f"{where}: midline_px[{i}]")
                for i, p in enumerate(json_field(data, "midline_px", list, where))]

@@ -3,12 +3,14 @@
 import json
 from dataclasses import fields, is_dataclass
 from pathlib import Path
-from typing import Any, TypeVar, get_origin
+from types import UnionType
+from typing import Any, TypeVar, get_args, get_origin
 
 from core.errors import InputError
 from core.io.atomic import atomic_path
 
 T = TypeVar("T")
+_TYPE_NAMES = {float: "a number", int: "a whole number", bool: "true or false", str: "text"}
 
 
 def read_json(path: Path, what: str) -> Any:
@@ -53,7 +55,8 @@ def check_schema_version(data: Any, version: int, where: str) -> None:
 
 def dataclass_from_json(cls: type[T], data: Any, what: str) -> T:
     """Rebuild dataclass ``cls`` from its ``asdict`` JSON: nested dataclasses and tuples come
-    back as such; unknown keys raise InputError naming ``what``."""
+    back as such; unknown keys and values of the wrong type raise InputError naming ``what``
+    and the field (the class checks the values' ranges)."""
     if not isinstance(data, dict):
         raise InputError(f"{what}: expected an object, got {type(data).__name__}")
     known = {field.name: field.type for field in fields(cls)}
@@ -65,7 +68,29 @@ def dataclass_from_json(cls: type[T], data: Any, what: str) -> T:
         kind = known[name]
         if is_dataclass(kind):
             value = dataclass_from_json(kind, value, f"{what}.{name}")
-        elif get_origin(kind) is tuple and isinstance(value, list):
-            value = tuple(value)
+        else:
+            value = _typed(value, kind, f"{what}: field {name!r}")
         values[name] = value
     return cls(**values)
+
+
+def _typed(value: Any, kind: Any, where: str) -> Any:
+    """``value`` checked against a field's type (bool, int, float, str, ``X | None``,
+    ``tuple[…]`` from a JSON list); InputError naming ``where`` otherwise. A JSON number
+    passes for a float, a whole one for an int; true and false are no numbers."""
+    if isinstance(kind, UnionType):
+        options = get_args(kind)
+        if value is None and type(None) in options:
+            return None
+        kind = next(option for option in options if option is not type(None))
+    if get_origin(kind) is tuple:
+        items = get_args(kind)
+        if not isinstance(value, list) or len(value) != len(items):
+            raise InputError(f"{where}: expected a list of {len(items)}, got {value!r}")
+        return tuple(_typed(item, item_kind, f"{where}[{i}]")
+                     for i, (item, item_kind) in enumerate(zip(value, items)))
+    allowed = {float: (int, float), int: (int,), bool: (bool,), str: (str,)}.get(kind)
+    if allowed is not None and (not isinstance(value, allowed)
+                                or (isinstance(value, bool) and kind is not bool)):
+        raise InputError(f"{where}: expected {_TYPE_NAMES[kind]}, got {value!r}")
+    return value

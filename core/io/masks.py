@@ -16,6 +16,8 @@ in: write its masks in one of these formats.
 """
 
 import re
+import zipfile
+import zlib
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
@@ -24,7 +26,9 @@ import cv2
 import numpy as np
 
 from core.errors import InputError
-from core.io.atomic import atomic_path
+from core.io.atomic import atomic_folder, atomic_path
+from core.io.output_paths import check_output_file, check_output_folder
+from core.io.report import format_runs, list_some
 from core.io.video import Clip, VideoReader
 
 PNG_NAME = "{:06d}.png"  # DESIGN.md §8
@@ -32,6 +36,9 @@ PNG_PATTERN = re.compile(r"^(\d+)\.png$", re.IGNORECASE)
 VIDEO_THRESHOLD = 128  # grey level from which a mask-video pixel is dolphin
 NPZ_SUFFIX = ".npz"
 MASK_VALUE = 255  # written for dolphin pixels in PNGs
+# A mask covering more of the frame than this is blank white or inverted (water marked as
+# dolphin): a dolphin seen from 1 m or more never fills its frame.
+MAX_COVERAGE = 0.9
 
 
 @dataclass(frozen=True, eq=False)
@@ -86,6 +93,24 @@ def _read_png(path: Path) -> np.ndarray:
     return image.any(axis=2) if image.ndim == 3 else image != 0
 
 
+def _check_coverage(where: str, coverage: np.ndarray, names: Callable[[int], str]) -> None:
+    """InputError naming the frames (``names``: frame index → file or frame name) whose masks
+    cover more than MAX_COVERAGE of the frame; ``coverage``: (T,) fraction of dolphin pixels."""
+    full = np.flatnonzero(coverage > MAX_COVERAGE)
+    if full.size:
+        raise InputError(f"{where}: {full.size} mask(s) cover more than {MAX_COVERAGE:.0%} of "
+                         f"the frame (all white or inverted; non-zero pixels are dolphin): "
+                         f"{list_some([names(int(t)) for t in full])}")
+
+
+def check_not_empty(track: MaskTrack) -> None:
+    """InputError naming the source when no mask marks any dolphin pixel."""
+    if not track.is_visible.any():
+        raise InputError(f"{track.source}: all {track.num_frames} masks are empty (frames "
+                         f"{format_runs(~track.is_visible)}): no pixel marks the dolphin "
+                         "(non-zero pixels are dolphin)")
+
+
 def _check_size(where: str, mask_hw: tuple[int, ...], expected_hw: tuple[int, int]) -> None:
     if tuple(mask_hw) != tuple(expected_hw):
         raise InputError(f"{where}: mask is {mask_hw[1]}x{mask_hw[0]} px, expected "
@@ -107,12 +132,14 @@ def read_png_folder(folder: Path, clip: Clip | None = None) -> MaskTrack:
         raise InputError(f"{files[beyond[0]]}: frame {beyond[0]} is beyond the clip's "
                          f"{num_frames} frames")
     size_hw = (clip.height_px, clip.width_px) if clip is not None else None
-    visible = np.zeros(num_frames, dtype=bool)
+    coverage = np.zeros(num_frames)
     for idx, path in sorted(files.items()):
         mask = _read_png(path)
         size_hw = size_hw or mask.shape
         _check_size(str(path), mask.shape, size_hw)
-        visible[idx] = mask.any()
+        coverage[idx] = mask.mean()
+    _check_coverage(str(folder), coverage, lambda idx: files[idx].name)
+    visible = coverage > 0
     return MaskTrack(visible, size_hw[1], size_hw[0], f"png folder {folder}",
                      lambda idx: _read_png(files[idx]))
 
@@ -127,7 +154,9 @@ def read_mask_video(path: Path, clip: Clip | None = None) -> MaskTrack:
     def load(idx: int) -> np.ndarray:
         return reader[idx].max(axis=2) >= VIDEO_THRESHOLD
 
-    visible = np.array([load(t).any() for t in range(len(reader))])
+    coverage = np.array([load(t).mean() for t in range(len(reader))])
+    _check_coverage(str(path), coverage, lambda idx: f"frame {idx}")
+    visible = coverage > 0
     return MaskTrack(visible, reader.clip.width_px, reader.clip.height_px,
                      f"mask video {path}", load)
 
@@ -140,8 +169,9 @@ def read_npz(path: Path, clip: Clip | None = None) -> MaskTrack:
             is_visible = data["is_visible"] if "is_visible" in data.files else None
     except KeyError:
         raise InputError(f"{path}: no 'masks' array in the .npz file") from None
-    except (OSError, ValueError) as exc:
-        raise InputError(f"{path}: not a readable .npz file ({exc})") from None
+    except (OSError, ValueError, EOFError, zipfile.BadZipFile, zlib.error) as exc:
+        raise InputError(f"{path}: not a readable .npz file, truncated or damaged "
+                         f"({exc})") from None
     if masks.ndim != 3:
         raise InputError(f"{path}: 'masks' has shape {masks.shape}, expected (T, H, W)")
     if is_visible is not None and is_visible.shape != masks.shape[:1]:
@@ -149,6 +179,7 @@ def read_npz(path: Path, clip: Clip | None = None) -> MaskTrack:
                          f"({masks.shape[0]},)")
     if clip is not None:
         _check_size(str(path), masks.shape[1:], (clip.height_px, clip.width_px))
+    _check_coverage(str(path), (masks != 0).mean(axis=(1, 2)), lambda idx: f"frame {idx}")
     return MaskTrack.from_array(masks, f"npz {path}", is_visible)
 
 
@@ -163,7 +194,7 @@ def check_against_clip(track: MaskTrack, clip: Clip) -> None:
 
 def read_masks(path: Path | str, clip: Clip | None = None) -> MaskTrack:
     """Masks from a PNG folder, an .npz or a mask video (by what ``path`` is), checked
-    against ``clip`` when given."""
+    against ``clip`` when given; InputError when no mask marks the dolphin."""
     path = Path(path)
     if path.is_dir():
         track = read_png_folder(path, clip)
@@ -175,20 +206,40 @@ def read_masks(path: Path | str, clip: Clip | None = None) -> MaskTrack:
         track = read_mask_video(path, clip)
     if clip is not None:
         check_against_clip(track, clip)
+    check_not_empty(track)
     return track
 
 
+def _is_hidden_file(entry: Path) -> bool:
+    return entry.name.startswith(".") and entry.is_file()
+
+
+def check_mask_folder(folder: Path) -> Path:
+    """``folder`` if mask PNGs can be written there: new, or holding nothing but mask PNGs
+    (and hidden files). Writing replaces the whole folder, so anything else is refused."""
+    check_output_folder(folder)
+    if folder.is_dir():
+        foreign = sorted(p.name for p in folder.iterdir()
+                         if not (PNG_PATTERN.match(p.name) and p.is_file()) and
+                         not _is_hidden_file(p))
+        if foreign:
+            raise InputError(f"{folder}: holds other things than mask PNGs "
+                             f"({list_some(foreign)}); masks go into a folder of their own")
+    return folder
+
+
 def write_png_folder(track: MaskTrack, folder: Path) -> None:
-    """Write every frame as ``folder/%06d.png`` (0 or 255; empty where not visible),
-    replacing the folder's earlier mask PNGs."""
-    folder.mkdir(parents=True, exist_ok=True)
-    for old in folder.iterdir():
-        if PNG_PATTERN.match(old.name):
-            old.unlink()
-    for idx in range(track.num_frames):
-        image = track.mask(idx).astype(np.uint8) * MASK_VALUE
-        if not cv2.imwrite(str(folder / PNG_NAME.format(idx)), image):
-            raise InputError(f"{folder / PNG_NAME.format(idx)}: cannot be written")
+    """Write every frame as ``folder/%06d.png`` (0 or 255; empty where not visible).
+
+    The PNGs are written into a folder beside ``folder`` that then replaces it (hidden files
+    are kept), so a kill leaves the old masks or the new ones, never a mix.
+    """
+    check_mask_folder(folder)
+    with atomic_folder(folder, carry=_is_hidden_file) as tmp:
+        for idx in range(track.num_frames):
+            image = track.mask(idx).astype(np.uint8) * MASK_VALUE
+            if not cv2.imwrite(str(tmp / PNG_NAME.format(idx)), image):
+                raise InputError(f"{folder / PNG_NAME.format(idx)}: cannot be written")
 
 
 def write_npz(track: MaskTrack, path: Path) -> None:
@@ -196,6 +247,13 @@ def write_npz(track: MaskTrack, path: Path) -> None:
     (all frames are held in memory: use a PNG folder for long clips)."""
     with atomic_path(path) as tmp:
         np.savez_compressed(tmp, masks=track.stack(), is_visible=track.is_visible)
+
+
+def check_mask_output(path: Path | str) -> Path:
+    """``path`` if :func:`write_masks` can write there (see :func:`check_mask_folder`);
+    InputError naming it otherwise."""
+    path = Path(path)
+    return check_output_file(path) if path.suffix.lower() == NPZ_SUFFIX else check_mask_folder(path)
 
 
 def write_masks(track: MaskTrack, path: Path | str) -> None:

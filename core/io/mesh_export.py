@@ -2,7 +2,8 @@
 
 PLY keeps the closed, watertight vertex set and bakes the albedo into vertex colours. OBJ and
 GLB carry the UV map and the albedo texture; since a vertex has one UV there, vertices on UV
-seams are split (the surface stays closed, but viewers see seams as separate vertices).
+seams are split (the surface stays closed, but viewers see seams as separate vertices). Every
+file (an OBJ's material and texture too) is written atomically.
 """
 
 from pathlib import Path
@@ -12,6 +13,7 @@ import trimesh
 from PIL import Image
 
 from core.errors import InputError
+from core.io.atomic import atomic_path
 
 MESH_SUFFIXES = (".ply", ".obj", ".glb")
 
@@ -28,13 +30,22 @@ def export_mesh(path: Path, verts: np.ndarray, faces: np.ndarray, uvs: np.ndarra
     if suffix not in MESH_SUFFIXES:
         raise InputError(f"{path}: unsupported mesh format {suffix!r} "
                          f"(use one of {', '.join(MESH_SUFFIXES)})")
-    path.parent.mkdir(parents=True, exist_ok=True)
     if suffix == ".ply":
         mesh = trimesh.Trimesh(verts, faces, process=False,
                                vertex_colors=_vertex_colours(faces, uvs, face_uvs_idx, albedo))
     else:
         mesh = _textured_mesh(verts, faces, uvs, face_uvs_idx, albedo)
-    mesh.export(path)
+    files = {path: None}
+    if suffix == ".obj":  # the material and texture files the OBJ names, beside it
+        text, textures = trimesh.exchange.obj.export_obj(mesh, return_texture=True)
+        files = {path: text.encode("utf-8"),
+                 **{path.with_name(name): data for name, data in textures.items()}}
+    for target, data in files.items():
+        with atomic_path(target) as tmp:
+            if data is None:
+                mesh.export(tmp, file_type=suffix.lstrip("."))
+            else:
+                tmp.write_bytes(data)
 
 
 def _sample(albedo: np.ndarray, uv: np.ndarray) -> np.ndarray:

@@ -18,7 +18,6 @@ as altitude / focal_px.
 """
 
 import csv
-import io
 import math
 import re
 from dataclasses import dataclass, field, replace
@@ -28,7 +27,8 @@ import numpy as np
 
 from core.errors import InputError
 from core.io.atomic import atomic_path
-from core.io.text_input import cell_number, read_text
+from core.io.text_input import cell_number, csv_rows
+from core.limits import ALTITUDE_M, FOCAL_MM, PIXEL_DIMENSION_MM, body_measurements, in_range
 from core.measure.annotation import PixelMeasurements
 from core.measure.stations import STATION_PCT
 
@@ -42,7 +42,8 @@ METADATA_FIELDS = {"Image ID": "image_id", "Image Path": "image_path",
                    "Focal Length": "focal_mm", "Altitude": "altitude_m",
                    "Pixel Dimension": "pixel_dimension_mm", "Mirror Side": "mirror_side",
                    "Notes": "notes"}
-NUMERIC_FIELDS = ("focal_mm", "altitude_m", "pixel_dimension_mm")
+NUMERIC_FIELDS = {"focal_mm": FOCAL_MM, "altitude_m": ALTITUDE_M,
+                  "pixel_dimension_mm": PIXEL_DIMENSION_MM}  # and their plausible ranges
 WIDTH_NAME = re.compile(r"^(?P<length>.+)_w(?P<pct>\d+(?:\.\d*)?)$")
 V1_WIDTH_HEADER = re.compile(r"^(?P<pct>\d+(?:\.\d*)?)\s*%\s*Width$")
 
@@ -93,16 +94,6 @@ def _float(text: str, path: Path, line_no: int, what: str) -> float:
     return value
 
 
-def _rows(path: Path) -> list[tuple[int, list[str]]]:
-    """(line number, stripped cells) of every non-empty CSV row."""
-    rows = []
-    for line_no, row in enumerate(csv.reader(io.StringIO(read_text(path))), start=1):
-        cells = [cell.strip() for cell in row]
-        if any(cells):
-            rows.append((line_no, cells))
-    return rows
-
-
 def _metadata(pairs: dict[str, tuple[int, str]], path: Path) -> dict[str, object]:
     """Record fields from metadata rows {name: (line, value)}; numbers checked."""
     meta: dict[str, object] = {"image_id": "", "image_path": "", "mirror_side": None,
@@ -110,7 +101,8 @@ def _metadata(pairs: dict[str, tuple[int, str]], path: Path) -> dict[str, object
     for name, (line_no, value) in pairs.items():
         key = METADATA_FIELDS.get(name)
         if key in NUMERIC_FIELDS:
-            meta[key] = _float(value, path, line_no, name)
+            meta[key] = in_range(_float(value, path, line_no, name), NUMERIC_FIELDS[key],
+                                 f"{path}, line {line_no}: {name}")
         elif key == "mirror_side":
             meta[key] = None if value in ("", "None") else value
         elif key is not None:
@@ -200,7 +192,7 @@ def _v1_width_columns(cells: list[str]) -> dict[int, float]:
 def read_morphometrix(path: Path) -> MorphoMetrixRecord:
     """Read a MorphoMetriX v1 or v2 CSV (told apart by the first row)."""
     path = Path(path)
-    rows = _rows(path)
+    rows = csv_rows(path)
     if rows and rows[0][1][:3] == V2_HEADER:
         return _read_v2(rows[1:], path)
     if rows and rows[0][1][0] == "Image ID":
@@ -268,7 +260,8 @@ def pixel_measurements(record: MorphoMetrixRecord, path: Path,
                        length_name: str = LENGTH_NAME) -> PixelMeasurements:
     """Length and the 19 station widths in pixels (from metres where a file has no pixels).
 
-    Stations missing from the file are NaN; widths off the 5 % grid are refused.
+    Stations missing from the file are NaN; widths off the 5 % grid, an implausible body
+    length and widths not between zero and the length are refused (core.limits).
     """
     from_m = length_name not in record.lengths_px
     lengths = record.lengths_m if from_m else record.lengths_px
@@ -284,5 +277,8 @@ def pixel_measurements(record: MorphoMetrixRecord, path: Path,
             raise InputError(f"{path}: width {width_name(length_name, pct)} is not on the "
                              f"5 % stations the elliptical method uses")
         widths_px[matches[0]] = width * scale
+    m_per_px = record.m_per_px
+    body_measurements(lengths[length_name] * scale * m_per_px, (widths_px * m_per_px).tolist(),
+                      f"{path}: {length_name}")
     return PixelMeasurements(length_px=lengths[length_name] * scale, widths_px=widths_px,
                              is_mirrored=record.mirror_side is not None)

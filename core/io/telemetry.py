@@ -13,6 +13,9 @@ Alignment, per frame:
   last cue holds for its duration;
 - otherwise missing (NaN).
 
+Samples outside the plausible altitudes of core.limits (a relative altitude without its launch
+height, a corrupt cue) count as missing, with a warning.
+
 Frames that are not at a sample are flagged ``is_interpolated``; missing ones ``is_missing``.
 """
 
@@ -25,9 +28,10 @@ from core.errors import InputError
 from core.io.altitude_csv import read_altitude_csv
 from core.io.altitude_samples import AltitudeSamples, AltitudeSource
 from core.io.laser_log import is_laser_log, read_laser_log
-from core.io.report import format_runs
+from core.io.report import format_runs, list_some
 from core.io.srt import read_srt
 from core.io.video import Clip
+from core.limits import ALTITUDE_M, LAUNCH_HEIGHT_M, in_range, number
 
 SAMPLE_TIME_TOLERANCE_S = 0.0005  # half the 1 ms resolution of SRT timing lines
 # Longest stretch without a valid sample that is bridged by interpolation: five rows of a
@@ -84,9 +88,9 @@ def _number(text: str) -> float | None:
 
 
 def constant_telemetry(altitude_m: float, clip: Clip) -> Telemetry:
-    """The same altitude for every frame of ``clip``; InputError unless positive and finite."""
-    if not (np.isfinite(altitude_m) and altitude_m > 0):
-        raise InputError(f"altitude {altitude_m} m: must be a positive number of metres")
+    """The same altitude for every frame of ``clip``; InputError unless plausible
+    (core.limits.ALTITUDE_M)."""
+    altitude_m = in_range(altitude_m, ALTITUDE_M, "altitude")
     num_frames = clip.num_frames
     return Telemetry(np.full(num_frames, float(altitude_m)),
                      clip.frame_time_s(np.arange(num_frames)), np.zeros(num_frames, bool),
@@ -107,6 +111,8 @@ def read_altitude(path: Path | str, launch_height_m: float = 0.0,
     log (see laser_log.py). Either one given where it does not apply adds a warning.
     """
     path = Path(path)
+    in_range(launch_height_m, LAUNCH_HEIGHT_M, "launch height")
+    number(time_offset_s, "time offset")
     if not path.is_file():
         raise InputError(f"{path}: no such file")
     kind = "laser" if is_laser_log(path) else READER_KINDS.get(path.suffix.lower())
@@ -128,6 +134,29 @@ def read_altitude(path: Path | str, launch_height_m: float = 0.0,
     return replace(samples, warnings=samples.warnings + tuple(f"{path}: {w}" for w in ignored))
 
 
+def _implausible_as_missing(samples: AltitudeSamples) -> AltitudeSamples:
+    """``samples`` with altitudes outside core.limits.ALTITUDE_M made missing (NaN), with a
+    warning naming the file, how many and the first few sample times or frames; InputError
+    when that leaves no altitude at all."""
+    altitude = samples.altitude_m
+    valid = np.isfinite(altitude)
+    bad = valid & ((altitude < ALTITUDE_M.low) | (altitude > ALTITUDE_M.high))
+    if not bad.any():
+        return samples
+    keys = ([f"{t:g} s" for t in samples.time_s[bad]] if samples.frame_idx is None
+            else [f"frame {f}" for f in samples.frame_idx[bad]])
+    listed = list_some([f"{a:g} m at {key}" for a, key in zip(altitude[bad], keys)])
+    hint = " (is the launch height missing?)" if samples.source.is_relative else ""
+    where, limits = samples.source.path, ALTITUDE_M.text()
+    if not (valid & ~bad).any():
+        raise InputError(f"{where}: every altitude lies outside the plausible {limits}: "
+                         f"{listed}{hint}")
+    warning = (f"{where}: {int(bad.sum())} of {samples.num_samples} altitudes outside the "
+               f"plausible {limits} taken as missing: {listed}{hint}")
+    return replace(samples, altitude_m=np.where(bad, np.nan, altitude),
+                   warnings=samples.warnings + (warning,))
+
+
 def find_srt_sidecar(clip_path: Path | str) -> Path | None:
     """The .SRT beside a clip with the clip's stem (DJI_0001.MP4 → DJI_0001.SRT), or None."""
     clip_path = Path(clip_path)
@@ -141,7 +170,9 @@ def find_srt_sidecar(clip_path: Path | str) -> Path | None:
 
 def align_to_frames(samples: AltitudeSamples, clip: Clip,
                     max_gap_s: float = MAX_GAP_S) -> Telemetry:
-    """Altitude per frame of ``clip`` from ``samples`` (rules in the module docstring)."""
+    """Altitude per frame of ``clip`` from ``samples`` (rules in the module docstring;
+    samples outside core.limits.ALTITUDE_M count as missing)."""
+    samples = _implausible_as_missing(samples)
     frame_s = clip.frame_time_s(np.arange(clip.num_frames))
     key_s = samples.key_s(clip.fps)
     valid = np.isfinite(samples.altitude_m)

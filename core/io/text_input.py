@@ -1,7 +1,9 @@
-"""Reading text input files: the text, with its encoding taken from a byte-order mark, and
-numeric cells with missing-value markers. Every failure is an InputError naming the file
-and, for a cell, the line and column."""
+"""Reading text input files: the text, with its encoding taken from a byte-order mark, CSV
+rows, and numeric cells with missing-value markers. Every failure is an InputError naming the
+file and, for a cell, the line and column."""
 
+import csv
+import io
 from pathlib import Path
 
 import numpy as np
@@ -27,6 +29,17 @@ def read_text(path: Path) -> str:
         raise InputError(f"{path}: cannot be read ({exc.strerror})") from None
     encoding = "utf-16" if raw[:2] in UTF16_BOMS else "utf-8-sig"
     return raw.decode(encoding, errors="replace")
+
+
+def csv_rows(path: Path) -> list[tuple[int, list[str]]]:
+    """(row number, stripped cells) of every non-blank CSV row; InputError naming the file
+    when it is no CSV (binary junk, NUL bytes)."""
+    try:
+        rows = [(line_no, [cell.strip() for cell in row]) for line_no, row in
+                enumerate(csv.reader(io.StringIO(read_text(path))), start=1)]
+    except csv.Error as exc:
+        raise InputError(f"{path}: cannot be read as CSV ({exc})") from None
+    return [(line_no, cells) for line_no, cells in rows if any(cells)]
 
 
 def cell_number(path: Path, line_no: int, column: str, cell: str) -> float:

@@ -17,6 +17,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from core.errors import InputError
+from core.limits import BCI, DENSITY_KG_M3, check_fields, in_range
+
 # The paper's mass-model figure gives four decimals (its text rounds to −4.02 and 2.59).
 BV_EXP_INTERCEPT = -4.0206  # a, ln m³: ln BV_exp at BL = 1 m (Baieri et al., mass-model figure)
 BV_EXP_SLOPE = 2.5929       # b: allometric exponent of volume on length (same figure)
@@ -40,7 +43,14 @@ class MassModel:
     bci_fit_range: tuple[float, float] = BCI_FIT_RANGE
 
     def __post_init__(self) -> None:
-        low, high = self.bci_fit_range
+        check_fields(self, "mass model ")
+        if len(self.bci_fit_range) != 2:
+            raise InputError(f"mass model bci_fit_range: expected (low, high), got "
+                             f"{self.bci_fit_range!r}")
+        low, high = (in_range(v, BCI, "mass model bci_fit_range") for v in self.bci_fit_range)
+        for bci in (low, high):  # the density the model gives over its trusted range
+            in_range(self.density_intercept_kg_m3 - self.density_slope_kg_m3 * bci,
+                     DENSITY_KG_M3, f"mass model density at BCI {bci:+g}")
         if not low < high:
             raise ValueError(f"bci_fit_range must be (low, high) with low < high, "
                              f"got {self.bci_fit_range!r}")

@@ -1,4 +1,4 @@
-"""One measured image as records: its inputs, the result JSON, the wide CSV row, the exports.
+"""One measured image as records: its inputs, the result JSON, the table rows, the exports.
 
 The CLI (`dolphinfit measure`) and the GUI build the same records with these functions:
 
@@ -6,7 +6,9 @@ The CLI (`dolphinfit measure`) and the GUI build the same records with these fun
    MorphoMetriX CSV (:func:`measured_image_from_morphometrix`);
 2. ``core.measure.baseline.estimate_baseline`` on its pixels, focal length and altitude;
 3. :func:`result_record` (the result JSON), then :func:`write_exports`: STEM_measure.json,
-   STEM_mmx.csv (MorphoMetriX v2, long) and STEM_wide.csv (CollatriX / Xcertainty, one row).
+   STEM_mmx.csv (MorphoMetriX v2, long), STEM_wide.csv (ours: metres, pixels, Xcertainty's
+   calibration and the results, one row) and STEM_collatrix.csv (the row CollatriX's
+   body-condition tool reads as it is; core.io.collatrix).
 """
 
 from dataclasses import dataclass, fields, replace
@@ -16,7 +18,7 @@ import numpy as np
 
 from core.errors import InputError
 from core.io.annotation_json import AnnotationFile
-from core.io.collatrix import wide_row, write_wide_csv
+from core.io.collatrix import collatrix_row, wide_row, write_wide_csv
 from core.io.json_file import read_json, write_json
 from core.io.masks import read_masks
 from core.io.morphometrix import (
@@ -29,13 +31,14 @@ from core.measure.annotation import (
 )
 from core.measure.baseline import SUMMARISED, BaselineEstimate
 from core.measure.condition import MassModel
-from core.measure.elliptical import TAIL_EXTRAPOLATED
+from core.measure.elliptical import TAIL_EXTRAPOLATED, TAIL_MEASURED, fill_skipped
 from core.measure.stations import STATION_PCT
 from core.measure.uncertainty import ErrorModel
 
 RESULT_SCHEMA_VERSION = 1
 MMX_ALTITUDE_SOURCE = "manual"  # MorphoMetriX altitudes are typed in; the source is unknown
-EXPORT_SUFFIXES = ("_measure.json", "_mmx.csv", "_wide.csv")  # appended to the export stem
+# appended to the export stem
+EXPORT_SUFFIXES = ("_measure.json", "_mmx.csv", "_wide.csv", "_collatrix.csv")
 
 
 @dataclass(frozen=True)
@@ -136,11 +139,11 @@ def mass_model_from_json(path: Path) -> MassModel:
     names = {f.name for f in fields(MassModel)}
     if not isinstance(data, dict) or not set(data) <= names:
         raise InputError(f"{path}: expected an object with keys among {', '.join(sorted(names))}")
-    if "bci_fit_range" in data:
+    if isinstance(data.get("bci_fit_range"), list):
         data["bci_fit_range"] = tuple(data["bci_fit_range"])
     try:
         return MassModel(**data)
-    except (TypeError, ValueError) as exc:
+    except (TypeError, ValueError, InputError) as exc:
         raise InputError(f"{path}: {exc}") from exc
 
 
@@ -160,24 +163,46 @@ def result_record(source: MeasureInput, estimate: BaselineEstimate, *, input_nam
 
 
 def wide_csv_row(source: MeasureInput, estimate: BaselineEstimate, result: dict, *,
-                 image: str) -> dict[str, str]:
-    """The CollatriX / Xcertainty row: measurements, calibration and the result columns.
+                 csv_name: str) -> dict[str, str]:
+    """Our wide-table row: measurements, calibration and the result columns.
 
-    ``image``: the ``Image`` column (the exports name the MorphoMetriX file).
+    ``csv_name``: the MorphoMetriX file exported with it.
     """
-    return wide_row(source.record, image=image, altitude_source=source.altitude_source,
+    return wide_row(source.record, csv_name=csv_name, altitude_source=source.altitude_source,
                     image_width_px=source.image_width_px,
                     sensor_width_mm=source.sensor_width_mm, uas=source.uas,
                     extras=_result_columns(estimate, result))
 
 
+def collatrix_csv_row(source: MeasureInput, estimate: BaselineEstimate, *, csv_name: str,
+                      image_id: str | None = None) -> dict[str, str]:
+    """The CollatriX-table row: metres, every station's width and the HW ratios used.
+
+    Unmeasured stations get the interpolation the volume uses (from every measured width), so
+    that CollatriX's elliptical volume of the row is ours under the extrapolated tail.
+    ``csv_name``: the MorphoMetriX file exported with it; ``image_id`` replaces the record's
+    (where several animals share an image, CollatriX needs ``Image_ID`` to tell them apart).
+    """
+    filled_px, is_filled = fill_skipped(estimate.measured.widths_px, TAIL_MEASURED)
+    widths_m = dict(zip(STATION_PCT.tolist(), (filled_px * estimate.m_per_px).tolist()))
+    record = replace(source.record, widths_m={**source.record.widths_m, LENGTH_NAME: widths_m})
+    if image_id is not None:
+        record = replace(record, image_id=image_id)
+    ratios, _ = estimate.settings.hw.completed()
+    return collatrix_row(record, csv_name=csv_name,
+                         hw_ratios=dict(zip(STATION_PCT.tolist(), ratios.tolist())),
+                         filled_pct=STATION_PCT[is_filled].tolist())
+
+
 def write_exports(stem: Path, source: MeasureInput, estimate: BaselineEstimate,
                   result: dict) -> list[Path]:
-    """Write STEM_measure.json, STEM_mmx.csv (MorphoMetriX v2) and STEM_wide.csv; their paths."""
+    """Write STEM_measure.json, STEM_mmx.csv (MorphoMetriX v2), STEM_wide.csv and
+    STEM_collatrix.csv; their paths."""
     paths = [stem.with_name(f"{stem.name}{suffix}") for suffix in EXPORT_SUFFIXES]
     write_json(paths[0], result)
     write_morphometrix_v2(paths[1], source.record)
-    write_wide_csv(paths[2], [wide_csv_row(source, estimate, result, image=paths[1].name)])
+    write_wide_csv(paths[2], [wide_csv_row(source, estimate, result, csv_name=paths[1].name)])
+    write_wide_csv(paths[3], [collatrix_csv_row(source, estimate, csv_name=paths[1].name)])
     return paths
 
 

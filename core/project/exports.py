@@ -5,8 +5,11 @@ Files, all written atomically, under ``out_dir``:
 - ``STEM_results.json``: schema version; per frame (keyed by its export name, the image ID)
   the clip, animal and frame with the result JSON; per animal the mean, SD and range of
   SUMMARY_KEYS over its exported frames.
-- ``STEM_wide.csv``: the CollatriX / Xcertainty wide CSV, one row per frame, with the columns
-  ``clip``, ``animal_id`` and ``frame_idx`` in front.
+- ``STEM_wide.csv``: our wide table (core.io.collatrix: metres, pixels, Xcertainty's
+  calibration, results), one row per frame, with the columns ``clip``, ``animal_id`` and
+  ``frame_idx`` in front.
+- ``STEM_collatrix.csv``: the table CollatriX's body-condition tool reads as it is, one row
+  per frame, ``Image_ID`` being NAME.
 - ``STEM_mmx/NAME.csv``: one MorphoMetriX v2 long CSV per frame.
 - ``STEM_receipts/NAME.png``: the receipt of each frame whose image ``frames`` gives.
 
@@ -33,7 +36,7 @@ from core.io.json_file import write_json
 from core.io.media import open_media
 from core.io.morphometrix import write_morphometrix_v2
 from core.io.receipt import draw_receipt, write_png
-from core.measure.records import wide_csv_row
+from core.measure.records import collatrix_csv_row, wide_csv_row
 from core.progress import Progress, ProgressCallback, check_cancel
 from core.project.model import Project, get_measurement
 from core.project.project_file import media_path
@@ -110,7 +113,7 @@ def export_frames(project: Project, results: Sequence[FrameResult], out_dir: Pat
     names = export_names(project, results)
     written: list[Path] = []
     try:
-        rows = []
+        rows, collatrix_rows = [], []
         for done, (name, result) in enumerate(zip(names, results), start=1):
             check_cancel(cancel)
             mmx = out_dir / f"{stem}_mmx" / f"{name}.csv"
@@ -118,7 +121,9 @@ def export_frames(project: Project, results: Sequence[FrameResult], out_dir: Pat
             written.append(mmx)
             rows.append({**_identity(project, result),
                          **wide_csv_row(result.source, result.estimate, result.record,
-                                        image=mmx.name)})
+                                        csv_name=mmx.name)})
+            collatrix_rows.append(collatrix_csv_row(result.source, result.estimate,
+                                                    csv_name=mmx.name, image_id=name))
             rgb = frames(result) if frames is not None else None
             if rgb is not None:
                 annotation = get_measurement(project, result.key).to_annotation()
@@ -128,15 +133,18 @@ def export_frames(project: Project, results: Sequence[FrameResult], out_dir: Pat
             if progress is not None:
                 progress(Progress("write", done, len(results), name))
         check_cancel(cancel)
-        summary, wide = out_dir / f"{stem}_results.json", out_dir / f"{stem}_wide.csv"
+        tables = {out_dir / f"{stem}_wide.csv": rows,
+                  out_dir / f"{stem}_collatrix.csv": collatrix_rows}
+        summary = out_dir / f"{stem}_results.json"
         write_json(summary, results_json(project, results, names))
         written.append(summary)
-        write_wide_csv(wide, rows)
-        written.append(wide)
+        for path, table in tables.items():
+            write_wide_csv(path, table)
+            written.append(path)
     except BaseException:
         _remove(written)
         raise
-    return [summary, wide, *written[:-2]]
+    return [summary, *tables, *written[:-3]]
 
 
 def _remove(paths: Sequence[Path]) -> None:

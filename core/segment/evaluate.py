@@ -1,9 +1,9 @@
 """Measuring a segmenter against true masks: per-frame intersection over union.
 
 ``measure_tracker`` runs on any clip with a folder of true masks (``%06d.png``): the synthetic
-clips of the tests today, ``core/synth`` clips once they exist. A frame where both the truth
-and the result are empty (the animal correctly reported lost) scores 1; a frame where only one
-of them is empty scores 0.
+clips of the tests today, ``core/synth`` clips once they exist. IoU is ``core.iou``'s: a frame
+where both the truth and the result are empty (the animal correctly reported lost) scores 1; a
+frame where only one of them is empty scores 0.
 """
 
 from pathlib import Path
@@ -12,14 +12,9 @@ import numpy as np
 
 from core.io.masks import MaskTrack, read_png_folder
 from core.io.video import VideoReader, open_clip
+from core.iou import mask_iou
 from core.segment.segmenter import BoxSeed, Seed, Segmenter
 from core.segment.tracker import MaskTracker
-
-
-def mask_iou(result: np.ndarray, truth: np.ndarray) -> float:
-    """|result ∩ truth| / |result ∪ truth| of two (H, W) bool masks; 1 when both are empty."""
-    union = np.count_nonzero(result | truth)
-    return 1.0 if union == 0 else np.count_nonzero(result & truth) / union
 
 
 def track_iou(result: MaskTrack, truth: MaskTrack) -> np.ndarray:

@@ -62,7 +62,8 @@ def test_add_rejects_non_positive_focal(capsys):
     """A negative --focal-mm exits with 2 and names the option."""
     assert main(["camera", "add", "bad", "--sensor-width-mm", "13.2", "--focal-mm", "-8.8",
                  "--width-px", "3840", "--height-px", "2160"]) == 2
-    assert "--focal-mm must be positive, got -8.8" in capsys.readouterr().err
+    assert "--focal-mm: -8.8 mm is outside the plausible range 1–1000 mm" in \
+        capsys.readouterr().err
 
 
 def test_show_unknown_camera_lists_names(capsys):

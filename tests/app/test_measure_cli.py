@@ -150,8 +150,8 @@ def test_morphometrix_file_as_input(tmp_path, capsys):
 @pytest.mark.parametrize("argv, message", [
     (["--mc", "1"], "--mc must be 0"),
     (["--hw", "orca"], "unknown HW ratio preset 'orca'"),
-    (["--altitude-m", "-2"], "--altitude-m must be positive"),
-    (["--digitisation-sd-px", "-1"], "--digitisation-sd-px must be a non-negative"),
+    (["--altitude-m", "-2"], "--altitude-m: -2 m is outside the plausible range 1–500 m"),
+    (["--digitisation-sd-px", "-1"], "--digitisation-sd-px: must be at least 0, got -1"),
     (["--from-mask", "MISSING"], "no such file or folder"),
 ])
 def test_bad_options_exit_2(tmp_path, capsys, argv, message):
@@ -169,7 +169,7 @@ def test_bad_inputs_exit_2_naming_the_file(tmp_path, capsys):
     path = _annotation_file(tmp_path)
     masks = tmp_path / "masks"
     masks.mkdir()
-    cv2.imwrite(str(masks / "000000.png"), np.full((10, 10), 255, np.uint8))
+    cv2.imwrite(str(masks / "000000.png"), np.eye(10, dtype=np.uint8) * 255)
     assert main(["measure", str(path), "--from-mask", str(masks)]) == 2
     assert "masks are 10×10 px but the camera's frames are 1280×720 px" in \
         capsys.readouterr().err

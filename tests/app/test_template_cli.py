@@ -84,7 +84,7 @@ def test_export_shaped_and_posed(tmp_path):
 @pytest.mark.parametrize("argv, message", [
     (["--pose", "fins=0,0,1"], "unknown part 'fins'"),
     (["--shape", "head=0.1,0.2"], "expected 4 comma-separated numbers"),
-    (["--length", "-1"], "must be positive"),
+    (["--length", "-1"], "--length: -1 m is outside the plausible range 0.5–35 m"),
 ])
 def test_export_bad_options_exit_2(tmp_path, capsys, argv, message):
     """Bad part names, value counts or lengths give exit code 2 and say what is wrong."""

@@ -45,12 +45,14 @@ def test_png_folder_round_trip(tmp_path):
 
 def test_png_folder_missing_frames_are_not_visible(tmp_path):
     """Frames without a PNG are not visible; without a clip the track ends at the last file."""
+    block = np.zeros((H, W), np.uint8)
+    block[10:20, 5:40] = 255
     for idx in (1, 3):
-        cv2.imwrite(str(tmp_path / f"{idx:06d}.png"), np.full((H, W), 255, np.uint8))
+        cv2.imwrite(str(tmp_path / f"{idx:06d}.png"), block)
     (tmp_path / "notes.txt").write_text("ignored")
     track = read_masks(tmp_path)
     assert track.is_visible.tolist() == [False, True, False, True]
-    assert not track.mask(0).any() and track.mask(1).all()
+    assert not track.mask(0).any() and track.mask(1).sum() == 10 * 35
     assert read_masks(tmp_path, _clip(num_frames=10)).num_frames == 10
 
 
@@ -122,3 +124,47 @@ def test_missing_path_raises(tmp_path):
     """A path that does not exist raises InputError naming it."""
     with pytest.raises(InputError, match="no such file or folder"):
         read_masks(tmp_path / "nothing")
+
+
+@pytest.mark.parametrize("keep", [100, 180, 200], ids=["half", "3/4", "all"])
+def test_truncated_npz_raises_naming_it(tmp_path, keep):
+    """An .npz cut short anywhere is an InputError naming the file, not a zip traceback."""
+    write_masks(MaskTrack.from_array(_ellipse_masks(), "test"), tmp_path / "m.npz")
+    data = (tmp_path / "m.npz").read_bytes()
+    (tmp_path / "m.npz").write_bytes(data[:len(data) * keep // 200 - (keep == 200)])
+    with pytest.raises(InputError, match=f"{tmp_path / 'm.npz'}: not a readable .npz file"):
+        read_masks(tmp_path / "m.npz")
+
+
+def test_all_white_and_inverted_masks_are_named(tmp_path):
+    """Masks covering more than 90 % of the frame are refused, naming those frames."""
+    masks = _ellipse_masks()
+    masks[1] = True                    # all white
+    masks[4] = ~_ellipse_masks()[4]   # inverted: the water marked as dolphin
+    np.savez(tmp_path / "m.npz", masks=masks)
+    with pytest.raises(InputError, match=r"m.npz: 2 mask\(s\) cover more than 90% of the "
+                                         r"frame .*: frame 1, frame 4"):
+        read_masks(tmp_path / "m.npz")
+
+
+def test_all_empty_masks_are_refused(tmp_path):
+    """Masks with no dolphin pixel in any frame are an error listing the frames."""
+    np.savez(tmp_path / "m.npz", masks=np.zeros((T, H, W), np.uint8))
+    with pytest.raises(InputError, match=r"m.npz: all 6 masks are empty \(frames 0–5\)"):
+        read_masks(tmp_path / "m.npz")
+
+
+def test_mask_folder_with_other_files_is_refused_and_kept(tmp_path):
+    """Writing masks replaces the whole folder, so one holding other files is refused."""
+    (tmp_path / "clip.mp4").write_text("video")
+    with pytest.raises(InputError, match=r"holds other things than mask PNGs \(clip.mp4\)"):
+        write_masks(MaskTrack.from_array(_ellipse_masks(), "test"), tmp_path)
+    assert [p.name for p in tmp_path.iterdir()] == ["clip.mp4"]
+
+
+def test_rewriting_a_mask_folder_drops_old_frames(tmp_path):
+    """A shorter track written over a longer one leaves exactly its own PNGs."""
+    write_masks(MaskTrack.from_array(_ellipse_masks(), "test"), tmp_path / "m")
+    write_masks(MaskTrack.from_array(_ellipse_masks()[:3], "test"), tmp_path / "m")
+    assert sorted(p.name for p in (tmp_path / "m").iterdir()) == [f"{t:06d}.png"
+                                                                   for t in range(3)]

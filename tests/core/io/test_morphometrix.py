@@ -130,3 +130,31 @@ def test_off_grid_widths_and_foreign_files_are_input_errors(tmp_path):
     bad.write_text("Object,Value,Value_unit\nAltitude,high,Metadata\n", encoding="utf-8")
     with pytest.raises(InputError, match="bad.csv, line 2: Altitude 'high' is not a number"):
         read_morphometrix(bad)
+
+
+@pytest.mark.parametrize("old, new, message", [
+    ("Focal Length,50.0", "Focal Length,0", "line 4: Focal Length: 0 mm is outside"),
+    ("Pixel Dimension,0.00391667", "Pixel Dimension,0",
+     "line 6: Pixel Dimension: 0 mm/px is outside"),
+    ("Altitude,50.0", "Altitude,1e6", r"line 5: Altitude: 1e\+06 m is outside"),
+])
+def test_impossible_metadata_is_refused_naming_the_line(tmp_path, old, new, message):
+    """A zero focal length or pixel size (a ZeroDivisionError before) or a 1000 km altitude."""
+    path = tmp_path / "bad.csv"
+    path.write_text(V2_DEMO.read_text(encoding="utf-8").replace(old, new), encoding="utf-8")
+    with pytest.raises(InputError, match=message):
+        read_morphometrix(path)
+
+
+@pytest.mark.parametrize("old, new, message", [
+    ("TL,2034.0,Pixels", "TL,0,Pixels", "TL: body length: 0 m is outside"),
+    ("TL_w40.0,325.4,Pixels", "TL_w40.0,2500,Pixels",
+     "TL: width 9.792 m is not between 0 and the body length 7.967 m"),
+    ("TL_w40.0,325.4,Pixels", "TL_w40.0,-3,Pixels", "TL: width -0.0117"),
+])
+def test_impossible_lengths_and_widths_are_refused(tmp_path, old, new, message):
+    """Zero length, widths beyond the length or negative are InputErrors naming the file."""
+    path = tmp_path / "bad.csv"
+    path.write_text(V2_DEMO.read_text(encoding="utf-8").replace(old, new), encoding="utf-8")
+    with pytest.raises(InputError, match=f"bad.csv: {message}"):
+        pixel_measurements(read_morphometrix(path), path)

@@ -36,13 +36,22 @@ def _frame_samples(frames, altitudes) -> AltitudeSamples:
 def test_mavic3_frames_take_their_cue_exactly():
     """A 50 fps clip over MAVIC3.srt: every frame sits on its cue and takes rel_alt + launch."""
     telemetry = load_telemetry(_clip(50.0, 12318), SRT_DIR / "MAVIC3.srt", LAUNCH_HEIGHT_M)
-    assert not telemetry.is_missing.any() and not telemetry.is_interpolated.any()
-    assert telemetry.altitude_m[0] == -2.4 + LAUNCH_HEIGHT_M
-    assert telemetry.altitude_m[4999] == -4.9 + LAUNCH_HEIGHT_M
+    assert not telemetry.is_interpolated[6393:].any()
     assert telemetry.altitude_m[6647] == 11.1 + LAUNCH_HEIGHT_M
     assert telemetry.altitude_m[12317] == 3.6 + LAUNCH_HEIGHT_M
     assert telemetry.source.describe() == \
         "srt MAVIC3.srt (modern), rel_alt + launch height 1.50 m"
+
+
+def test_altitudes_below_one_metre_are_missing_with_a_warning():
+    """MAVIC3.srt's first 6393 cues (rel_alt −4.9…−0.5 m + 1.5 m: the drone below the water)
+    are refused as altitudes: those frames are missing (the last one takes the next cue's
+    value, one interval away), and a warning says why."""
+    telemetry = load_telemetry(_clip(50.0, 12318), SRT_DIR / "MAVIC3.srt", LAUNCH_HEIGHT_M)
+    assert telemetry.is_missing.tolist() == [True] * 6392 + [False] * (12318 - 6392)
+    assert "6393 of 12318 altitudes outside the plausible 1–500 m taken as missing: " \
+           "-0.9 m at 0 s, -0.9 m at 0.02 s" in telemetry.warnings[0]
+    assert "(is the launch height missing?)" in telemetry.warnings[0]
 
 
 def test_one_hertz_legacy_srt_interpolates_between_seconds():
@@ -78,8 +87,9 @@ def test_constant_altitude():
     telemetry = load_telemetry(_clip(25.0, 4), "20.5")
     assert telemetry.altitude_m.tolist() == [20.5] * 4 and telemetry.source.kind == "constant"
     assert load_telemetry(_clip(25.0, 2), 18).altitude_m.tolist() == [18.0, 18.0]
-    with pytest.raises(InputError, match="positive"):
-        load_telemetry(_clip(25.0, 2), -3.0)
+    for bad in (-3.0, 0.0, 1e6, float("nan")):
+        with pytest.raises(InputError, match="altitude"):
+            load_telemetry(_clip(25.0, 2), bad)
 
 
 def test_sidecar_srt_is_found_beside_the_clip(tmp_path):

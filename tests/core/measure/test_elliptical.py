@@ -1,11 +1,13 @@
 """Elliptical volume, tail options, circular variant and BAI against analytic solids."""
 
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
 from scipy.integrate import quad
 
+from core.io.morphometrix import pixel_measurements, read_morphometrix
 from core.measure.elliptical import (
     TAIL_EXTRAPOLATED, TAIL_MEASURED, apply_tail, body_area_index, circular_volume,
     elliptical_volume, fill_skipped, segment_volumes,
@@ -19,6 +21,9 @@ DX_M = 0.05 * BL_M
 TEMPLATE_W_BL = np.array([.045, .085, .13, .15, .165, .175, .18, .18, .175, .16, .14, .125,
                           .11, .09, .075, .06, .045, .030, .015])
 PROVISIONAL_HW = np.repeat([1.0, 1.125, 1.4, 1.625, 2.4, np.nan], [3, 5, 3, 4, 2, 2])
+# A real MorphoMetriX v1 file (CollatriX's demo whale): TL 24.09 m, widths every 10 %
+MMX_V1 = Path(__file__).resolve().parents[2] / "data" / "morphometrix" / \
+    "mmx_v1_Whale1_170816_A_F2_DSC04215.csv"
 
 
 def test_cylinder_is_two_end_cones_and_18_cylinders():
@@ -119,6 +124,28 @@ def test_fill_skipped_ignores_the_tail_the_option_replaces():
     widths[-2:] = np.nan
     filled, is_filled = fill_skipped(widths, TAIL_EXTRAPOLATED)
     assert not is_filled.any() and np.isnan(filled[-2:]).all()
+
+
+def test_fill_takes_the_measured_tail_widths_before_the_tail_rule():
+    """Real v1 file, extrapolated tail: the missing 85 % width is the mean of the measured 80 %
+    and 90 % widths (0.680 m), not ¾ of the 80 % one that interpolating to the zero at 100 %
+    gave (0.705 m, 3.7 % wide). Through ⅔ and ⅓ of it at 90 % and 95 %, the old fill
+    overstated the volume by 0.115 % with the provisional HW row (0.059 % circular)."""
+    record = read_morphometrix(MMX_V1)
+    pixels = pixel_measurements(record, MMX_V1)
+    length, widths = pixels.length_px * record.m_per_px, pixels.widths_px * record.m_per_px
+    filled, is_filled = fill_skipped(widths, TAIL_EXTRAPOLATED)
+    assert filled[16] == pytest.approx((0.94 + 0.42) / 2, rel=1e-9)
+    assert is_filled.tolist() == [i % 2 == 0 and i < 17 for i in range(19)]
+    np.testing.assert_allclose(filled[:17], fill_skipped(widths, TAIL_MEASURED)[0][:17])
+    to_zero = filled.copy()
+    to_zero[16] = 0.75 * widths[15]
+    volume = elliptical_volume(length, filled, PROVISIONAL_HW, TAIL_EXTRAPOLATED)
+    assert volume == pytest.approx(106.3098, abs=1e-4)
+    old = elliptical_volume(length, to_zero, PROVISIONAL_HW, TAIL_EXTRAPOLATED)
+    assert 100 * (volume / old - 1) == pytest.approx(-0.1152, abs=1e-4)
+    circular = [circular_volume(length, w, TAIL_EXTRAPOLATED) for w in (filled, to_zero)]
+    assert 100 * (circular[0] / circular[1] - 1) == pytest.approx(-0.0594, abs=1e-4)
 
 
 def test_body_area_index_of_a_constant_width():

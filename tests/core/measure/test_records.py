@@ -2,6 +2,7 @@
 
 import csv
 import json
+from dataclasses import replace
 
 import numpy as np
 import pytest
@@ -15,7 +16,8 @@ from core.measure.baseline import BaselineSettings, estimate_baseline
 from core.measure.hw_ratios import load_hw_preset
 from core.measure.records import (
     RESULT_SCHEMA_VERSION, default_error_model, mass_model_from_json,
-    measured_image_from_annotation, result_record, wide_csv_row, write_exports,
+    collatrix_csv_row, measured_image_from_annotation, result_record, wide_csv_row,
+    write_exports,
 )
 from core.measure.stations import STATION_FRACTIONS
 
@@ -77,24 +79,54 @@ def test_default_error_model_takes_overrides():
     assert errors.altitude_sd_fraction < default_error_model("manual", False).altitude_sd_fraction
 
 
-def test_write_exports_writes_three_files_that_read_back(tmp_path):
-    """STEM_measure.json, STEM_mmx.csv and STEM_wide.csv; the MorphoMetriX file and the wide
-    row give back the pixels; the wide row is wide_csv_row's."""
+def _read_row(path):
+    with open(path, newline="", encoding="utf-8") as file:
+        (row,) = list(csv.DictReader(file))
+    return row
+
+
+def test_write_exports_writes_four_files_that_read_back(tmp_path):
+    """STEM_measure.json, STEM_mmx.csv, STEM_wide.csv and STEM_collatrix.csv; the MorphoMetriX
+    file and the wide row give back the pixels; the rows are wide_csv_row's and
+    collatrix_csv_row's, both keyed on the image's name and the MorphoMetriX file."""
     source, estimate = _estimate()
     result = result_record(source, estimate, input_name="D7", seed=0)
     paths = write_exports(tmp_path / "d7", source, estimate, result)
-    assert [p.name for p in paths] == ["d7_measure.json", "d7_mmx.csv", "d7_wide.csv"]
+    assert [p.name for p in paths] == ["d7_measure.json", "d7_mmx.csv", "d7_wide.csv",
+                                       "d7_collatrix.csv"]
     assert json.loads(paths[0].read_text(encoding="utf-8"))["stations"] == result["stations"]
     record = read_morphometrix(paths[1])
     assert record.lengths_px["TL"] == pytest.approx(LENGTH_PX, rel=1e-9)
     np.testing.assert_allclose([record.widths_px["TL"][pct] for pct in (5.0, 50.0, 95.0)],
                                source.pixels.widths_px[[0, 9, 18]], rtol=1e-9)
-    with open(paths[2], newline="", encoding="utf-8") as file:
-        (row,) = list(csv.DictReader(file))
-    assert row == wide_csv_row(source, estimate, result, image="d7_mmx.csv")
+    row = _read_row(paths[2])
+    assert row == wide_csv_row(source, estimate, result, csv_name="d7_mmx.csv")
     assert float(row["TL_w05.00_px"]) == pytest.approx(source.pixels.widths_px[0], rel=1e-9)
-    assert (row["Image"], row["Baro_Alt"], row["Iw"]) == ("d7_mmx.csv", "18", "3840")
+    assert (row["csv"], row["Image"], row["Baro_Alt"], row["Iw"]) == \
+        ("d7_mmx.csv", "clip.mp4", "18", "3840")
     assert float(row["volume_m3"]) == pytest.approx(result["volume_m3"], rel=1e-9)
+    collatrix = _read_row(paths[3])
+    assert collatrix == collatrix_csv_row(source, estimate, csv_name="d7_mmx.csv")
+    assert (collatrix["csv"], collatrix["Image"], collatrix["Image_ID"]) == \
+        ("d7_mmx.csv", "clip.mp4", "D7")
+    assert float(collatrix["TL"]) == pytest.approx(result["length_m"], rel=1e-9)
+
+
+def test_collatrix_row_fills_skipped_stations_as_the_volume_does():
+    """Stations 15 % and 55 % skipped: CollatriX gets the interpolated widths the volume used
+    (it cannot skip a station), listed in Filled_Widths; measured ones are as measured."""
+    source, estimate = _estimate()
+    widths = source.pixels.widths_px.copy()
+    widths[[2, 10]] = np.nan
+    skipped = estimate_baseline(replace(source.pixels, widths_px=widths), source.focal_px,
+                                18.0, BaselineSettings(hw=load_hw_preset()),
+                                estimate.errors, 0, np.random.default_rng(0))
+    row = collatrix_csv_row(source, skipped, csv_name="x.csv", image_id="D7 dolphin 2")
+    stations = skipped.to_json()["stations"]
+    assert float(row["TL_w15.00"]) == pytest.approx(stations[2]["width_m"], rel=1e-9)
+    assert float(row["TL_w55.00"]) == pytest.approx(stations[10]["width_m"], rel=1e-9)
+    assert float(row["TL_w50.00"]) == pytest.approx(widths[9] * skipped.m_per_px, rel=1e-9)
+    assert (row["Filled_Widths"], row["Image_ID"]) == ("15 55", "D7 dolphin 2")
 
 
 def test_mass_model_from_json(tmp_path):

@@ -76,7 +76,7 @@ def exported(tmp_path_factory):
 def test_writes_every_file(exported):
     _, _, out, paths, calls = exported
     names = ["DJI_0001_f000003_dolphin-1", "DJI_0001_f000009", "DJI_0001_f000003_dolphin-2"]
-    expected = {out / "survey_results.json", out / "survey_wide.csv",
+    expected = {out / "survey_results.json", out / "survey_wide.csv", out / "survey_collatrix.csv",
                 *(out / "survey_mmx" / f"{n}.csv" for n in names),
                 *(out / "survey_receipts" / f"{n}.png" for n in names)}
     assert set(paths) == expected and all(p.is_file() for p in paths)
@@ -97,6 +97,19 @@ def test_wide_csv_rows_match_the_measurements(exported):
             max_width * np.sin(np.pi * 0.05), rel=1e-9)
         assert all(row[f"TL_w{5 * (s + 1):05.2f}_px"] == "" for s in skipped)
         assert row["Laser_Alt"] != "" and float(row["volume_m3"]) > 0
+
+
+def test_collatrix_table_tells_two_animals_on_one_frame_apart(exported):
+    """CollatriX joins and sums on (Image_ID, Image): Image is the clip's base name, Image_ID
+    the export name, unique even where two animals share frame 3."""
+    _, results, out, _, _ = exported
+    with (out / "survey_collatrix.csv").open(newline="", encoding="utf-8") as file:
+        rows = list(csv.DictReader(file))
+    assert [(r["Image"], r["Image_ID"], r["csv"]) for r in rows] == [
+        ("DJI_0001.MP4", name, f"{name}.csv") for name in
+        ("DJI_0001_f000003_dolphin-1", "DJI_0001_f000009", "DJI_0001_f000003_dolphin-2")]
+    assert [r["Filled_Widths"] for r in rows] == ["", "25", ""]
+    assert float(rows[2]["TL"]) == pytest.approx(float(results[2].estimate.point.length_m))
 
 
 def test_mmx_files_read_back_with_the_same_length(exported):
