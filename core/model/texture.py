@@ -10,6 +10,8 @@ The albedo carries the countershading of bottlenose dolphins: a dark dorsal cape
 and a light belly; fins dark, the flukes lighter underneath.
 """
 
+from dataclasses import dataclass, field
+
 import numpy as np
 
 from core.model.skeleton import smoothstep
@@ -22,12 +24,23 @@ FIN_V = (0.72, 0.99)
 FIN_SPLIT_V = 0.855          # upper face above, lower face below
 FIN_CELLS_U = {"dorsal_fin": (0.01, 0.32), "flipper": (0.345, 0.655), "fluke": (0.68, 0.99)}
 
-# Luminance of the countershading (0 black, 1 white).
-CAPE_LUMA = 0.24
-FLANK_LUMA = 0.50
-BELLY_LUMA = 0.86
 TRANSITION_DEG = 14.0
-FIN_LUMA = {"dorsal_fin": (0.22, 0.22), "flipper": (0.30, 0.42), "fluke": (0.26, 0.58)}
+
+
+@dataclass(frozen=True)
+class Countershading:
+    """Luminances of the colour pattern (0 black, 1 white); the default is the template's."""
+
+    cape: float = 0.24
+    flank: float = 0.50
+    belly: float = 0.86
+    fins: dict[str, tuple[float, float]] = field(default_factory=lambda: {
+        "dorsal_fin": (0.22, 0.22), "flipper": (0.30, 0.42), "fluke": (0.26, 0.58)})
+    cape_edge_shift_deg: float = 0.0     # negative: a narrower cape
+    cape_fade_t: float | None = None     # the cape fades into the flank grey behind this fraction
+
+
+TEMPLATE_SHADING = Countershading()
 
 
 def body_uv(t: np.ndarray, phi_deg: np.ndarray) -> np.ndarray:
@@ -57,15 +70,22 @@ def cape_edge_deg(t: np.ndarray) -> np.ndarray:
     return 62.0 + 16.0 * np.cos(2.0 * np.pi * (t - 0.42))
 
 
-def body_luma(t: np.ndarray, phi_deg: np.ndarray) -> np.ndarray:
+def body_luma(t: np.ndarray, phi_deg: np.ndarray,
+              shading: Countershading = TEMPLATE_SHADING) -> np.ndarray:
     """Countershading luminance at body fraction ``t`` and angle φ (either sign)."""
     angle = np.abs(phi_deg)
-    to_flank = smoothstep((angle - cape_edge_deg(t)) / TRANSITION_DEG)
+    edge = cape_edge_deg(t) + shading.cape_edge_shift_deg
+    to_flank = smoothstep((angle - edge) / TRANSITION_DEG)
+    if shading.cape_fade_t is not None:
+        fade = smoothstep((t - shading.cape_fade_t) / 0.15)
+        to_flank = to_flank + (1.0 - to_flank) * fade
     to_belly = smoothstep((angle - 135.0) / TRANSITION_DEG)
-    return CAPE_LUMA + (FLANK_LUMA - CAPE_LUMA) * to_flank + (BELLY_LUMA - FLANK_LUMA) * to_belly
+    return (shading.cape + (shading.flank - shading.cape) * to_flank
+            + (shading.belly - shading.flank) * to_belly)
 
 
-def build_albedo(size: int = ALBEDO_SIZE) -> np.ndarray:
+def build_albedo(size: int = ALBEDO_SIZE,
+                 shading: Countershading = TEMPLATE_SHADING) -> np.ndarray:
     """(size, size) uint8 grayscale albedo laid out as the atlas above.
 
     Every texel belongs to a region, the margins continuing their region's pattern, so
@@ -76,13 +96,13 @@ def build_albedo(size: int = ALBEDO_SIZE) -> np.ndarray:
     in_body = v < 0.5 * (BODY_V[1] + FIN_V[0])
     t = np.clip((u - BODY_U[0]) / (BODY_U[1] - BODY_U[0]), 0.0, 1.0)
     phi = np.clip((v - BODY_V[0]) / (BODY_V[1] - BODY_V[0]), 0.0, 1.0) * 360.0 - 180.0
-    luma = np.where(in_body, body_luma(t, phi), 0.0)
+    luma = np.where(in_body, body_luma(t, phi, shading), 0.0)
 
     cells = list(FIN_CELLS_U.items())
     for k, (fin, (u0, u1)) in enumerate(cells):
         left = 0.0 if k == 0 else 0.5 * (cells[k - 1][1][1] + u0)
         right = 1.0 if k == len(cells) - 1 else 0.5 * (u1 + cells[k + 1][1][0])
         in_cell = ~in_body & (u >= left) & (u < right)
-        luma_upper, luma_lower = FIN_LUMA[fin]
+        luma_upper, luma_lower = shading.fins[fin]
         luma[in_cell] = np.where(v[in_cell] < FIN_SPLIT_V, luma_upper, luma_lower)
     return np.round(luma * 255.0).astype(np.uint8)

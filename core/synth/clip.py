@@ -18,15 +18,21 @@ from core.model.template import load_template
 from core.progress import Progress, ProgressCallback, check_cancel
 from core.render.render import Appearance
 from core.render.shade import SGLight
+from core.synth.colouration import albedo
 from core.synth.compose import (
-    VISIBLE_CONTRAST, composite, finish, layer_mask, render_layer, ripple,
+    VISIBLE_CONTRAST, DolphinLayer, Highlight, composite, finish, layer_mask, occlude,
+    render_layer, ripple,
 )
 from core.synth.config import SynthConfig
-from core.synth.files import LOSSLESS_CODEC, LOSSY_CODEC, ClipFiles, clip_files
-from core.synth.motion import swim
+from core.synth.files import (
+    LOSSLESS_CODEC, LOSSY_CODEC, ClipFiles, clip_files, write_part_masks,
+)
+from core.synth.motion import Motion, companion, swim
+from core.synth.parts import PART_NAMES, part_faces
 from core.synth.sea import Sea
 from core.synth.shape import random_betas, subdivide, warp_profiles
 from core.synth.telemetry import write_altitude, write_dji_srt
+from core.synth.whitewater import Whitewater
 
 TRUTH_SCHEMA_VERSION = 1
 RENDER_STAGE = "render"
@@ -62,27 +68,54 @@ def make_clip(config: SynthConfig, out_dir: Path, progress: ProgressCallback | N
                   if config.effects.scattering else None)
     sea = Sea(config, rng)
     noise_rng = np.random.default_rng([config.seed, 1])
+    extra_rng = np.random.default_rng([config.seed, 3])      # new effects keep the streams above
+    mate_motion, mate_verts = _companion(config, model, motion, extra_rng)
+    faces = model.faces
+    parts = part_faces(model, betas)
+    highlight = (Highlight(config.sun_direction(), config.wet_specular)
+                 if config.wet_specular > 0 else None)
+    gsd = float(config.altitude_m) / intrinsics.focal_px
+    whitewater = Whitewater(config, extra_rng, gsd) if config.splash > 0 else None
+
+    def layer_at(t: int, verts_t: torch.Tensor, slope: np.ndarray,
+                 with_parts: bool) -> DolphinLayer | None:
+        layer = render_layer(verts_t, faces, appearance, intrinsics, float(altitude[t]),
+                             config.effects.refraction, scattering,
+                             parts if with_parts else (), highlight)
+        if layer is not None and config.effects.ripples:
+            layer = ripple(layer, slope, float(altitude[t]) / intrinsics.focal_px)
+        return layer
 
     files = clip_files(out_dir, config)
     files.masks_dir.mkdir(parents=True, exist_ok=True)
     writer = _open_writer(files.video, config)
     visible = []
-    faces = model.faces
+    seeds: list[list[int] | None] = []
+    packed: dict[str, list[np.ndarray]] = {name: [] for name in PART_NAMES}
     try:
         for t in range(config.num_frames):
             check_cancel(cancel)
             sea_frame = sea.frame(float(motion.time_s[t]), float(altitude[t]))
-            layer = render_layer(verts[t:t + 1], faces, appearance, intrinsics,
-                                 float(altitude[t]), config.effects.refraction, scattering)
-            if layer is not None and config.effects.ripples:
-                layer = ripple(layer, sea_frame.slope, float(altitude[t]) / intrinsics.focal_px)
-            frame, contrast = composite(sea_frame.rgb, layer)
+            mate = (None if mate_verts is None
+                    else layer_at(t, mate_verts[t:t + 1], sea_frame.slope, False))
+            layer = layer_at(t, verts[t:t + 1], sea_frame.slope, True)
+            if layer is not None:
+                layer = occlude(layer, mate)
+            background = sea_frame.rgb if mate is None else composite(sea_frame.rgb, mate)[0]
+            frame, contrast = composite(background, layer)
+            if whitewater is not None:
+                frame = whitewater.apply(frame, [layer, mate])
             is_visible = contrast >= VISIBLE_CONTRAST
             visible.append(is_visible)
             glints = sea_frame.glints if config.effects.glints else np.zeros_like(sea_frame.glints)
+            if sea_frame.glitter is not None:
+                glints = glints + sea_frame.glitter
             writer.write(finish(frame, glints, config.blur_px, config.noise_sd, noise_rng))
             mask = layer_mask(layer if is_visible else None, config.height_px, config.width_px)
             cv2.imwrite(str(files.masks_dir / f"{t:06d}.png"), mask)
+            seeds.append(_seed_px(mask))
+            for k, name in enumerate(PART_NAMES):
+                packed[name].append(np.packbits(_part_mask(layer, k, mask), axis=-1))
             if progress is not None:
                 progress(Progress(RENDER_STAGE, t + 1, config.num_frames))
     finally:
@@ -90,8 +123,42 @@ def make_clip(config: SynthConfig, out_dir: Path, progress: ProgressCallback | N
 
     write_altitude(files.altitude_csv, motion.time_s, altitude)
     write_dji_srt(files.srt, motion.time_s, altitude, config.fps, config.launch_height_m)
-    _write_truth(files.truth_json, config, model, betas, motion, altitude, visible)
+    write_part_masks(files.parts, packed,
+                     (config.num_frames, config.height_px, config.width_px))
+    _write_truth(files.truth_json, config, model, betas, motion, altitude, visible, seeds,
+                 mate_motion)
     return files
+
+
+def _companion(config: SynthConfig, model: DolphinModel, target: Motion,
+               rng: np.random.Generator) -> tuple[Motion | None, torch.Tensor | None]:
+    """The second animal's motion and posed vertices (T, V, 3), or None when alone."""
+    if config.companion_offset_m is None:
+        return None, None
+    betas = random_betas(model, config.companion_length_m, config.shape_sd, rng)
+    motion = companion(config, target, model.group_names, rng)
+    with torch.no_grad():
+        verts = model(betas, torch.as_tensor(motion.pose_aa),
+                      torch.as_tensor(motion.transl)).verts.to(torch.float32)
+    return motion, verts
+
+
+def _seed_px(mask: np.ndarray) -> list[int] | None:
+    """[x, y] of the mask's deepest interior pixel (farthest from its edge); None if empty."""
+    if not mask.any():
+        return None
+    distance = cv2.distanceTransform(mask, cv2.DIST_L2, 5)
+    row, col = np.unravel_index(int(np.argmax(distance)), distance.shape)
+    return [int(col), int(row)]
+
+
+def _part_mask(layer: DolphinLayer | None, part: int, mask: np.ndarray) -> np.ndarray:
+    """(H, W) bool: where the part covers at least half a pixel of the true mask."""
+    region = np.zeros(mask.shape, dtype=bool)
+    if layer is not None and layer.parts is not None:
+        h, w = layer.alpha.shape
+        region[layer.y0:layer.y0 + h, layer.x0:layer.x0 + w] = layer.parts[..., part] >= 0.5
+    return region & (mask > 0)
 
 
 def _open_writer(path: Path, config: SynthConfig) -> cv2.VideoWriter:
@@ -105,21 +172,24 @@ def _open_writer(path: Path, config: SynthConfig) -> cv2.VideoWriter:
 
 
 def _appearance(template, config: SynthConfig) -> Appearance:
-    """The template's albedo under a sun at the configured elevation and azimuth."""
+    """The configured colouration under a sun at the configured elevation and azimuth."""
     light = SGLight.overhead_sun(torch.float32)
     axes = light.axes.clone()
     axes[0] = torch.as_tensor(config.sun_direction(), dtype=axes.dtype)
     f_water = (torch.zeros(3) if config.effects.scattering
                else torch.tensor(config.clarity_per_m, dtype=torch.float32))
-    return Appearance(albedo=torch.tensor(template.albedo / 255.0, dtype=torch.float32),
+    return Appearance(albedo=torch.tensor(albedo(template, config.colouration),
+                                          dtype=torch.float32),
                       face_uvs=torch.tensor(template.uvs[template.face_uvs_idx],
                                             dtype=torch.float32),
                       light=SGLight(axes, light.sharpness, light.amplitude), f_water=f_water)
 
 
 def _write_truth(path: Path, config: SynthConfig, model: DolphinModel, betas: torch.Tensor,
-                 motion, altitude: np.ndarray, visible: list[bool]) -> None:
-    """truth.json: the animal's size and condition, its shape and every frame's pose."""
+                 motion: Motion, altitude: np.ndarray, visible: list[bool],
+                 seeds: list[list[int] | None], mate: Motion | None) -> None:
+    """truth.json: the animal's size and condition, its shape and every frame's pose, a
+    point inside its mask (``seed_px``) and, with a companion, the companion's position."""
     with torch.no_grad():
         rest = model.forward_rest(betas)[0]
         volume = float(mesh_volume(rest, model.faces))
@@ -137,7 +207,9 @@ def _write_truth(path: Path, config: SynthConfig, model: DolphinModel, betas: to
         "frames": [
             {"frame": t, "time_s": float(motion.time_s[t]), "altitude_m": float(altitude[t]),
              "transl_m": motion.transl[t].tolist(), "pose_aa": motion.pose_aa[t].tolist(),
-             "depth_m": float(motion.depth_m[t]), "visible": bool(visible[t])}
+             "depth_m": float(motion.depth_m[t]), "visible": bool(visible[t]),
+             "seed_px": seeds[t],
+             **({} if mate is None else {"companion_transl_m": mate.transl[t].tolist()})}
             for t in range(len(visible))],
     }
     write_json(path, truth)

@@ -6,6 +6,10 @@ follows the fit's model (the paper's transmission filter) or, with ``scattering`
 one: transmission T = exp(−k·depth) plus in-scattered water colour (1 − T). With ``ripples``,
 the submerged layer is displaced by the surface slope: a facet tilted by slope s bends the
 line of sight by about (1 − 1/n)·s, which moves a point at depth d by d·(1 − 1/n)·s.
+
+A layer can also carry the coverage of named parts (sets of faces, for part masks) and sun
+highlights on the wet skin above the water. A second animal is composited first; where it lies
+above the target, it hides the target (``occlude``).
 """
 
 from dataclasses import dataclass
@@ -19,10 +23,12 @@ from core.camera import N_WATER, NadirCamera
 from core.intrinsics import CameraIntrinsics
 from core.render.render import Appearance, render
 from core.render.settings import Viewport
+from core.synth.highlight import wet_highlight
 
 SUPERSAMPLE = 2
 ROI_MARGIN_PX = 6
 VISIBLE_CONTRAST = 0.035   # mean |dolphin − water| colour difference seen as visible
+OCCLUSION_MARGIN_M = 0.02  # another animal hides the target only when this much shallower
 
 
 @dataclass(frozen=True)
@@ -34,15 +40,27 @@ class DolphinLayer:
     alpha: np.ndarray        # (h, w) float32 coverage fraction
     premult: np.ndarray      # (h, w, 3) float32 colour × alpha
     depth_m: np.ndarray      # (h, w) float32 depth below the surface of the covered surface
+    parts: np.ndarray | None = None   # (h, w, P) float32 coverage fraction of each part
+
+
+@dataclass(frozen=True)
+class Highlight:
+    """Sun highlights on wet skin: the sun's direction (world, unit) and their strength."""
+
+    sun: np.ndarray
+    strength: float
 
 
 def render_layer(verts_world: torch.Tensor, faces: torch.Tensor, appearance: Appearance,
                  intrinsics: CameraIntrinsics, altitude_m: float, refraction: bool,
-                 scattering: tuple[np.ndarray, np.ndarray] | None) -> DolphinLayer | None:
+                 scattering: tuple[np.ndarray, np.ndarray] | None,
+                 part_faces: tuple[torch.Tensor, ...] = (),
+                 highlight: Highlight | None = None) -> DolphinLayer | None:
     """Supersampled render of one posed mesh (1, V, 3); None when it is out of the frame.
 
     ``scattering``: (water colour (3,), attenuation (3,) 1/m) for the physical water model,
-    or None to keep the appearance's own transmission filter.
+    or None to keep the appearance's own transmission filter. ``part_faces``: (F,) bool face
+    sets whose coverage the layer carries in ``parts``.
     """
     altitude = torch.tensor([altitude_m], dtype=verts_world.dtype)
     camera = NadirCamera(intrinsics, altitude, refraction=refraction)
@@ -63,6 +81,10 @@ def render_layer(verts_world: torch.Tensor, faces: torch.Tensor, appearance: App
     coverage = out.coverage[0].to(verts_world.dtype)
     depth = (-out.height_m[0]).clamp(min=0.0)
     rgb = out.rgb[0]
+    if highlight is not None and highlight.strength > 0:
+        rgb = rgb + wet_highlight(verts_world, faces, fine, viewport,
+                                  torch.as_tensor(highlight.sun, dtype=verts_world.dtype),
+                                  highlight.strength).to(rgb.dtype)[..., None]
     if scattering is not None:
         water, attenuation = (torch.as_tensor(a, dtype=rgb.dtype) for a in scattering)
         transmit = torch.exp(-depth[..., None] * attenuation)
@@ -74,8 +96,13 @@ def render_layer(verts_world: torch.Tensor, faces: torch.Tensor, appearance: App
     pooled = pool(torch.cat([coverage[..., None], rgb * coverage[..., None],
                              (depth * coverage)[..., None]], -1)).astype(np.float32)
     alpha = pooled[..., 0]
+    parts = None
+    if part_faces:
+        face = out.face_idx[0]
+        in_part = [(face >= 0) & members[face.clamp(min=0)] for members in part_faces]
+        parts = pool(torch.stack(in_part, -1).to(rgb.dtype)).astype(np.float32)
     return DolphinLayer(x0=x0, y0=y0, alpha=alpha, premult=pooled[..., 1:4],
-                        depth_m=pooled[..., 4] / np.maximum(alpha, 1e-6))
+                        depth_m=pooled[..., 4] / np.maximum(alpha, 1e-6), parts=parts)
 
 
 def ripple(layer: DolphinLayer, slope: np.ndarray, gsd_m_per_px: float) -> DolphinLayer:
@@ -90,8 +117,31 @@ def ripple(layer: DolphinLayer, slope: np.ndarray, gsd_m_per_px: float) -> Dolph
     def warp(image: np.ndarray) -> np.ndarray:
         return cv2.remap(image, map_x, map_y, cv2.INTER_LINEAR, borderMode=cv2.BORDER_CONSTANT)
 
+    parts = None if layer.parts is None else warp(layer.parts).reshape(layer.parts.shape)
     return DolphinLayer(layer.x0, layer.y0, warp(layer.alpha), warp(layer.premult),
-                        warp(layer.depth_m))
+                        warp(layer.depth_m), parts)
+
+
+def occlude(layer: DolphinLayer, front: DolphinLayer | None) -> DolphinLayer:
+    """``layer`` less what ``front`` (another animal) hides where it lies above ``layer``."""
+    if front is None:
+        return layer
+    h, w = layer.alpha.shape
+    cover = np.zeros((h, w), dtype=np.float32)
+    above = np.zeros((h, w), dtype=bool)
+    fy0, fx0 = max(front.y0, layer.y0), max(front.x0, layer.x0)
+    fy1 = min(front.y0 + front.alpha.shape[0], layer.y0 + h)
+    fx1 = min(front.x0 + front.alpha.shape[1], layer.x0 + w)
+    if fy1 <= fy0 or fx1 <= fx0:
+        return layer
+    mine = (slice(fy0 - layer.y0, fy1 - layer.y0), slice(fx0 - layer.x0, fx1 - layer.x0))
+    theirs = (slice(fy0 - front.y0, fy1 - front.y0), slice(fx0 - front.x0, fx1 - front.x0))
+    cover[mine] = front.alpha[theirs]
+    above[mine] = front.depth_m[theirs] < layer.depth_m[mine] - OCCLUSION_MARGIN_M
+    keep = np.where(above, 1.0 - cover, 1.0).astype(np.float32)
+    parts = None if layer.parts is None else layer.parts * keep[..., None]
+    return DolphinLayer(layer.x0, layer.y0, layer.alpha * keep, layer.premult * keep[..., None],
+                        layer.depth_m, parts)
 
 
 def composite(sea_rgb: np.ndarray, layer: DolphinLayer | None) -> tuple[np.ndarray, float]:

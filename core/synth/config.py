@@ -11,6 +11,19 @@ import numpy as np
 
 from core.errors import InputError
 from core.io.json_file import dataclass_from_json
+from core.limits import (
+    ALTITUDE_M, BODY_LENGTH_M, FOCAL_MM, FPS, IMAGE_SIZE_PX, LAUNCH_HEIGHT_M, SENSOR_WIDTH_MM,
+    check_fields,
+)
+
+RANGES = {"altitude_m": ALTITUDE_M, "length_m": BODY_LENGTH_M, "focal_mm": FOCAL_MM,
+          "sensor_width_mm": SENSOR_WIDTH_MM, "width_px": IMAGE_SIZE_PX,
+          "height_px": IMAGE_SIZE_PX, "fps": FPS, "launch_height_m": LAUNCH_HEIGHT_M}
+MINIMUMS = {name: 0.0 for name in ("seed", "altitude_drift_m", "shape_sd", "speed_m_s",
+                                   "stroke_hz", "stroke_amplitude", "surface_depth_m",
+                                   "dive_depth_m", "noise_sd", "blur_px")}
+
+COLOURATIONS = ("dark", "light_grey")
 
 
 @dataclass(frozen=True)
@@ -57,9 +70,21 @@ class SynthConfig:
     sun_azimuth_deg: float = 30.0
     noise_sd: float = 0.01                  # sensor noise, fraction of full scale
     blur_px: float = 0.6                    # optical blur, Gaussian σ
+    colouration: str = "dark"               # "dark" (the template's albedo) or "light_grey"
+    seabed_depth_m: float | None = None     # a visible seabed this deep; None: open water
+    seabed_rgb: tuple[float, float, float] = (0.72, 0.66, 0.50)   # bare sand
+    seabed_cover: float = 0.0               # fraction of the bed under dark seagrass patches
+    glitter: float = 0.0                    # capillary-wave sun glitter, 0 off … 1 heavy
+    wet_specular: float = 0.0               # highlight on the wet skin above water, 0 off
+    turn_flex: float = 0.0                  # lateral flex; 1 = the body bends with the path
+    companion_offset_m: float | None = None  # a second animal this far to the left (− right)
+    companion_ahead_m: float = 0.0          # … and this far ahead of the target
+    companion_length_m: float = 2.4
+    splash: float = 0.0                     # white water and wake at the surface, 0 off … 1
     effects: Effects = field(default_factory=Effects)
 
     def __post_init__(self) -> None:
+        check_fields(self, "synth option ", ranges=RANGES, minimum=MINIMUMS)
         positive = ("width_px", "height_px", "fps", "duration_s", "focal_mm", "sensor_width_mm",
                     "altitude_m", "length_m", "speed_m_s")
         for name in positive:
@@ -69,8 +94,17 @@ class SynthConfig:
         if self.width_px % 2 or self.height_px % 2:
             raise InputError(f"synth image size {self.width_px}×{self.height_px}: "
                              f"width and height must be even for the video encoder")
-        if not 0.0 <= self.sea_state <= 1.0:
-            raise InputError(f"synth option sea_state: must lie in [0, 1], got {self.sea_state}")
+        for name in ("sea_state", "seabed_cover", "glitter", "splash"):
+            if not 0.0 <= getattr(self, name) <= 1.0:
+                raise InputError(f"synth option {name}: must lie in [0, 1], "
+                                 f"got {getattr(self, name)}")
+        if self.colouration not in COLOURATIONS:
+            raise InputError(f"synth option colouration: one of {', '.join(COLOURATIONS)}, "
+                             f"got {self.colouration!r}")
+        for name in ("seabed_depth_m", "companion_length_m"):
+            value = getattr(self, name)
+            if value is not None and not value > 0:
+                raise InputError(f"synth option {name}: must be positive, got {value!r}")
 
     def sun_direction(self) -> np.ndarray:
         """(3,) unit vector towards the sun, world frame (z up)."""

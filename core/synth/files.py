@@ -1,8 +1,10 @@
-"""Where a synthetic clip's files go (no rendering here, so finding a cached clip loads no
-model stack)."""
+"""Where a synthetic clip's files go, and its part masks (no rendering here, so finding a
+cached clip loads no model stack)."""
 
 from dataclasses import dataclass
 from pathlib import Path
+
+import numpy as np
 
 from core.synth.config import SynthConfig
 
@@ -19,6 +21,7 @@ class ClipFiles:
     altitude_csv: Path
     srt: Path
     truth_json: Path
+    parts: Path
 
 
 def clip_files(out_dir: Path, config: SynthConfig) -> ClipFiles:
@@ -26,4 +29,20 @@ def clip_files(out_dir: Path, config: SynthConfig) -> ClipFiles:
     suffix = (LOSSY_CODEC if config.effects.compression else LOSSLESS_CODEC)[1]
     return ClipFiles(video=out_dir / f"clip{suffix}", masks_dir=out_dir / "masks",
                      altitude_csv=out_dir / "altitude.csv", srt=out_dir / "clip.SRT",
-                     truth_json=out_dir / "truth.json")
+                     truth_json=out_dir / "truth.json", parts=out_dir / "parts.npz")
+
+
+def write_part_masks(path: Path, masks: dict[str, list[np.ndarray]],
+                     shape: tuple[int, int, int]) -> None:
+    """``parts.npz``: per part name its (T, H, W) bool masks, bit-packed along the last axis,
+    and their ``shape``. ``masks``: name → T frames of packed rows (H, ⌈W/8⌉) uint8."""
+    np.savez_compressed(path, shape=np.asarray(shape, dtype=np.int64),
+                        **{name: np.stack(frames) for name, frames in masks.items()})
+
+
+def read_part_masks(path: Path) -> dict[str, np.ndarray]:
+    """The part masks of ``parts.npz``: name → (T, H, W) bool."""
+    with np.load(path, allow_pickle=False) as data:
+        shape = tuple(int(n) for n in data["shape"])
+        return {name: np.unpackbits(data[name], axis=-1, count=shape[-1]).astype(bool)
+                for name in data.files if name != "shape"}

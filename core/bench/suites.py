@@ -1,0 +1,109 @@
+"""The widened synthetic suite: clips where what fails on real water fails first.
+
+Twelve named scenarios at 1920×1080, 3 s, 10 fps (shape SD 0.05, lengths 2.0–2.7 m,
+altitudes 15–25 m), each with every effect the fit does not model on (finer mesh, profile
+warp, scattering, refraction, ripples, glints, mp4v compression) plus the look of real
+footage: light-grey or dark *Tursiops* over green, blue or sandy water, sun glitter, wet
+highlights, white water, a second animal, deep murky passes and sharp turns. Clips are
+rendered once into the cache (``cache_dir()/SUITE_NAME/NAME``) and reused while their
+recorded configuration matches.
+"""
+
+import json
+from dataclasses import dataclass, replace
+from pathlib import Path
+
+from core.progress import ProgressCallback
+from core.synth.config import Effects, SynthConfig
+from core.synth.files import ClipFiles, clip_files
+from core.synth.sample import cache_dir
+from core.synth.water import with_water
+
+SUITE_NAME = "bench-suite-v2"
+
+
+@dataclass(frozen=True)
+class Scenario:
+    """A named clip of the suite and what it shows."""
+
+    name: str
+    config: SynthConfig
+    shows: str
+
+
+_BASE = SynthConfig(width_px=1920, height_px=1080, fps=10.0, duration_s=3.0, shape_sd=0.05,
+                    colouration="light_grey", glitter=0.25, wet_specular=0.35, splash=0.3,
+                    sea_state=0.25, noise_sd=0.012, effects=Effects(finer_mesh=True))
+
+
+def _scenario(name: str, water: str, shows: str, **options) -> Scenario:
+    return Scenario(name, with_water(replace(_BASE, **options), water), shows)
+
+
+SUITE: tuple[Scenario, ...] = (
+    _scenario("grey_green", "green", "light-grey animal over green coastal water (Shark Bay)",
+              seed=201, length_m=2.45, altitude_m=19.5, heading_deg=25.0, dive_depth_m=0.3),
+    _scenario("grey_green_high", "green", "a small light-grey animal from 25 m, calm sea",
+              seed=202, length_m=2.0, altitude_m=25.0, heading_deg=-60.0, sea_state=0.1,
+              dive_depth_m=0.2),
+    _scenario("grey_blue", "blue", "light-grey animal over clear blue water",
+              seed=203, length_m=2.6, altitude_m=18.0, heading_deg=140.0, dive_depth_m=0.5),
+    _scenario("dark_sandy", "sandy", "dark animal over sandy shallows with seagrass patches",
+              seed=204, colouration="dark", length_m=2.3, altitude_m=15.0, heading_deg=70.0,
+              dive_depth_m=0.4),
+    _scenario("pair_alongside", "green", "a second animal swimming 1.1 m to the left",
+              seed=205, length_m=2.5, altitude_m=20.0, heading_deg=-20.0,
+              companion_offset_m=1.1, companion_ahead_m=0.4, companion_length_m=2.3,
+              dive_depth_m=0.2),
+    _scenario("pair_touching", "green", "a second animal touching the target's right flank",
+              seed=206, length_m=2.4, altitude_m=20.0, heading_deg=100.0,
+              companion_offset_m=-0.5, companion_ahead_m=-0.6, companion_length_m=2.6,
+              dive_depth_m=0.1),
+    _scenario("surface_splash", "blue", "surfacing with splash and a white-water wake",
+              seed=207, length_m=2.7, altitude_m=17.0, heading_deg=200.0, surface_depth_m=0.02,
+              dive_depth_m=0.5, speed_m_s=2.6, splash=1.0, sea_state=0.35),
+    _scenario("deep_murky", "murky", "a low-contrast pass a metre down in murky water",
+              seed=208, length_m=2.5, altitude_m=22.0, heading_deg=-120.0, surface_depth_m=0.5,
+              dive_depth_m=0.7, splash=0.0),
+    _scenario("glitter_heavy", "green", "heavy sun glitter over and around the animal",
+              seed=209, length_m=2.35, altitude_m=20.0, heading_deg=10.0, glitter=1.0,
+              sea_state=0.5, sun_elevation_deg=74.0, sun_azimuth_deg=180.0, dive_depth_m=0.3),
+    _scenario("turn_left", "green", "a sharp left turn at 50°/s, the body bending with it",
+              seed=210, length_m=2.55, altitude_m=20.0, heading_deg=-30.0, turn_deg_s=50.0,
+              turn_flex=1.0, speed_m_s=1.8, dive_depth_m=0.2),
+    _scenario("turn_right", "blue", "a sharp right turn at 45°/s over blue water",
+              seed=211, length_m=2.2, altitude_m=16.0, heading_deg=60.0, turn_deg_s=-45.0,
+              turn_flex=1.0, speed_m_s=1.6, dive_depth_m=0.3),
+    _scenario("grey_sandy_pair", "sandy", "light-grey pair over sandy shallows",
+              seed=212, length_m=2.15, altitude_m=23.0, heading_deg=-150.0,
+              companion_offset_m=-1.4, companion_ahead_m=-0.8, dive_depth_m=0.3),
+)
+
+
+def suite_dir() -> Path:
+    """Where the suite's clips are cached."""
+    return cache_dir() / SUITE_NAME
+
+
+def ensure_scenario(scenario: Scenario,
+                    progress: ProgressCallback | None = None) -> ClipFiles:
+    """One scenario's clip, rendered first if it is missing or was made from another
+    configuration (only rendering loads the model stack)."""
+    out = suite_dir() / scenario.name
+    files = clip_files(out, scenario.config)
+    if _is_current(files, scenario.config):
+        return files
+    from core.synth.clip import make_clip
+    return make_clip(scenario.config, out, progress=progress)
+
+
+def ensure_suite(progress: ProgressCallback | None = None) -> dict[str, ClipFiles]:
+    """The suite's clips by name (``ensure_scenario`` of each)."""
+    return {scenario.name: ensure_scenario(scenario, progress) for scenario in SUITE}
+
+
+def _is_current(files: ClipFiles, config: SynthConfig) -> bool:
+    if not (files.truth_json.exists() and files.video.exists() and files.parts.exists()):
+        return False
+    recorded = json.loads(files.truth_json.read_text(encoding="utf-8")).get("config")
+    return recorded == json.loads(json.dumps(config.to_json()))
