@@ -1,0 +1,72 @@
+"""The elliptical baseline of a manifest's animal, measured automatically on its masks: the
+length midline and the 19 widths of the fitted frame where the mask is largest (the animal
+flattest at the surface), as "suggest edges" places them in the app. Nobody reviews these
+clicks: flippers joined to the outline near 25 % widen those stations."""
+
+from dataclasses import replace
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from core.batch.summary import elliptical_values
+from core.batch.task import MaskMeasurement
+from core.camera_presets import DEFAULT_PRESET, CameraPreset, get_preset
+from core.fit.pipeline import CameraChoice, FitRun
+from core.io.annotation_json import AnnotationFile
+from core.measure.annotation import Annotation, Calibration, place_stations, suggest_edges
+from core.measure.baseline import BaselineSettings, estimate_baseline
+from core.measure.hw_ratios import resolve_hw
+from core.measure.mask_midline import midline_from_mask
+from core.measure.records import (
+    default_error_model, measured_image_from_annotation, result_record, write_exports,
+)
+from core.project.results import frame_altitude
+
+NOTE = "automatic: midline and widths from the mask, not reviewed"
+
+
+def clip_camera(choice: CameraChoice, width_px: int,
+                height_px: int) -> tuple[CameraPreset, str | None]:
+    """The camera of ``choice`` at the clip's frame size (as CameraChoice.intrinsics) and its
+    preset's name (None for explicit values)."""
+    if choice.sensor_width_mm is not None and choice.focal_mm is not None:
+        return CameraPreset(name="explicit", description="camera values of the batch",
+                            focal_mm=choice.focal_mm, sensor_width_mm=choice.sensor_width_mm,
+                            image_width_px=width_px, image_height_px=height_px,
+                            source="batch manifest", approximate=False), None
+    name = choice.preset or DEFAULT_PRESET
+    return replace(get_preset(name), image_width_px=width_px, image_height_px=height_px), name
+
+
+def largest_mask_frame(run: FitRun) -> int:
+    """Of the fitted frames, the one with the most mask pixels."""
+    frames = [int(f) for f in run.result.frame_idx]
+    return max(frames, key=lambda f: int(run.masks.mask(f).sum()))
+
+
+def mask_baseline(run: FitRun, choice: CameraChoice, measurement: MaskMeasurement,
+                  stem: Path) -> dict[str, Any]:
+    """Measure the animal on its largest fitted mask, write STEM_measure.json, STEM_mmx.csv
+    and STEM_wide.csv; the summary's elliptical values."""
+    frame_idx = largest_mask_frame(run)
+    mask = run.masks.mask(frame_idx)
+    midline = midline_from_mask(mask)
+    annotation = Annotation(frame_idx=frame_idx, midline_px=midline,
+                            edges_px=suggest_edges(mask, place_stations(midline)))
+    clip = run.clip
+    camera, preset_name = clip_camera(choice, clip.width_px, clip.height_px)
+    calibration = Calibration(camera, preset_name, frame_altitude(run.telemetry, frame_idx),
+                              measurement.altitude_source)
+    image_id = f"{clip.path.stem}_f{frame_idx:06d}"
+    doc = AnnotationFile(annotation=annotation, calibration=calibration, image_id=image_id,
+                         media_path=str(clip.path), notes=NOTE)
+    source = measured_image_from_annotation(doc, image_id=image_id, notes=[NOTE])
+    estimate = estimate_baseline(
+        source.pixels, source.focal_px, calibration.altitude_m,
+        BaselineSettings(hw=resolve_hw(measurement.hw), tail=measurement.tail),
+        default_error_model(source.altitude_source, source.is_camera_approximate),
+        measurement.num_draws, np.random.default_rng(0))
+    record = result_record(source, estimate, input_name=image_id, seed=0)
+    write_exports(stem, source, estimate, record)
+    return elliptical_values(estimate, record, image_id, frame_idx)

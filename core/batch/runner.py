@@ -1,0 +1,48 @@
+"""Running a batch's tasks on a Dask client and collecting their records into the summary.
+
+Dask's own retry does not apply: a task that raises is a bug or a lost worker, recorded as
+failed; the tasks themselves record their failures (core/batch/task_run.py).
+"""
+
+from collections.abc import Callable, Sequence
+from pathlib import Path
+
+from distributed import Client, Future, as_completed
+
+from core.batch.record import STATUS_FAILED, TaskRecord
+from core.batch.summary import SUMMARY_CSV, write_summary
+from core.batch.task import BatchTask
+from core.batch.task_run import describe, run_task
+
+
+def run_batch(client: Client, tasks: Sequence[BatchTask], out_dir: Path,
+              retry_failed: bool = False,
+              on_submit: Callable[[list[Future]], None] | None = None,
+              on_record: Callable[[int, TaskRecord], None] | None = None) -> list[TaskRecord]:
+    """Run every task (finished ones are skipped by the tasks themselves), write
+    ``out_dir/summary.csv`` and return the records in the tasks' order.
+
+    ``on_submit`` gets the futures (a progress display); ``on_record`` each task's index and
+    record as it finishes.
+    """
+    out_dir = Path(out_dir)
+    out_dir.mkdir(parents=True, exist_ok=True)
+    futures = [client.submit(run_task, task, out_dir, retry_failed, pure=False)
+               for task in tasks]
+    if on_submit is not None:
+        on_submit(futures)
+    position = {future.key: i for i, future in enumerate(futures)}
+    records: list[TaskRecord | None] = [None] * len(tasks)
+    for future in as_completed(futures):
+        i = position[future.key]
+        try:
+            record = future.result()
+        except Exception as exc:  # noqa: BLE001 (a lost worker: recorded, the batch goes on)
+            task = tasks[i]
+            record = TaskRecord(task.name, task.clip, task.animal_id, STATUS_FAILED,
+                                f"the task did not finish: {describe(exc)}")
+        records[i] = record
+        if on_record is not None:
+            on_record(i, record)
+    write_summary(out_dir / SUMMARY_CSV, records)
+    return records

@@ -1,0 +1,54 @@
+"""The batch's summary table: one row per clip and animal with both methods' length, volume,
+BCI, density and mass (the elliptical ones with their 95 % Monte Carlo interval; the fit has
+none yet), the task's status and error."""
+
+from collections.abc import Sequence
+from pathlib import Path
+from typing import Any
+
+from core.batch.record import TaskRecord
+from core.fit.result import FitResult
+from core.io.collatrix import write_wide_csv
+from core.measure.baseline import BaselineEstimate
+from core.project.comparison import QUANTITIES, interval_of
+
+SUMMARY_CSV = "summary.csv"
+COLUMNS = ("clip", "animal_id", "status", "error", "notes", "folder", "reused", "Image",
+           "ell_frame",
+           *(f"{key}_{suffix}" for key, _, _ in QUANTITIES
+             for suffix in ("ell", "ell_lo95", "ell_hi95", "fit")),
+           "fit_status", "fit_frames", "fit_mean_iou", "seconds")
+
+
+def elliptical_values(estimate: BaselineEstimate, record: dict, image_id: str,
+                      frame_idx: int) -> dict[str, Any]:
+    """The elliptical columns of one measured frame (``record``: its result JSON)."""
+    values: dict[str, Any] = {"Image": image_id, "ell_frame": frame_idx}
+    for key, _, _ in QUANTITIES:
+        summary = interval_of(estimate, key)
+        values[f"{key}_ell"] = float(record[key])
+        if summary is not None:
+            values[f"{key}_ell_lo95"] = float(summary.low)
+            values[f"{key}_ell_hi95"] = float(summary.high)
+    return values
+
+
+def fit_values(result: FitResult) -> dict[str, Any]:
+    """The fit's columns."""
+    values: dict[str, Any] = {f"{key}_fit": float(getattr(result, key)) for key, _, _ in QUANTITIES}
+    values.update(fit_status=result.status, fit_frames=len(result.frame_idx),
+                  fit_mean_iou=float(result.iou.mean()))
+    return values
+
+
+def summary_row(record: TaskRecord) -> dict[str, Any]:
+    """One row of the table, every column present ("" where a method has no value)."""
+    row = {**record.values, "clip": record.clip, "animal_id": record.animal_id,
+           "status": record.status, "error": record.error, "folder": record.name,
+           "reused": "yes" if record.reused else "no", "seconds": round(record.seconds, 1)}
+    return {column: row.get(column, "") for column in COLUMNS}
+
+
+def write_summary(path: Path, records: Sequence[TaskRecord]) -> None:
+    """Write the summary CSV (atomically)."""
+    write_wide_csv(path, [summary_row(r) for r in records])

@@ -1,0 +1,79 @@
+"""One task of a batch: one animal in one clip, fitted by the 3D model and measured by the
+elliptical method, with its own output folder."""
+
+from dataclasses import dataclass
+from pathlib import Path
+
+from core.errors import InputError
+from core.fit.config import FitConfig
+from core.fit.pipeline import CameraChoice
+from core.measure.elliptical import TAIL_EXTRAPOLATED
+from core.measure.hw_ratios import DEFAULT_PRESET
+from core.measure.uncertainty import DEFAULT_NUM_DRAWS
+from core.project.model import Project
+from core.segment.segmenter import AutoSeed, Seed
+
+
+@dataclass(frozen=True)
+class FitInputs:
+    """What ``core.fit.pipeline.run_fit`` needs: the clip, its altitude (metres, an altitude
+    CSV, DJI SRT or laser log, or None for the clip's SRT sidecar), the camera, and the masks
+    or, without them, the tracker's seed."""
+
+    clip: Path
+    altitude: float | Path | None
+    launch_height_m: float = 0.0
+    time_offset_s: float = 0.0
+    camera: CameraChoice = CameraChoice()
+    masks: Path | None = None
+    seed: Seed = AutoSeed()
+    config: FitConfig = FitConfig()
+
+
+@dataclass(frozen=True)
+class MaskMeasurement:
+    """The elliptical baseline taken from the fit's masks: length and widths from the mask of
+    the fitted frame where the most of the animal is seen (core/batch/mask_baseline.py)."""
+
+    altitude_source: str = "manual"
+    hw: str = DEFAULT_PRESET
+    tail: str = TAIL_EXTRAPOLATED
+    num_draws: int = DEFAULT_NUM_DRAWS
+
+
+@dataclass(frozen=True, eq=False)
+class ProjectMeasurement:
+    """The elliptical baseline of the frames the user measured on an animal of a project."""
+
+    project: Project
+    project_path: Path
+    clip_idx: int
+    animal_idx: int
+    num_draws: int = DEFAULT_NUM_DRAWS
+
+
+@dataclass(frozen=True, eq=False)
+class BatchTask:
+    """``name``: the task's folder under the batch's output folder (unique in a batch);
+    ``clip``: the clip as the manifest or project names it; ``where``: the manifest row or
+    project entry it came from, for messages. ``fit`` is None where there is nothing to fit
+    (a still image)."""
+
+    name: str
+    clip: str
+    animal_id: str
+    where: str
+    fit: FitInputs | None
+    measurement: MaskMeasurement | ProjectMeasurement
+
+
+def check_unique_names(tasks: list[BatchTask]) -> list[BatchTask]:
+    """``tasks`` if no two share an output folder; InputError naming both otherwise (IDs that
+    differ only by a space and a dash name the same folder)."""
+    seen: dict[str, BatchTask] = {}
+    for task in tasks:
+        if task.name in seen:
+            raise InputError(f"{task.where}: {task.clip} {task.animal_id!r} would share the "
+                             f"output folder {task.name} with {seen[task.name].where}")
+        seen[task.name] = task
+    return tasks

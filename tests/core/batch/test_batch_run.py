@@ -1,0 +1,106 @@
+"""A batch on a Dask cluster: both methods' figures, a record per task, reruns that skip
+finished tasks, retry failed ones on request and rerun those whose inputs changed."""
+
+import csv
+import json
+import shutil
+from dataclasses import replace
+
+import pytest
+
+from core.batch.cluster import batch_client, local_plan
+from core.batch.inputs import inputs_digest, task_inputs
+from core.batch.manifest import read_manifest
+from core.batch.record import RECORD_JSON
+from core.batch.runner import run_batch
+from core.batch.summary import SUMMARY_CSV
+from core.bench.batch_bench import TINY_CONFIG, write_synthetic_batch
+from core.synth.config import Effects, SynthConfig
+
+# 320×180 at 12 m: a 2.3 m animal about 45 px long; 4 frames, 2 of them fitted
+CLIP = SynthConfig(seed=41, width_px=320, height_px=180, fps=4.0, duration_s=1.0,
+                   altitude_m=12.0, length_m=2.3, speed_m_s=0.5, dive_depth_m=0.0,
+                   heading_deg=15.0, effects=Effects(profile_warp=False, scattering=False,
+                                                     ripples=False, glints=False,
+                                                     compression=False))
+FIT = replace(TINY_CONFIG, fps=2.0)
+
+
+@pytest.fixture(scope="module")
+def batch(tmp_path_factory):
+    """Two clips; the second's masks are empty, so its fit fails until they are restored."""
+    folder = tmp_path_factory.mktemp("batch")
+    manifest = write_synthetic_batch(folder, [CLIP, replace(CLIP, seed=42)], FIT)
+    shutil.move(folder / "clip1" / "masks", folder / "clip1" / "true_masks")
+    (folder / "clip1" / "masks").mkdir()
+    return folder, read_manifest(manifest, num_draws=200)
+
+
+@pytest.fixture(scope="module")
+def client():
+    with batch_client(plan=local_plan(1, 1), processes=False) as client:
+        yield client
+
+
+def _summary(out_dir):
+    with open(out_dir / SUMMARY_CSV, newline="") as file:
+        return list(csv.DictReader(file))
+
+
+def _record_times(out_dir, tasks):
+    return [(out_dir / t.name / RECORD_JSON).stat().st_mtime_ns for t in tasks]
+
+
+def test_batch_runs_resumes_and_retries(batch, client, tmp_path):
+    folder, tasks = batch
+    out = tmp_path / "out"
+    good, bad = run_batch(client, tasks, out)
+    assert (good.status, bad.status) == ("complete", "failed")
+    assert "fit:" in bad.error and "masks" in bad.error
+    truth = json.loads((folder / "clip0" / "truth.json").read_text())
+    rows = _summary(out)
+    assert [r["status"] for r in rows] == ["complete", "failed"]
+    row = rows[0]
+    for method in ("fit", "ell"):  # one step per stage: the initial size from the masks
+        assert abs(float(row[f"length_m_{method}"]) / truth["length_m"] - 1) < 0.1
+    for key in ("length_m", "volume_m3", "bci", "mass_kg"):
+        assert (float(row[f"{key}_ell_lo95"]) < float(row[f"{key}_ell"])
+                < float(row[f"{key}_ell_hi95"]))
+    assert 0.2 < float(row["mass_kg_ell"]) / float(row["mass_kg_fit"]) < 5
+    assert int(row["fit_frames"]) == 2 and row["reused"] == "no"
+    produced = {p.name for p in (out / good.name).iterdir()}
+    assert {"task.json", "result.json", "rest_mesh.ply", "elliptical_measure.json"} <= produced
+    assert sorted(p.name for p in out.iterdir()) == sorted([SUMMARY_CSV, good.name, bad.name])
+
+    # a rerun skips both: the complete one, and the failed one without --retry-failed
+    before = _record_times(out, tasks)
+    again = run_batch(client, tasks, out)
+    assert [r.reused for r in again] == [True, True] and _record_times(out, tasks) == before
+    assert [r["reused"] for r in _summary(out)] == ["yes", "yes"]
+
+    # --retry-failed runs the failed one only
+    retried = run_batch(client, tasks, out, retry_failed=True)
+    assert [r.reused for r in retried] == [True, False] and retried[1].status == "failed"
+
+    # its inputs changed (the masks restored): it runs again without being asked
+    shutil.rmtree(folder / "clip1" / "masks")
+    shutil.copytree(folder / "clip1" / "true_masks", folder / "clip1" / "masks")
+    fixed = run_batch(client, tasks, out)
+    assert [r.reused for r in fixed] == [True, False]
+    assert [r.status for r in fixed] == ["complete", "complete"]
+    assert _record_times(out, tasks)[0] == before[0]
+
+
+def test_inputs_digest_follows_content_and_options(batch, tmp_path):
+    folder, tasks = batch
+    task = tasks[0]
+    digest = inputs_digest(task_inputs(task))
+    moved = tmp_path / "moved"
+    shutil.copytree(folder / "clip0", moved)
+    same_files = replace(task, fit=replace(task.fit, clip=moved / task.fit.clip.name,
+                                           masks=moved / "masks"))
+    assert inputs_digest(task_inputs(same_files)) == digest
+    other_fps = replace(task, fit=replace(task.fit, config=replace(task.fit.config, fps=1.0)))
+    assert inputs_digest(task_inputs(other_fps)) != digest
+    (moved / "masks" / "000000.png").unlink()
+    assert inputs_digest(task_inputs(same_files)) != digest

@@ -1,0 +1,100 @@
+"""Manifest rows become batch tasks; a bad cell is an error naming the row and column."""
+
+from pathlib import Path
+
+import pytest
+
+from core.batch.manifest import read_manifest
+from core.batch.task import check_unique_names
+from core.errors import InputError
+from core.fit.config import FitConfig
+from core.project.fit_settings import fit_dir
+from core.segment.segmenter import AutoSeed, BoxSeed, PointSeed
+
+HEADER = "clip,animal,altitude,launch_height_m,masks,seed,seed_frame,fps,quality,start_s,end_s"
+
+
+@pytest.fixture
+def folder(tmp_path: Path) -> Path:
+    for name in ("a.mp4", "b.mp4", "a.SRT", "alt.csv"):
+        (tmp_path / name).write_bytes(b"x")
+    (tmp_path / "masks").mkdir()
+    return tmp_path
+
+
+def _manifest(folder: Path, *rows: str, header: str = HEADER) -> Path:
+    path = folder / "batch.csv"
+    path.write_text("\n".join([header, *rows]) + "\n")
+    return path
+
+
+def test_rows_become_tasks(folder):
+    path = _manifest(folder,
+                     "a.mp4,left,20.5,1.5,masks,,,2,quick,1,3",
+                     "a.mp4,right,,,,\"40,50\",3,,,,",
+                     "b.mp4,,alt.csv,,,\"10,20,30,40\",,,thorough,,")
+    left, right, b = read_manifest(path, num_draws=100)
+    defaults = FitConfig()
+    assert (left.fit.altitude, left.fit.launch_height_m) == (20.5, 1.5)
+    assert left.fit.masks == folder / "masks"
+    assert (left.fit.config.fps, left.fit.config.start_s, left.fit.config.end_s) == (2.0, 1.0, 3.0)
+    assert left.fit.config.steps_shape == defaults.steps_shape // 2  # quick: half the steps
+    assert left.measurement.altitude_source == "manual" and left.measurement.num_draws == 100
+    # an empty altitude is the SRT beside the clip, a barometer altitude
+    assert right.fit.altitude is None and right.measurement.altitude_source == "barometer"
+    assert right.fit.seed == PointSeed(40.0, 50.0, 3) and right.fit.masks is None
+    assert b.fit.altitude == folder / "alt.csv" and b.animal_id == "1"
+    assert b.fit.seed == BoxSeed(10, 20, 30, 40, 0)
+    assert b.fit.config.steps_shape == defaults.steps_shape * 2
+    assert left.name == fit_dir(path, "a.mp4", "left").name != right.name
+    assert left.where == f"{path}: row 2"
+
+
+def test_no_masks_and_no_seed_is_the_automatic_seed(folder):
+    (task,) = read_manifest(_manifest(folder, "a.mp4,1,20,,,,,,,,"))
+    assert task.fit.seed == AutoSeed(0) and task.fit.masks is None
+
+
+@pytest.mark.parametrize("row, column, why", [
+    ("a.mp4,1,0,,,,,,,,", "altitude", "outside the plausible range"),
+    ("a.mp4,1,gone.csv,,,,,,,,", "altitude", "neither metres nor an existing file"),
+    ("b.mp4,1,,,,,,,,,", "altitude", "no b.SRT"),
+    ("a.mp4,1,20,nan,,,,,,,", "launch_height_m", "finite"),
+    ("a.mp4,1,20,1.5m,,,,,,,", "launch_height_m", "expected a number"),
+    ("a.mp4,1,20,,,\"1,2,3\",,,,,", "seed", "X,Y,W,H"),
+    ("a.mp4,1,20,,masks,auto,,,,,", "seed", "not both"),
+    ("a.mp4,1,20,,,,-1,,,,", "seed_frame", "0 or more"),
+    ("a.mp4,1,20,,,,,-2,,,", "fps", "outside the plausible range"),
+    ("a.mp4,1,20,,,,,,best,,", "quality", "expected one of"),
+    ("a.mp4,1,20,,,,,,,5,2", "start_s", "not before"),
+    ("c.mp4,1,20,,,,,,,,", "clip", "does not exist"),
+])
+def test_bad_cell_names_manifest_row_and_column(folder, row, column, why):
+    path = _manifest(folder, "a.mp4,ok,20,,,,,,,,", row)
+    with pytest.raises(InputError) as error:
+        read_manifest(path)
+    assert f"{path}: row 3, column '{column}'" in str(error.value)
+    assert why in str(error.value)
+
+
+@pytest.mark.parametrize("header, rows, message", [
+    ("clip,altitude,colour", ["a.mp4,20,red"], "row 1, column 'colour': unknown column"),
+    ("animal,altitude", ["1,20"], "row 1, column 'clip': missing"),
+    ("clip,animal,altitude", ["a.mp4,1,20", "a.mp4,1,30"],
+     "row 3, column 'animal': '1' of a.mp4 is already in row 2"),
+    ("clip,animal,altitude", ["a.mp4,1,20,extra"], "row 2: more cells"),
+    ("clip,camera", ["a.mp4,no-such-drone"], "row 2, column 'camera'"),
+    ("clip,sensor_width_mm", ["a.mp4,17.3"], "row 2, column 'focal_mm': empty"),
+    ("clip,animal", [], "no rows"),
+])
+def test_bad_table_names_row_and_column(folder, header, rows, message):
+    path = _manifest(folder, *rows, header=header)
+    with pytest.raises(InputError, match=message):
+        read_manifest(path)
+
+
+def test_tasks_sharing_an_output_folder_are_refused(folder):
+    path = _manifest(folder, "a.mp4,a b,20,,,,,,,,", "a.mp4,a-b,20,,,,,,,,")
+    with pytest.raises(InputError, match=f"{path}: row 3: a.mp4 'a-b' would share the output "
+                                         f"folder .* with {path}: row 2"):
+        check_unique_names(read_manifest(path))
