@@ -14,6 +14,7 @@ $(STAMP): pyproject.toml constraints.txt
 	python3 -m venv $(VENV)
 	$(PY) -m pip install --quiet torch==2.13.0
 	$(PY) -m pip install --quiet -c constraints.txt -e ".[test]"
+	$(PY) -m core.segment.weights
 	touch $(STAMP)
 
 run: $(STAMP)

@@ -11,8 +11,15 @@ import numpy as np
 from PySide6.QtCore import Qt, Signal
 from PySide6.QtGui import QAction, QActionGroup, QCloseEvent, QKeySequence
 from PySide6.QtWidgets import (
-    QDockWidget, QFileDialog, QInputDialog, QLabel, QMainWindow, QMessageBox, QProgressDialog,
-    QVBoxLayout, QWidget,
+    QDockWidget,
+    QFileDialog,
+    QInputDialog,
+    QLabel,
+    QMainWindow,
+    QMessageBox,
+    QProgressDialog,
+    QVBoxLayout,
+    QWidget,
 )
 
 from core.camera_presets import preset_resolution_mismatch
@@ -25,18 +32,38 @@ from core.project.comparison import project_comparison_rows, write_comparison_cs
 from core.project.evaluate import all_keys
 from core.project.mask_store import masks_file, save_track
 from core.project.model import (
-    AltitudeSpec, Animal, ClipEntry, Measurement, MeasurementKey, Project, add_animal,
-    add_measurement, get_measurement, next_animal_id, remove_animal, remove_measurement,
-    with_animal, with_clip,
+    AltitudeSpec,
+    Animal,
+    ClipEntry,
+    Measurement,
+    MeasurementKey,
+    Project,
+    add_animal,
+    add_measurement,
+    get_measurement,
+    next_animal_id,
+    remove_animal,
+    remove_measurement,
+    with_animal,
+    with_clip,
 )
 from core.project.new_project import project_path_for, project_with_media
 from core.project.project_file import (
-    PROJECT_SUFFIX, autosave_path, find_moved_media, has_newer_autosave, media_path,
-    missing_media, read_project, rebase_media, relative_media_path, relink_clip,
+    PROJECT_SUFFIX,
+    autosave_path,
+    find_moved_media,
+    has_newer_autosave,
+    media_path,
+    missing_media,
+    read_project,
+    rebase_media,
+    relative_media_path,
+    relink_clip,
     write_project,
 )
 from core.project.recent import add_recent, recent_projects
 from core.project.results import frame_altitude, image_id
+from core.segment.backends import BACKENDS, COLOUR, DEFAULT_BACKEND, NETWORK
 from ui.action_table import load_action_table
 from ui.background import BackgroundJobs
 from ui.canvas import FrameCanvas
@@ -70,6 +97,7 @@ STEP_ACTIONS = {"next_frame": 1, "previous_frame": -1, "next_10": 10, "previous_
                 "next_100": 100, "previous_100": -100}
 MIRROR_ACTIONS = {"mirror_none": None, "mirror_a": "A", "mirror_b": "B"}
 MASK_TOOL_ACTIONS = {"mask_tool_off": None, "mask_brush": "brush", "mask_eraser": "eraser"}
+BACKEND_ACTIONS = {"masks_network": NETWORK, "masks_colour": COLOUR}
 
 
 class MainWindow(QMainWindow):
@@ -161,6 +189,7 @@ class MainWindow(QMainWindow):
         mirror_group = QActionGroup(self)
         mode_group = QActionGroup(self)
         tool_group = QActionGroup(self)
+        backend_group = QActionGroup(self)
         for spec in specs:
             action = QAction(spec.label, self)
             action.setObjectName(spec.name)
@@ -177,6 +206,8 @@ class MainWindow(QMainWindow):
                 mode_group.addAction(action)
             if spec.name in MASK_TOOL_ACTIONS:
                 tool_group.addAction(action)
+            if spec.name in BACKEND_ACTIONS:
+                backend_group.addAction(action)
             bar[spec.menu].addAction(action)
             if spec.name == "open":
                 self.recent_menu = bar[spec.menu].addMenu("Open recent")
@@ -204,6 +235,8 @@ class MainWindow(QMainWindow):
             return lambda *_: self.overlay.nudge(*NUDGE_ACTIONS[name])
         if name in MASK_TOOL_ACTIONS:
             return lambda *_: self.masks.set_tool(MASK_TOOL_ACTIONS[name])
+        if name in BACKEND_ACTIONS:
+            return lambda *_: self._set_mask_backend(BACKEND_ACTIONS[name])
         return getattr(self, f"on_{name}")
 
     def _connect(self) -> None:
@@ -237,6 +270,16 @@ class MainWindow(QMainWindow):
         auto_zoom = bool(prefs.get("auto_zoom", False))
         self.actions_by_name["auto_zoom"].setChecked(auto_zoom)
         self.overlay.auto_zoom = auto_zoom
+        backend = prefs.get("mask_backend", DEFAULT_BACKEND)
+        self._set_mask_backend(backend if backend in BACKENDS else DEFAULT_BACKEND, save=False)
+
+    def _set_mask_backend(self, backend: str, save: bool = True) -> None:
+        """Who draws the masks of the next tracking run (core.segment.backends)."""
+        self.masks.backend = backend
+        name = next(n for n, b in BACKEND_ACTIONS.items() if b == backend)
+        self.actions_by_name[name].setChecked(True)
+        if save:
+            self._save_preference("mask_backend", backend)
 
     # ------------------------------------------------------------------ questions (ask)
     def _error(self, title: str, text: str) -> None:
@@ -733,7 +776,9 @@ class MainWindow(QMainWindow):
 
     def _ask_mesh_export(self) -> tuple[Path, str] | None:
         """A folder and a mesh format, or None."""
-        from core.io.mesh_export import MESH_SUFFIXES  # trimesh: loaded when first needed
+        from core.io.mesh_export import (
+            MESH_SUFFIXES,  # trimesh: loaded when first needed
+        )
         suffix, ok = QInputDialog.getItem(self, "Export 3D fit meshes", "Format:",
                                           list(MESH_SUFFIXES), 0, False)
         if not ok:

@@ -12,9 +12,16 @@ from PySide6.QtCore import QObject
 
 from core.errors import InputError
 from core.io.masks import MaskTrack, read_masks
-from core.project.mask_store import coverage, masks_file, outlines, save_track, with_frame
+from core.project.mask_store import (
+    coverage,
+    masks_file,
+    outlines,
+    save_track,
+    with_frame,
+)
 from core.project.model import with_clip
 from core.project.project_file import relative_media_path
+from core.segment.backends import DEFAULT_BACKEND
 from core.segment.segmenter import PointSeed
 from ui.commands import push_edit
 from ui.job_worker import JobWorker
@@ -40,8 +47,9 @@ class MaskController(QObject):
         self._loaded: str | None = None  # the masks_path the track was read from or saved to
         self._target: tuple | None = None  # (project path, clip index) of the tracking job
         self._seeding = False
+        self.backend = DEFAULT_BACKEND  # who draws the masks (the Clip menu; a preference)
         self.tracker.progress.connect(lambda p: window.statusBar().showMessage(
-            f"tracking: frame {p.step} of {p.total}"))
+            f"tracking ({self.backend}): frame {p.step} of {p.total}"))
         self.tracker.finished.connect(self._on_tracked)
         self.tracker.failed.connect(lambda why: window._error("Tracking failed", why))
         self.tracker.cancelled.connect(
@@ -149,7 +157,8 @@ class MaskController(QObject):
             return
         media = (path.parent / clip.media_path).resolve()
         try:
-            job = track_job(media, seed, self.window.frame_idx, direction, self.track)
+            job = track_job(media, seed, self.window.frame_idx, direction, self.track,
+                            self.backend)
         except (InputError, ValueError) as exc:  # e.g. an empty mask to re-track from
             self.window._error("Tracking", str(exc))
             return
@@ -163,6 +172,9 @@ class MaskController(QObject):
             self.window._error("Tracking", "the tracked masks were not kept: another clip or "
                                "project is open now")
             return
+        self.window.statusBar().showMessage(
+            f"{int(track.is_visible.sum())} of {track.num_frames} frames masked by "
+            f"{track.source}", 10_000)
         self._store(track, "track masks")
 
     # ----- corrections and storage

@@ -1,5 +1,6 @@
-"""Tracking jobs for a JobWorker (ui/job_worker.py): the built-in tracker run from a seed
-frame forwards, backwards or both ways, merged into the clip's existing masks.
+"""Tracking jobs for a JobWorker (ui/job_worker.py): a mask back-end (the network or the
+colour tracker, core.segment.backends) run from a seed frame forwards, backwards or both ways,
+merged into the clip's existing masks.
 
 The tracker (core/segment/tracker.py) tracks from its seed to the end of the frames it is
 given and then back to their start; a job gives it a view of the clip's frames in the order to
@@ -19,8 +20,8 @@ from core.io.frame_source import FrameSource
 from core.io.masks import MaskTrack, check_against_clip
 from core.io.media import open_media
 from core.progress import ProgressCallback
+from core.segment.backends import DEFAULT_BACKEND, make_segmenter
 from core.segment.segmenter import BoxSeed, PointSeed
-from core.segment.tracker import MaskTracker
 from ui.job_worker import Job
 
 Direction = Literal["forward", "backward", "both"]
@@ -97,7 +98,7 @@ def _merged(tracked: MaskTrack, order: range, num_frames: int, existing: MaskTra
 
 def track_job(media_path: Path | str, seed: PointSeed | BoxSeed | np.ndarray,
               start_frame: int, direction: Direction,
-              existing: MaskTrack | None = None) -> Job:
+              existing: MaskTrack | None = None, backend: str = DEFAULT_BACKEND) -> Job:
     """A job tracking the animal from frame ``start_frame`` in ``direction`` and returning the
     clip's whole MaskTrack (frames outside the tracked range as in ``existing``).
 
@@ -122,8 +123,8 @@ def track_job(media_path: Path | str, seed: PointSeed | BoxSeed | np.ndarray,
                 raise ValueError(f"start frame {start_frame} is outside the clip "
                                  f"(0…{len(source) - 1})")
             view_seed = replace(seed, frame_idx=order.index(start_frame))
-            tracked = MaskTracker().segment(_FrameView(source, order), view_seed, progress,
-                                            cancel)
+            tracked = make_segmenter(backend).segment(_FrameView(source, order), view_seed,
+                                                      progress, cancel)
             num_frames = len(source)
         return _merged(tracked, order, num_frames, existing, kept, start_frame)
 

@@ -1,8 +1,10 @@
 """Measure speed (and later accuracy) side by side in one run.
 
   dolphinfit bench render [--json] [--repeats N] [--quick]
-  dolphinfit bench fit (--suite [--clips N] | --speed) [--json]
+  dolphinfit bench fit (--suite [--clips N] [--variants V,…] | --speed) [--json]
+  dolphinfit bench masks [--clips N] [--backends B,…] [--stride K] [--json]
   dolphinfit bench app [--repeats N] [--json]
+  dolphinfit bench batch [--clips N] [--quick] [--json]
 
 render: forward+backward time of the differentiable renderer per frame at the paper's setting
 (a full 720×480 frame) and for a batch of 256×256 ROI crops of 1920×1080 footage at 20 m,
@@ -11,17 +13,26 @@ brute-force reference on the same scene at the largest size it fits in memory
 (speedup_vs_dense), plus the peak memory of a 64-frame batch. --quick shrinks everything for
 a smoke test; its figures are not the benchmark's.
 
-fit --suite: 8 synthetic 1920×1080 clips (shape, length 2.0–2.7 m, dives to 0–1.5 m, altitude
-15–25 m, water, sea state, noise; every unmodelled effect on), each fitted by default, without
-refraction and without ROI crops: relative errors of volume, length and mass per clip, their
-median and worst. fit --speed: a 10 s, 25 fps, 1920×1080 clip fitted with the defaults: wall
-time, seconds of fit per second of video, time by stage, peak memory. Clips are rendered once
-into the cache.
+fit --suite: the widened synthetic suite (12 1920×1080 clips: light-grey and dark animals over
+green, blue, sandy and murky water, pairs, splash, glitter, sharp turns; every unmodelled
+effect on), each fitted in the chosen variants side by side (default: the true masks and the
+product's own masks from a click on the target): relative errors of volume, length and mass
+per clip, their median and worst, and the fit's IoU per frame. fit --speed: a 10 s, 25 fps,
+1920×1080 clip fitted with the defaults: wall time, seconds of fit per second of video, time
+by stage, peak memory. Clips are rendered once into the cache.
+
+masks: each mask back-end from the same click on the target, on the frames a suite fit uses
+(every 4th): IoU against the true masks, IoU around the flukes and around the rostrum (the
+parts that decide the length) and seconds per frame.
 
 app: how long the desktop app takes from the command to the sample project's first frame on
 screen (``dolphinfit gui --sample --quit-when-shown``), beside the floor of an empty PySide6
 window in a fresh Python; min, median and max over --repeats runs. Needs a display (run it
 under xvfb-run on a server).
+
+batch: throughput of `dolphinfit batch` (clips per hour) on a LocalCluster of 1 worker and of
+2 workers, on the same 4 short synthetic clips (640×360, 1.5 s, 3 frames fitted, quick
+quality); --quick fits one step per stage (a smoke test).
 """
 
 import argparse
@@ -30,10 +41,15 @@ import os
 import statistics
 import sys
 
-from core.bench.fit_bench import bench_speed, bench_suite
+from core.bench.batch_bench import bench_batch
+from core.bench.fit_bench import DEFAULT_VARIANTS, VARIANTS, bench_speed, bench_suite
+from core.bench.mask_bench import DEFAULT_STRIDE, bench_masks
 from core.bench.render_bench import RenderBench, bench_render, bench_to_json
+from core.bench.suites import SUITE, ensure_scenario
 from core.bench.timing import command_seconds
 from core.errors import InputError
+from core.limits import count
+from core.segment.backends import BACKENDS, make_segmenter
 
 # The floor of the app's start-up: Python, PySide6 and one empty window shown, then quit
 EMPTY_WINDOW = ("from PySide6.QtCore import QTimer\n"
@@ -53,11 +69,27 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     which = fit.add_mutually_exclusive_group(required=True)
     which.add_argument("--suite", action="store_true", help="accuracy over the clip suite")
     which.add_argument("--speed", action="store_true", help="speed on a 10 s clip")
-    fit.add_argument("--clips", type=int, default=8, help="suite clips to use (1–8)")
+    fit.add_argument("--clips", type=int, default=len(SUITE),
+                     help=f"suite clips to use (1–{len(SUITE)})")
+    fit.add_argument("--variants", default=",".join(DEFAULT_VARIANTS),
+                     help=f"comma-separated, of {', '.join(VARIANTS)} "
+                          f"(default {','.join(DEFAULT_VARIANTS)})")
     fit.add_argument("--json", action="store_true", help="one JSON object on stdout")
+    masks = suites.add_parser("masks", help="mask back-ends against the truth on the suite")
+    masks.add_argument("--clips", type=int, default=len(SUITE),
+                       help=f"suite clips to use (1–{len(SUITE)})")
+    masks.add_argument("--backends", default=",".join(BACKENDS),
+                       help=f"comma-separated, of {', '.join(BACKENDS)}")
+    masks.add_argument("--stride", type=int, default=DEFAULT_STRIDE,
+                       help=f"score every K-th frame (default {DEFAULT_STRIDE})")
+    masks.add_argument("--json", action="store_true", help="one JSON object on stdout")
     app = suites.add_parser("app", help="desktop app start-up against an empty Qt window")
     app.add_argument("--repeats", type=int, default=5, help="timed runs of each command")
     app.add_argument("--json", action="store_true", help="one JSON object on stdout")
+    batch = suites.add_parser("batch", help="batch throughput on 1 and 2 Dask workers")
+    batch.add_argument("--clips", type=int, default=4, help="synthetic clips (default 4)")
+    batch.add_argument("--quick", action="store_true", help="tiny fits for smoke tests")
+    batch.add_argument("--json", action="store_true", help="one JSON object on stdout")
 
 
 def run(args: argparse.Namespace) -> int:
@@ -66,8 +98,22 @@ def run(args: argparse.Namespace) -> int:
         figures = bench_app(max(1, args.repeats))
         print(json.dumps(figures, indent=2) if args.json else format_app(figures))
         return 0
+    if args.suite_name == "batch":
+        figures = bench_batch(max(1, args.clips), quick=args.quick)
+        print(json.dumps(figures, indent=2) if args.json else format_batch(figures))
+        return 0
+    if args.suite_name == "masks":
+        backends = tuple(args.backends.split(","))
+        for backend in backends:
+            make_segmenter(backend)  # an unknown name is refused before any work
+        chosen = SUITE[:count(args.clips, 1, "--clips")]
+        figures = bench_masks({sc.name: ensure_scenario(sc) for sc in chosen}, backends,
+                              count(args.stride, 1, "--stride"), progress=_print_mask_score)
+        print(json.dumps(figures, indent=2) if args.json else format_masks(figures))
+        return 0
     if args.suite_name == "fit":
-        figures = (bench_suite(num_clips=max(1, min(args.clips, 8)), progress=_print_score)
+        figures = (bench_suite(num_clips=count(args.clips, 1, "--clips"),
+                               variants=tuple(args.variants.split(",")), progress=_print_score)
                    if args.suite else bench_speed())
         print(json.dumps(figures, indent=2) if args.json
               else (format_suite(figures) if args.suite else format_speed(figures)))
@@ -108,25 +154,51 @@ def format_app(figures: dict) -> str:
 
 
 def _print_score(score) -> None:
-    print(f"{score.clip} {score.variant:14s} volume {100 * score.volume_error:+6.2f} %  "
+    print(f"{score.clip:16s} {score.variant:14s} volume {100 * score.volume_error:+6.2f} %  "
           f"length {100 * score.length_error:+6.2f} %  IoU {score.mean_iou:.3f}  "
           f"{score.seconds:.0f} s", file=sys.stderr, flush=True)
 
 
+def _print_mask_score(score) -> None:
+    print(f"{score.clip:16s} {score.backend:8s} IoU {score.mean_iou:.3f}  flukes "
+          f"{score.flukes_iou:.3f}  rostrum {score.rostrum_iou:.3f}  "
+          f"{score.seconds_per_frame:.2f} s/frame {score.error}", file=sys.stderr, flush=True)
+
+
+def format_masks(figures: dict) -> str:
+    """Per-clip IoUs and the summary per back-end."""
+    lines = ["clip             back-end  IoU    min    flukes rostrum s/frame"]
+    for c in figures["clips"]:
+        lines.append(f"{c['clip']:16s} {c['backend']:8s}  {c['mean_iou']:.3f}  "
+                     f"{c['min_iou']:.3f}  {c['flukes_iou']:.3f}  {c['rostrum_iou']:.3f}   "
+                     f"{c['seconds_per_frame']:.2f}" + (f"  ({c['error']})" if c['error'] else ""))
+    lines.append("")
+    for backend, s in figures["summary"].items():
+        lines.append(f"{backend:8s} mean IoU {s['mean_iou']:.3f} (worst clip "
+                     f"{s['worst_clip_iou']:.3f}), flukes {s['flukes_iou']:.3f}, rostrum "
+                     f"{s['rostrum_iou']:.3f}, {s['seconds_per_frame']:.2f} s per frame")
+    return "\n".join(lines)
+
+
 def format_suite(figures: dict) -> str:
     """Per-clip errors and the summary per variant."""
-    lines = ["clip   variant         volume    length    mass      IoU    frames  s"]
+    lines = ["clip             variant         volume    length    mass      IoU   min IoU "
+             "frames  s"]
     for c in figures["clips"]:
-        lines.append(f"{c['clip']:6s} {c['variant']:14s} {100 * c['volume_error']:+6.2f} %  "
+        lines.append(f"{c['clip']:16s} {c['variant']:14s} {100 * c['volume_error']:+6.2f} %  "
                      f"{100 * c['length_error']:+6.2f} %  {100 * c['mass_error']:+6.2f} %  "
-                     f"{c['mean_iou']:.3f}  {c['frames']:6d}  {c['seconds']:.0f}")
+                     f"{c['mean_iou']:.3f}  {c['min_iou']:.3f}  {c['frames']:6d}  "
+                     f"{c['seconds']:.0f}" + (f"  ({c['error']})" if c["error"] else ""))
     lines.append("")
     for variant, s in figures["summary"].items():
-        lines.append(f"{variant:14s} |volume| median {100 * s['median_abs_volume_error']:.2f} %, "
+        if "median_abs_volume_error" not in s:
+            lines.append(f"{variant:14s} no clip fitted ({s['failed']} failed)")
+            continue
+        lines.append(f"{variant:14s} ({s['failed']} failed) |volume| median {100 * s['median_abs_volume_error']:.2f} %, "
                      f"worst {100 * s['worst_abs_volume_error']:.2f} %; |length| median "
                      f"{100 * s['median_abs_length_error']:.2f} %, worst "
                      f"{100 * s['worst_abs_length_error']:.2f} %; |mass| median "
-                     f"{100 * s['median_abs_mass_error']:.2f} %")
+                     f"{100 * s['median_abs_mass_error']:.2f} %; mean IoU {s['mean_iou']:.3f}")
     return "\n".join(lines)
 
 
@@ -137,6 +209,18 @@ def format_speed(figures: dict) -> str:
             f"{figures['frames_fitted']} frames fitted: {figures['wall_s']:.0f} s "
             f"({figures['fit_s_per_video_s']:.1f} s per second of video); {stages}; "
             f"peak memory {figures['peak_memory_mb']:.0f} MB")
+
+
+def format_batch(figures: dict) -> str:
+    """Clips per hour per worker count, and the ratio."""
+    lines = [f"{figures['clips']} clips of {figures['clip']['duration_s']:g} s at "
+             f"{figures['clip']['width_px']}×{figures['clip']['height_px']}, "
+             f"{figures['fit']['steps']} fit steps at {figures['fit']['fps']:g} frames/s"]
+    lines += [f"{r['workers']} worker(s) × {r['torch_threads']} torch thread(s): "
+              f"{r['wall_s']:.0f} s, {r['clips_per_hour']:.0f} clips/hour "
+              f"({r['complete']} complete)" for r in figures["runs"]]
+    lines.append(f"2 workers / 1 worker: {figures['speedup']:.2f}×")
+    return "\n".join(lines)
 
 
 def format_render(r: RenderBench) -> str:

@@ -1,53 +1,47 @@
-"""``dolphinfit bench fit``: accuracy over a suite of synthetic clips, and speed on a long one.
+"""``dolphinfit bench fit``: accuracy over the widened synthetic suite, and speed on a long clip.
 
-Suite: 8 clips at 1920×1080 that differ in shape (random part scales, SD 0.05), length
-(2.0–2.7 m), dive depth (0–1.5 m), altitude (15–25 m), water colour and clarity, sea state and
-noise, with every effect the fit does not model switched on. Each clip is fitted three times,
-side by side: with ROI crops and refraction, with ROI crops only (the default), and without
-either (whole frames at 720 px, as the paper). Masks are the clips' true masks, so the figures measure the fit alone; altitude
-comes from the DJI SRT sidecar. Clips are rendered once into the cache and reused.
+Suite: the scenarios of ``core.bench.suites`` (1920×1080 clips of light-grey and dark animals
+over green, blue, sandy and murky water, pairs, splash, glitter and sharp turns, with every
+effect the fit does not model on). Each clip is fitted side by side in the chosen variants:
+by default with the clip's true masks (the fit alone) and with the product's own masks (the
+default mask back-end from a click on the target, as a user would start it), at 2.5 frames
+per second of video. Altitude comes from the DJI SRT sidecar. Clips are rendered once into
+the cache and reused.
 
 Speed: a 10-second clip at 25 fps, 1920×1080, fitted with the defaults (5 frames per second of
 video): wall time, seconds of fit per second of video, time by stage and peak memory.
 """
 
 from dataclasses import asdict, dataclass, replace
+
 import numpy as np
 
+from core.bench.mask_bench import click_seed
+from core.bench.suites import SUITE, SUITE_NAME, ensure_scenario
 from core.bench.timing import run_with_peak_rss_mb
+from core.errors import InputError
 from core.fit.config import FitConfig
 from core.fit.pipeline import CameraChoice, run_fit
 from core.io.json_file import read_json
+from core.segment.backends import DEFAULT_BACKEND
 from core.synth.clip import make_clip
-from core.synth.files import ClipFiles, clip_files
 from core.synth.config import SynthConfig
+from core.synth.files import ClipFiles, clip_files
 from core.synth.sample import cache_dir
 
-SUITE_NAME = "bench-suite-v1"
-_BASE = SynthConfig(width_px=1920, height_px=1080, fps=10.0, duration_s=3.0, shape_sd=0.05)
-SUITE: tuple[SynthConfig, ...] = (
-    replace(_BASE, seed=101, length_m=2.0, altitude_m=15.0, dive_depth_m=0.0, sea_state=0.1,
-            water_rgb=(0.05, 0.25, 0.30), clarity_per_m=(0.5, 0.15, 0.12), noise_sd=0.008),
-    replace(_BASE, seed=102, length_m=2.2, altitude_m=18.0, dive_depth_m=0.5, sea_state=0.3,
-            water_rgb=(0.06, 0.28, 0.26), clarity_per_m=(0.6, 0.2, 0.18)),
-    replace(_BASE, seed=103, length_m=2.4, altitude_m=20.0, dive_depth_m=1.0, sea_state=0.5,
-            water_rgb=(0.08, 0.30, 0.22), clarity_per_m=(0.7, 0.25, 0.3)),
-    replace(_BASE, seed=104, length_m=2.5, altitude_m=22.0, dive_depth_m=1.5, sea_state=0.2,
-            water_rgb=(0.04, 0.22, 0.34), clarity_per_m=(0.4, 0.1, 0.08)),
-    replace(_BASE, seed=105, length_m=2.6, altitude_m=25.0, dive_depth_m=0.3, sea_state=0.7,
-            water_rgb=(0.09, 0.27, 0.25), clarity_per_m=(0.9, 0.4, 0.35), noise_sd=0.012),
-    replace(_BASE, seed=106, length_m=2.7, altitude_m=16.0, dive_depth_m=0.8, sea_state=0.4,
-            water_rgb=(0.05, 0.24, 0.31)),
-    replace(_BASE, seed=107, length_m=2.3, altitude_m=24.0, dive_depth_m=0.0, sea_state=0.9,
-            noise_sd=0.015),
-    replace(_BASE, seed=108, length_m=2.55, altitude_m=19.0, dive_depth_m=1.2, sea_state=0.6,
-            water_rgb=(0.07, 0.29, 0.27), clarity_per_m=(0.55, 0.2, 0.2)),
-)
-VARIANTS: dict[str, dict] = {"roi_refraction": {"use_roi": True, "use_refraction": True},
-                             "roi": {"use_roi": True, "use_refraction": False},
-                             "no_roi": {"use_roi": False, "use_refraction": False}}
+VARIANTS: dict[str, tuple[str | None, dict]] = {
+    # name: (mask back-end, None for the clip's true masks; fit options over the defaults)
+    "true_masks": (None, {}),
+    "product_masks": (DEFAULT_BACKEND, {}),
+    "true_masks_refraction": (None, {"use_refraction": True}),
+    "true_masks_no_roi": (None, {"use_roi": False, "use_refraction": True}),
+}
+DEFAULT_VARIANTS = ("true_masks", "product_masks")
 SUITE_FIT_FPS = 2.5
-SPEED_CLIP = replace(_BASE, seed=201, fps=25.0, duration_s=10.0, dive_depth_m=0.6)
+SPEED_CACHE = "bench-speed-v1"
+_SPEED_BASE = SynthConfig(width_px=1920, height_px=1080, fps=10.0, duration_s=3.0,
+                          shape_sd=0.05)
+SPEED_CLIP = replace(_SPEED_BASE, seed=201, fps=25.0, duration_s=10.0, dive_depth_m=0.6)
 
 
 @dataclass(frozen=True)
@@ -60,12 +54,15 @@ class ClipScore:
     length_error: float
     mass_error: float
     mean_iou: float
+    min_iou: float            # the worst fitted frame's IoU
     frames: int
     seconds: float
+    frame_iou: tuple[float, ...]   # per fitted frame, in time order
+    error: str = ""                # why there is no fit (its errors are then NaN)
 
 
 def _ensure(config: SynthConfig, name: str) -> ClipFiles:
-    out = cache_dir() / SUITE_NAME / name
+    out = cache_dir() / SPEED_CACHE / name
     files = clip_files(out, config)
     if files.truth_json.exists() and files.video.exists():
         return files
@@ -75,23 +72,40 @@ def _ensure(config: SynthConfig, name: str) -> ClipFiles:
 def _score(files: ClipFiles, config: SynthConfig, fit_config: FitConfig, name: str,
            variant: str) -> ClipScore:
     truth = read_json(files.truth_json, "the clip's truth")
-    run = run_fit(files.video, files.srt, files.masks_dir,
-                  CameraChoice(sensor_width_mm=config.sensor_width_mm, focal_mm=config.focal_mm),
-                  fit_config, config.launch_height_m)
+    backend = VARIANTS[variant][0]
+    camera = CameraChoice(sensor_width_mm=config.sensor_width_mm, focal_mm=config.focal_mm)
+    try:
+        if backend is None:
+            run = run_fit(files.video, files.srt, files.masks_dir, camera, fit_config,
+                          config.launch_height_m)
+        else:
+            run = run_fit(files.video, files.srt, None, camera, fit_config,
+                          config.launch_height_m, seed=click_seed(files), backend=backend)
+    except InputError as exc:  # e.g. masks that leave no frame to fit: a failed clip
+        nan = float("nan")
+        return ClipScore(clip=name, variant=variant, volume_error=nan, length_error=nan,
+                         mass_error=nan, mean_iou=nan, min_iou=nan, frames=0, seconds=nan,
+                         frame_iou=(), error=str(exc))
     result = run.result
     return ClipScore(clip=name, variant=variant,
                      volume_error=result.volume_m3 / truth["volume_m3"] - 1.0,
                      length_error=result.length_m / truth["length_m"] - 1.0,
                      mass_error=result.mass_kg / truth["mass_kg"] - 1.0,
-                     mean_iou=float(result.iou.mean()), frames=len(result.frame_idx),
-                     seconds=result.timings_s["total"])
+                     mean_iou=float(result.iou.mean()), min_iou=float(result.iou.min()),
+                     frames=len(result.frame_idx), seconds=result.timings_s["total"],
+                     frame_iou=tuple(float(v) for v in result.iou))
 
 
 def summarize(scores: list[ClipScore]) -> dict[str, dict[str, float]]:
-    """Median and worst absolute errors per variant."""
+    """Median and worst absolute errors per variant, over the clips that were fitted; how
+    many were not."""
     summary = {}
     for variant in dict.fromkeys(s.variant for s in scores):
-        chosen = [s for s in scores if s.variant == variant]
+        failed = sum(1 for s in scores if s.variant == variant and s.error)
+        chosen = [s for s in scores if s.variant == variant and not s.error]
+        if not chosen:
+            summary[variant] = {"failed": failed}
+            continue
         volume = np.abs([s.volume_error for s in chosen])
         length = np.abs([s.length_error for s in chosen])
         mass = np.abs([s.mass_error for s in chosen])
@@ -100,32 +114,38 @@ def summarize(scores: list[ClipScore]) -> dict[str, dict[str, float]]:
                             "median_abs_length_error": float(np.median(length)),
                             "worst_abs_length_error": float(length.max()),
                             "median_abs_mass_error": float(np.median(mass)),
-                            "mean_seconds": float(np.mean([s.seconds for s in chosen]))}
+                            "mean_iou": float(np.mean([s.mean_iou for s in chosen])),
+                            "mean_seconds": float(np.mean([s.seconds for s in chosen])),
+                            "failed": failed}
     return summary
 
 
-def bench_suite(num_clips: int = len(SUITE), variants: tuple[str, ...] = tuple(VARIANTS),
+def bench_suite(num_clips: int = len(SUITE), variants: tuple[str, ...] = DEFAULT_VARIANTS,
                 progress=None, base: FitConfig | None = None) -> dict:
     """Fit every clip in every variant; per-clip scores and the summary.
 
     ``base``: the fit configuration the variants modify (default: the defaults at the
     suite's fitting rate).
     """
+    unknown = [v for v in variants if v not in VARIANTS]
+    if unknown:
+        raise InputError(f"bench fit variants {', '.join(unknown)}: unknown; choose from "
+                         f"{', '.join(VARIANTS)}")
     base = base if base is not None else replace(FitConfig(), fps=SUITE_FIT_FPS)
     scores = []
-    for index, config in enumerate(SUITE[:num_clips]):
-        name = f"clip{index + 1}"
-        files = _ensure(config, name)
+    for scenario in SUITE[:num_clips]:
+        files = ensure_scenario(scenario)
         for variant in variants:
-            scores.append(_score(files, config, replace(base, **VARIANTS[variant]), name,
+            scores.append(_score(files, scenario.config,
+                                 replace(base, **VARIANTS[variant][1]), scenario.name,
                                  variant))
             if progress is not None:
                 progress(scores[-1])
     return {"clips": [asdict(s) for s in scores], "summary": summarize(scores),
-            "fit_fps": SUITE_FIT_FPS,
-            "suite": [{"clip": f"clip{i + 1}", "length_m": c.length_m, "altitude_m": c.altitude_m,
-                       "dive_depth_m": c.dive_depth_m, "sea_state": c.sea_state}
-                      for i, c in enumerate(SUITE[:num_clips])]}
+            "fit_fps": base.fps, "suite": SUITE_NAME,
+            "scenarios": [{"clip": sc.name, "shows": sc.shows,
+                           "length_m": sc.config.length_m, "altitude_m": sc.config.altitude_m}
+                          for sc in SUITE[:num_clips]]}
 
 
 def bench_speed(clip: SynthConfig = SPEED_CLIP) -> dict:

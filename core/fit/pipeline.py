@@ -21,10 +21,10 @@ from core.intrinsics import CameraIntrinsics
 from core.io.frame_source import FrameSource
 from core.io.masks import MaskTrack, read_masks
 from core.io.telemetry import Telemetry, load_telemetry
-from core.io.video import Clip, VideoReader, open_clip
+from core.io.video import Clip, VideoReader, frame_range, open_clip, step_for_fps
 from core.progress import ProgressCallback
-from core.segment.segmenter import AutoSeed
-from core.segment.tracker import MaskTracker
+from core.segment.backends import DEFAULT_BACKEND, make_segmenter
+from core.segment.segmenter import AutoSeed, Seed
 
 
 @dataclass(frozen=True)
@@ -39,7 +39,8 @@ class CameraChoice:
         """Full-frame intrinsics for the clip's frame size."""
         if self.sensor_width_mm is not None or self.focal_mm is not None:
             if self.sensor_width_mm is None or self.focal_mm is None:
-                raise InputError("give both --sensor-width-mm and --focal-mm, or a --camera preset")
+                raise InputError("camera: give both the sensor width and the focal length (mm), "
+                                 "or a camera preset")
             return CameraIntrinsics.from_sensor(self.focal_mm, self.sensor_width_mm,
                                                 clip.width_px, clip.height_px)
         preset = get_preset(self.preset or DEFAULT_PRESET)
@@ -72,16 +73,22 @@ def fit_clip(frames: FrameSource, telemetry: Telemetry, masks: MaskTrack,
 def run_fit(clip_path: Path, altitude: str | Path | float | None, masks_path: Path | None,
             camera: CameraChoice, config: FitConfig, launch_height_m: float = 0.0,
             progress: ProgressCallback | None = None,
-            cancel: threading.Event | None = None) -> FitRun:
-    """Fit the clip; without ``masks_path`` the built-in tracker finds the dolphin itself
-    (reporting its own "track" stage first)."""
+            cancel: threading.Event | None = None, seed: Seed = AutoSeed(frame_idx=0),
+            time_offset_s: float = 0.0, backend: str = DEFAULT_BACKEND) -> FitRun:
+    """Fit the clip; without ``masks_path`` the mask ``backend`` (core.segment.backends)
+    finds the dolphin from ``seed`` on the frames the fit will look at, reporting its own
+    "track" stage first."""
     clip = open_clip(clip_path)
-    telemetry = load_telemetry(clip, altitude, launch_height_m=launch_height_m)
+    telemetry = load_telemetry(clip, altitude, launch_height_m, time_offset_s)
     intrinsics = camera.intrinsics(clip)
     # frames are read in order by the tracker and once more by the preparation: a frame cache
     # would only hold memory through the long optimisation
     with VideoReader(clip, cache_bytes=0) as frames:
-        masks = (read_masks(masks_path, clip) if masks_path is not None
-                 else MaskTracker().segment(frames, AutoSeed(frame_idx=0), progress=progress,
-                                            cancel=cancel))
+        if masks_path is not None:
+            masks = read_masks(masks_path, clip)
+        else:
+            fit_frames = frame_range(clip, config.start_s, config.end_s,
+                                     step_for_fps(clip, config.fps))
+            masks = make_segmenter(backend, only_frames=fit_frames).segment(
+                frames, seed, progress=progress, cancel=cancel)
         return fit_clip(frames, telemetry, masks, intrinsics, config, progress, cancel)

@@ -26,11 +26,16 @@ import numpy as np
 from core.io.masks import MaskTrack
 from core.progress import Progress, ProgressCallback, check_cancel
 from core.segment.colour import ColourModel, coverage, separation, to_lab
+from core.segment.regions import (
+    attached,
+    centroid,
+    crop_of,
+    models_near,
+    shifted,
+    window,
+)
 from core.segment.seed import (
-    RING_OUTER_PX,
-    colour_models,
     dilate,
-    fill_holes,
     find_blobs,
     refine,
     seed_mask,
@@ -65,68 +70,6 @@ class _TrackState:
     velocity_px: np.ndarray = field(default_factory=lambda: np.zeros(2))
 
 
-@dataclass(frozen=True, eq=False)
-class _Crop:
-    """A mask kept as its bounding box: top-left (row, col) and the (h, w) bool crop."""
-
-    row0: int
-    col0: int
-    crop: np.ndarray
-
-    def paste(self, height_px: int, width_px: int) -> np.ndarray:
-        """The full (H, W) bool mask."""
-        mask = np.zeros((height_px, width_px), bool)
-        mask[self.row0:self.row0 + self.crop.shape[0],
-             self.col0:self.col0 + self.crop.shape[1]] = self.crop
-        return mask
-
-
-def _window(mask: np.ndarray, margin_px: int) -> tuple[slice, slice]:
-    """Row and column slices of the mask's bounding box grown by ``margin_px``."""
-    col0, row0, width, height = cv2.boundingRect(mask.astype(np.uint8))
-    return (slice(max(0, row0 - margin_px), min(mask.shape[0], row0 + height + margin_px)),
-            slice(max(0, col0 - margin_px), min(mask.shape[1], col0 + width + margin_px)))
-
-
-def _crop(mask: np.ndarray) -> _Crop:
-    rows, cols = _window(mask, 0)
-    return _Crop(rows.start, cols.start, mask[rows, cols].copy())
-
-
-def _centroid(mask: np.ndarray) -> np.ndarray:
-    """(x, y) centroid of a bool mask, pixels."""
-    moments = cv2.moments(mask.astype(np.uint8), binaryImage=True)
-    return np.array([moments["m10"], moments["m01"]]) / moments["m00"]
-
-
-def _shifted(mask: np.ndarray, shift_px: np.ndarray) -> np.ndarray:
-    """The mask moved by (dx, dy) pixels (rounded), cut at the frame's edges."""
-    matrix = np.float32([[1, 0, round(shift_px[0])], [0, 1, round(shift_px[1])]])
-    moved = cv2.warpAffine(mask.astype(np.uint8), matrix, mask.shape[::-1],
-                           flags=cv2.INTER_NEAREST)
-    return moved.astype(bool)
-
-
-def _models_near(frame_rgb: np.ndarray, mask: np.ndarray) -> tuple[ColourModel, ColourModel]:
-    """``seed.colour_models`` computed in a window around the mask only."""
-    rows, cols = _window(mask, RING_OUTER_PX + 1)
-    return colour_models(to_lab(frame_rgb[rows, cols]), mask[rows, cols])
-
-
-def _attached(candidate: np.ndarray, prediction: np.ndarray, gap_px: int) -> np.ndarray:
-    """The component of ``candidate`` that overlaps ``prediction`` most, with the components
-    within ``gap_px`` of it (flippers and flukes that a faint seam cuts off), holes filled."""
-    count, labels = cv2.connectedComponents(candidate.astype(np.uint8), connectivity=8)
-    if count < 2:
-        return np.zeros_like(candidate)
-    overlap = np.bincount(labels[prediction], minlength=count)[1:]
-    if overlap.max() == 0:
-        return np.zeros_like(candidate)
-    main = labels == 1 + int(np.argmax(overlap))
-    touching = np.unique(labels[dilate(main, gap_px)])
-    return fill_holes(np.isin(labels, touching[touching > 0]))
-
-
 class MaskTracker:
     """The built-in segmenter (implements ``Segmenter``)."""
 
@@ -147,8 +90,8 @@ class MaskTracker:
         first = frames[seed.frame_idx]
         height, width = first.shape[:2]
         mask = seed_mask(first, seed)
-        animal, water = _models_near(first, mask)
-        crops = {seed.frame_idx: _crop(mask)}
+        animal, water = models_near(first, mask)
+        crops = {seed.frame_idx: crop_of(mask)}
         num_done = 1
         if progress is not None:
             progress(Progress(TRACK_STAGE, num_done, num_frames))
@@ -159,7 +102,7 @@ class MaskTracker:
                 check_cancel(cancel)
                 found = self._next(frames[frame_idx], state)
                 if found is not None:
-                    crops[frame_idx] = _crop(found)
+                    crops[frame_idx] = crop_of(found)
                 num_done += 1
                 if progress is not None:
                     progress(Progress(TRACK_STAGE, num_done, num_frames))
@@ -177,10 +120,10 @@ class MaskTracker:
             state.mask = None
             return None
         if state.mask is not None:
-            state.velocity_px = _centroid(mask) - _centroid(state.mask)
+            state.velocity_px = centroid(mask) - centroid(state.mask)
         else:
             state.velocity_px = np.zeros(2)
-        animal, water = _models_near(frame_rgb, mask)
+        animal, water = models_near(frame_rgb, mask)
         rate = self.settings.model_rate
         state.animal = state.animal.blend(animal, rate)
         state.water = state.water.blend(water, rate)
@@ -191,18 +134,18 @@ class MaskTracker:
     def _follow(self, frame_rgb: np.ndarray, state: _TrackState) -> np.ndarray | None:
         """Classify near the predicted mask; None if the result says the animal is lost."""
         settings = self.settings
-        prediction = _shifted(state.mask, state.velocity_px)
+        prediction = shifted(state.mask, state.velocity_px)
         if not prediction.any():
             return None
-        rows, cols = _window(prediction, 0)
+        rows, cols = window(prediction, 0)
         longer_px = max(rows.stop - rows.start, cols.stop - cols.start)
         margin_px = max(settings.min_margin_px, round(settings.margin_fraction * longer_px))
-        rows, cols = _window(prediction, margin_px)
+        rows, cols = window(prediction, margin_px)
         cover = cv2.GaussianBlur(coverage(to_lab(frame_rgb[rows, cols]), state.animal,
                                           state.water), (0, 0), settings.smoothing_sigma_px)
         near = dilate(prediction[rows, cols], margin_px)
         mask = np.zeros_like(state.mask)
-        mask[rows, cols] = _attached((cover >= 0.5) & near, prediction[rows, cols],
+        mask[rows, cols] = attached((cover >= 0.5) & near, prediction[rows, cols],
                                      settings.gap_px)
         return mask if self._is_animal(frame_rgb, mask, state) else None
 
@@ -211,7 +154,7 @@ class MaskTracker:
         settings = self.settings
         if np.count_nonzero(mask) < max(1.0, settings.lost_area_ratio * state.area_px):
             return False
-        contrast = separation(*_models_near(frame_rgb, mask))
+        contrast = separation(*models_near(frame_rgb, mask))
         return contrast >= settings.lost_separation_ratio * state.reference_separation
 
     def _reacquire(self, frame_rgb: np.ndarray, state: _TrackState) -> np.ndarray | None:

@@ -45,7 +45,7 @@ def _truth(t: int) -> np.ndarray:
 def test_masks_written_as_pngs(clip, tmp_path, capsys, seed):
     """Each kind of seed writes one %06d.png per frame that matches the ellipse."""
     out = tmp_path / "masks"
-    assert main(["masks", str(clip), *seed, "--out", str(out)]) == 0
+    assert main(["masks", str(clip), *seed, "--backend", "colour", "--out", str(out)]) == 0
     assert f"wrote {out}: 12 frames, 12 with the animal" in capsys.readouterr().out
     assert len(list(out.glob("*.png"))) == NUM_FRAMES
     track = read_masks(out, open_clip(clip))
@@ -57,19 +57,40 @@ def test_masks_written_as_pngs(clip, tmp_path, capsys, seed):
 def test_npz_output_and_later_seed_frame(clip, tmp_path):
     """--out x.npz writes one file; a seed in frame 6 tracks both ways."""
     out = tmp_path / "masks.npz"
-    assert main(["masks", str(clip), "--seed", "76,62", "--frame", "6", "--out", str(out)]) == 0
+    assert main(["masks", str(clip), "--seed", "76,62", "--frame", "6", "--backend", "colour",
+                 "--out", str(out)]) == 0
     assert read_masks(out).is_visible.all()
 
 
 @pytest.mark.parametrize("args, problem", [
     (["--seed", "12"], "--seed '12': expected 2 comma-separated numbers"),
-    (["--seed", "150,110"], "no dark, elongated animal found at the seed"),
+    (["--seed", "150,110", "--backend", "colour"], "no dark, elongated animal found at the seed"),
+    (["--seed", "150,110"], "the network found no animal at the seed"),
+    (["--seed", "40,50", "--every", "0"], "--every: must be at least 1, got 0"),
+    (["--auto", "--backend", "sam"], None),
     (["--auto", "--frame", "40"], "--frame 40"),
 ])
 def test_bad_seeds_exit_2(clip, tmp_path, capsys, args, problem):
     """Malformed seeds, seeds on open water and frames outside the clip exit with code 2."""
-    assert main(["masks", str(clip), *args, "--out", str(tmp_path / "m")]) == 2
-    assert problem in capsys.readouterr().err
+    try:
+        code = main(["masks", str(clip), *args, "--out", str(tmp_path / "m")])
+    except SystemExit as exc:  # argparse refuses an unknown choice itself
+        code = exc.code
+    assert code == 2
+    assert problem is None or problem in capsys.readouterr().err
+
+
+def test_network_backend_on_every_kth_frame(clip, tmp_path, capsys):
+    """The default back-end, the network, on every 4th frame: those frames match the ellipse,
+    the others are written empty, and the summary says so."""
+    out = tmp_path / "masks.npz"
+    assert main(["masks", str(clip), "--seed", "40,50", "--every", "4", "--out", str(out)]) == 0
+    assert "12 frames, 3 with the animal" in capsys.readouterr().out
+    track = read_masks(out)
+    assert list(np.flatnonzero(track.is_visible)) == [0, 4, 8]
+    for t in (0, 4, 8):
+        got, truth = track.mask(t), _truth(t)
+        assert (got & truth).sum() / (got | truth).sum() > 0.85
 
 
 def test_not_a_video_exits_2(tmp_path, capsys):

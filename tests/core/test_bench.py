@@ -7,6 +7,7 @@ import torch
 
 from app.cli import main
 from core.bench import render_bench
+from core.errors import InputError
 from core.bench.timing import median_ms, peak_rss_mb_of
 
 
@@ -52,22 +53,56 @@ def test_bench_render_quick_reports_consistent_ratios(capsys):
     assert figures["paper_covered_px"] > 300
 
 
-def test_fit_suite_scores_clips_against_their_truth(tmp_path, monkeypatch):
-    """A one-clip suite in two variants reports per-clip errors and a summary per variant."""
-
-    from core.bench import fit_bench
-    from core.fit.config import FitConfig
+@pytest.fixture(scope="module")
+def tiny_scenario(tmp_path_factory):
+    """A one-scenario suite of a small light-grey clip over green water, rendered once into
+    a cache of this module's own."""
+    from core.bench import suites
     from core.synth import sample
     from core.synth.config import SynthConfig
+    from core.synth.water import with_water
 
-    monkeypatch.setenv(sample.CACHE_DIR_ENV, str(tmp_path))
-    tiny = SynthConfig(seed=5, width_px=640, height_px=480, fps=5.0, duration_s=0.8,
-                       altitude_m=8.0, dive_depth_m=0.0)
-    monkeypatch.setattr(fit_bench, "SUITE", (tiny,))
+    with pytest.MonkeyPatch.context() as patch:
+        patch.setenv(sample.CACHE_DIR_ENV, str(tmp_path_factory.mktemp("cache")))
+        tiny = with_water(SynthConfig(seed=5, width_px=640, height_px=480, fps=5.0,
+                                      duration_s=0.8, altitude_m=8.0, dive_depth_m=0.0,
+                                      colouration="light_grey"), "green")
+        scenario = suites.Scenario("tiny", tiny, "a small light-grey clip")
+        suites.ensure_scenario(scenario)
+        yield scenario
+
+
+def test_fit_suite_scores_clips_against_their_truth(tiny_scenario, monkeypatch):
+    """A one-clip suite with true masks and with the product's own masks reports per-clip
+    errors, per-frame IoU and a summary per variant."""
+    from core.bench import fit_bench
+    from core.fit.config import FitConfig
+
+    monkeypatch.setattr(fit_bench, "SUITE", (tiny_scenario,))
     quick = FitConfig(heading_trial_steps=2, steps_global=3, steps_body=2, steps_shape=4)
-    figures = fit_bench.bench_suite(num_clips=1, variants=("roi", "no_roi"), base=quick)
-    assert [c["variant"] for c in figures["clips"]] == ["roi", "no_roi"]
+    figures = fit_bench.bench_suite(num_clips=1, base=quick)
+    assert [c["variant"] for c in figures["clips"]] == ["true_masks", "product_masks"]
     for clip in figures["clips"]:
         assert abs(clip["volume_error"]) < 0.5 and clip["frames"] >= 3
-    summary = figures["summary"]["roi"]
+        assert len(clip["frame_iou"]) == clip["frames"]
+        assert min(clip["frame_iou"]) == clip["min_iou"] > 0.5
+    summary = figures["summary"]["true_masks"]
     assert summary["median_abs_volume_error"] == abs(figures["clips"][0]["volume_error"])
+    with pytest.raises(InputError, match="variants nope: unknown"):
+        fit_bench.bench_suite(num_clips=1, variants=("nope",), base=quick)
+
+
+def test_mask_bench_scores_each_back_end_from_the_click(tiny_scenario):
+    """Both back-ends on the same clip: the network keeps a light-grey animal over green
+    water; the colour tracker, which looks for a dark animal, finds none at the click and
+    scores 0 with the reason recorded."""
+    from core.bench.mask_bench import bench_masks
+    from core.bench.suites import ensure_scenario
+
+    figures = bench_masks({"tiny": ensure_scenario(tiny_scenario)}, stride=2)
+    network, colour = figures["clips"]
+    assert network["backend"] == "network" and network["frames"] == 2
+    assert network["mean_iou"] > 0.85 and network["flukes_iou"] > 0.5
+    assert 0.0 <= network["rostrum_iou"] <= 1.0 and not network["error"]
+    assert colour["mean_iou"] == 0.0 and "no dark, elongated animal" in colour["error"]
+    assert figures["summary"]["network"]["mean_iou"] == network["mean_iou"]

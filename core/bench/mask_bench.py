@@ -1,0 +1,127 @@
+"""``dolphinfit bench masks``: each mask back-end against the truth on the widened suite.
+
+Every back-end starts from the same click: the truth's ``seed_px`` (a point inside the target)
+in the first frame where the target is visible, as a user would click the animal to measure,
+with a second animal beside it in some clips. It segments the frames a suite fit uses (every
+``stride``-th frame; the colour tracker, being cheap, runs on all of them as the app does) and
+is scored on those frames:
+
+- **IoU** of the whole mask (a frame where both the truth and the result are empty scores 1,
+  one where only one is empty 0);
+- **flukes** and **rostrum IoU**: the same within a zone around that part's true region
+  (``parts.npz``; the zone is the region grown by ``PART_ZONE_PX``), over the frames where the
+  part is visible: the parts that decide the body length;
+- **seconds per segmented frame**, wall time of the whole pass.
+"""
+
+import time
+from dataclasses import asdict, dataclass
+
+import numpy as np
+
+from core.errors import InputError
+from core.io.json_file import read_json
+from core.io.masks import read_png_folder
+from core.io.video import VideoReader, open_clip
+from core.iou import mask_iou
+from core.segment.backends import BACKENDS, COLOUR, make_segmenter
+from core.segment.seed import dilate
+from core.segment.segmenter import PointSeed
+from core.synth.files import ClipFiles, read_part_masks
+
+PART_ZONE_PX = 4
+DEFAULT_STRIDE = 4    # the suite's clips are 10 fps and fitted at 2.5 fps
+
+
+@dataclass(frozen=True)
+class MaskScore:
+    """One back-end on one clip."""
+
+    clip: str
+    backend: str
+    mean_iou: float
+    min_iou: float
+    flukes_iou: float     # NaN when the flukes are never visible in the scored frames
+    rostrum_iou: float
+    frames: int           # frames scored
+    seconds_per_frame: float
+    error: str = ""       # why the back-end gave no masks at all (scored as empty masks)
+
+
+def click_seed(files: ClipFiles) -> PointSeed:
+    """The click on the target in its first visible frame (truth's ``seed_px``)."""
+    truth = read_json(files.truth_json, "the clip's truth")
+    for frame in truth["frames"]:
+        if frame.get("visible") and frame.get("seed_px") is not None:
+            x_px, y_px = frame["seed_px"]
+            return PointSeed(float(x_px), float(y_px), int(frame["frame"]))
+    raise ValueError(f"{files.truth_json}: the target is never visible")
+
+
+def part_iou(result: np.ndarray, truth: np.ndarray, region: np.ndarray) -> float:
+    """IoU of the two masks within the zone around one part's true region."""
+    zone = dilate(region, PART_ZONE_PX)
+    return mask_iou(result & zone, truth & zone)
+
+
+def score_backend(name: str, files: ClipFiles, backend: str,
+                  stride: int = DEFAULT_STRIDE) -> MaskScore:
+    """Segment one clip with one back-end and score it (module doc)."""
+    clip = open_clip(files.video)
+    truth = read_png_folder(files.masks_dir, clip)
+    parts = read_part_masks(files.parts)
+    seed = click_seed(files)
+    scored = sorted(set(range(seed.frame_idx % stride, clip.num_frames, stride)))
+    segmenter = make_segmenter(backend, only_frames=scored)
+    error = ""
+    with VideoReader(clip) as frames:
+        start = time.perf_counter()
+        try:
+            track = segmenter.segment(frames, seed)
+        except InputError as exc:  # the seed found nothing: every frame scores as empty
+            track, error = None, str(exc)
+        seconds = time.perf_counter() - start
+    segmented = clip.num_frames if backend == COLOUR else len(scored)
+    ious, part_ious = [], {part: [] for part in ("flukes", "rostrum")}
+    for t in scored:
+        target = truth.mask(t)
+        result = track.mask(t) if track is not None else np.zeros_like(target)
+        ious.append(mask_iou(result, target))
+        for part, values in part_ious.items():
+            region = parts[part][t] & target
+            if region.any():
+                values.append(part_iou(result, target, region))
+    return MaskScore(clip=name, backend=backend, mean_iou=float(np.mean(ious)),
+                     min_iou=float(np.min(ious)),
+                     flukes_iou=float(np.mean(part_ious["flukes"])) if part_ious["flukes"]
+                     else float("nan"),
+                     rostrum_iou=float(np.mean(part_ious["rostrum"])) if part_ious["rostrum"]
+                     else float("nan"),
+                     frames=len(scored), seconds_per_frame=seconds / segmented, error=error)
+
+
+def summarize(scores: list[MaskScore]) -> dict[str, dict[str, float]]:
+    """Per back-end: the mean over clips of each figure, and the worst clip's mean IoU."""
+    summary = {}
+    for backend in dict.fromkeys(s.backend for s in scores):
+        chosen = [s for s in scores if s.backend == backend]
+        summary[backend] = {
+            "mean_iou": float(np.mean([s.mean_iou for s in chosen])),
+            "worst_clip_iou": float(np.min([s.mean_iou for s in chosen])),
+            "flukes_iou": float(np.nanmean([s.flukes_iou for s in chosen])),
+            "rostrum_iou": float(np.nanmean([s.rostrum_iou for s in chosen])),
+            "seconds_per_frame": float(np.mean([s.seconds_per_frame for s in chosen]))}
+    return summary
+
+
+def bench_masks(clips: dict[str, ClipFiles], backends: tuple[str, ...] = tuple(BACKENDS),
+                stride: int = DEFAULT_STRIDE, progress=None) -> dict:
+    """Every back-end on every clip, side by side; ``progress(score)`` after each."""
+    scores = []
+    for name, files in clips.items():
+        for backend in backends:
+            scores.append(score_backend(name, files, backend, stride))
+            if progress is not None:
+                progress(scores[-1])
+    return {"clips": [asdict(s) for s in scores], "summary": summarize(scores),
+            "stride": stride, "part_zone_px": PART_ZONE_PX}

@@ -1,0 +1,498 @@
+"""The network tracker: the salient-object network on a crop around the animal, frame by frame.
+
+Colour alone fails on real water (light-grey animals over green water lose their flukes and
+tail stock to the water's colour); a network that has learnt what an object looks like keeps
+them. From the seed frame it tracks forwards to the end of the clip, then backwards, like the
+built-in tracker, on every frame or only on chosen ones (the frames a fit will use):
+
+1. **Window**: a square crop around the last mask moved by the last motion, its side the
+   mask's longer side plus ``context`` of it on each side. At the seed, a click's first
+   window (``first_window_fraction`` of the frame) is re-centred on what the network finds
+   until the animal lies inside it, not cut by its edge.
+2. **Saliency** of the crop (``salient.SalientNet``). Once the animal's motion is known, what
+   lies more than ``focus_fraction`` of its length from the prediction (another animal,
+   glitter, seagrass) is painted with the water's colour first. The network marks one object;
+   when that is not the animal asked for, the other is painted out and the crop looked at
+   again. Pixels with saliency ≥ ``threshold``: the component that overlaps the prediction
+   (at the seed: under the click) with parts a seam cuts off; a neighbour touching the
+   animal is split off (``nearer_to``, ``own_body``).
+3. **Edges**: the network sees the crop at 320 px, coarser than the frame; within
+   ``band_px`` of its outline, each pixel is re-decided by the colour coverage of the
+   animal against the water (``colour.coverage``, models from the mask's rim and ring), which
+   places the outline to a fraction of a pixel where the two colours separate well.
+4. **Moved**: a mask that overlaps its prediction less than ``follow_iou`` is looked at again
+   in a window around itself; of the two, the one whose area is closest to the animal's.
+5. **Lost** when the area falls below ``lost_area_ratio`` of the running reference or the
+   colour separation below half the seed frame's; while lost, the last window grown by
+   ``search_growth`` is searched each frame for a mask of about the reference area.
+
+When the network sees nothing at a click (a dark animal over dark seagrass), the built-in
+detector's blob under the click is the start instead.
+"""
+
+import threading
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+
+import cv2
+import numpy as np
+
+from core.errors import InputError
+from core.io.masks import MaskTrack
+from core.iou import mask_iou
+from core.progress import Progress, ProgressCallback, check_cancel
+from core.segment.colour import coverage, separation, to_lab
+from core.segment.regions import (
+    MaskCrop,
+    attached,
+    centroid,
+    crop_of,
+    models_near,
+    shifted,
+)
+from core.segment.salient import SalientNet
+from core.segment.seed import (
+    MAX_AREA_FRACTION,
+    MAX_ELONGATION,
+    MIN_AREA_FRACTION,
+    MIN_ELONGATION,
+    MIN_FILL,
+    POINT_SEARCH_FRACTION,
+    colour_models,
+    dilate,
+    erode,
+    seed_mask,
+    shape_of,
+)
+from core.segment.segmenter import (
+    TRACK_STAGE,
+    AutoSeed,
+    BoxSeed,
+    Frames,
+    PointSeed,
+    Seed,
+)
+
+BACKEND_NAME = "network (U²-Net small)"
+MAX_CROP_COVER = 0.5  # a mask over more of its crop than this leaves no water to model
+MIN_WINDOW_PX = 48    # smallest window: the colour models need a ring of water around
+CORE_LEVELS = (0.9, 0.99, 0.999)  # stricter probability levels where touching bodies part
+MIN_CORE_SHARE = 0.25  # a second core this large (× the largest) is a second animal
+PAIR_MAX_ELONGATION = 3.5  # below this a component may be two animals side by side
+PAIR_AREA_RATIO = 1.6      # or when it is this much larger than the animal was
+
+
+@dataclass(frozen=True)
+class NetSettings:
+    """Tuning of the network tracker (defaults measured with ``dolphinfit bench masks``)."""
+
+    context: float = 0.25            # crop margin on each side, × the mask's longer side
+    threshold: float = 0.5           # saliency from which a pixel is animal
+    near_fraction: float = 0.12      # kept within this × longer side of the prediction
+    min_near_px: int = 6
+    gap_px: int = 2                  # parts this close to the body belong to it
+    band_px: int = 3                 # outline band re-decided by colour
+    smoothing_sigma_px: float = 0.8  # Gaussian smoothing of the coverage map
+    min_separation: float = 2.0      # colour separation (pooled SDs) needed for the edge step
+    model_rate: float = 0.2          # running update of the reference area
+    lost_area_ratio: float = 0.4
+    lost_separation_ratio: float = 0.5
+    reacquire_area_range: tuple[float, float] = (0.5, 2.0)
+    search_growth: float = 1.6       # the window's growth per step while lost
+    first_window_fraction: float = 0.3   # a click's first window, × the frame's shorter side
+    seed_rounds: int = 3             # re-windowings around the clicked animal
+    focus_fraction: float = 0.25     # painted out beyond this × its length from its prediction
+    follow_iou: float = 0.8          # below this overlap with its prediction, look again
+
+
+@dataclass
+class _State:
+    """What one tracking pass carries from frame to frame."""
+
+    mask: np.ndarray | None            # last accepted (H, W) bool mask; None while lost
+    last_seen: np.ndarray              # last accepted mask, kept while lost
+    area_px: float
+    reference_separation: float
+    velocity_px: np.ndarray = field(default_factory=lambda: np.zeros(2))
+    moving: bool = False               # whether velocity_px was measured
+    lost_steps: int = 0
+
+
+def square_window(center_xy: np.ndarray, side_px: float, height_px: int,
+                  width_px: int) -> tuple[slice, slice]:
+    """A square of ``side_px`` centred on ``center_xy``, moved (and cut only where it must
+    be) to lie inside the frame."""
+    side = int(min(round(side_px), height_px, width_px))
+    col0 = int(np.clip(round(center_xy[0] - side / 2), 0, width_px - side))
+    row0 = int(np.clip(round(center_xy[1] - side / 2), 0, height_px - side))
+    return slice(row0, row0 + side), slice(col0, col0 + side)
+
+
+def longer_side(mask: np.ndarray) -> int:
+    """The longer side of a non-empty mask's bounding box, pixels."""
+    _, _, width, height = cv2.boundingRect(mask.astype(np.uint8))
+    return max(width, height)
+
+
+def refine_edges(crop_rgb: np.ndarray, mask: np.ndarray, settings: NetSettings) -> np.ndarray:
+    """``mask`` with the pixels within ``band_px`` of its outline re-decided by colour
+    coverage ≥ 0.5 (module doc, step 3); unchanged where the colours do not separate."""
+    if (settings.band_px <= 0 or min(mask.shape) < MIN_WINDOW_PX or not mask.any()
+            or mask.mean() > MAX_CROP_COVER):
+        return mask
+    lab = to_lab(crop_rgb)
+    animal, water = colour_models(lab, mask)
+    if separation(animal, water) < settings.min_separation:
+        return mask
+    inner = erode(mask, settings.band_px)
+    band = dilate(mask, settings.band_px) & ~inner
+    cover = cv2.GaussianBlur(coverage(lab, animal, water), (0, 0), settings.smoothing_sigma_px)
+    decided = inner | (band & (cover >= 0.5))
+    return attached(decided, mask, 1)
+
+
+def _tile_starts(length_px: int, side_px: int) -> list[int]:
+    """Starts of the fewest tiles of ``side_px`` that cover ``length_px`` with overlap."""
+    count = int(np.ceil(length_px / side_px))
+    return [round(i * (length_px - side_px) / max(count - 1, 1)) for i in range(count)] \
+        if count > 1 else [0]
+
+
+def nearer_to(region: np.ndarray, own: np.ndarray, other: np.ndarray) -> np.ndarray:
+    """The pixels of ``region`` at least as close to ``own`` as to ``other`` (both non-empty
+    bool masks): a Voronoi split of two touching animals between what is known of each."""
+    to_own = cv2.distanceTransform((~own).astype(np.uint8), cv2.DIST_L2, 3)
+    to_other = cv2.distanceTransform((~other).astype(np.uint8), cv2.DIST_L2, 3)
+    return region & (to_own <= to_other)
+
+
+def own_body(component: np.ndarray, hint: np.ndarray, saliency: np.ndarray,
+             expected_area_px: float | None = None) -> np.ndarray:
+    """The body that ``hint`` (a click, an earlier mask) marks when ``component`` holds
+    several touching animals.
+
+    A lone dolphin seen from above is long and thin (moment elongation 4.2–6.1 on the bench
+    suite, turns included); two side by side are not, or are larger than one. Only such a
+    component is split. Between two touching animals the network's probability dips: at a
+    stricter level the component falls apart into one core per body (a second core at least
+    ``MIN_CORE_SHARE`` of the largest; a dolphin's flukes or flippers are smaller). The hinted
+    body's core is the one the hint covers most (else the one nearest to it), and each pixel
+    goes to the nearest core. One core at every level: the component."""
+    area, elongation, _ = shape_of(component)
+    larger = expected_area_px is not None and area > PAIR_AREA_RATIO * expected_area_px
+    if elongation >= PAIR_MAX_ELONGATION and not larger:
+        return component
+    for level in CORE_LEVELS:
+        count, cores, stats, _ = cv2.connectedComponentsWithStats(
+            (component & (saliency >= level)).astype(np.uint8), connectivity=8)
+        if count < 3:
+            continue
+        areas = stats[1:, cv2.CC_STAT_AREA]
+        bodies = 1 + np.flatnonzero(areas >= MIN_CORE_SHARE * areas.max())
+        if len(bodies) >= 2:
+            return _split(component, hint, cores, bodies)
+    return component
+
+
+def _split(component: np.ndarray, hint: np.ndarray, cores: np.ndarray,
+           bodies: np.ndarray) -> np.ndarray:
+    """``own_body``'s split once the cores of the bodies are known."""
+    body_cores = np.isin(cores, bodies)
+    covered = np.bincount(cores[hint & body_cores], minlength=cores.max() + 1)
+    if covered.any():
+        label = int(np.argmax(covered))
+    else:
+        core_rows, core_cols = np.nonzero(body_cores)
+        hint_row, hint_col = np.argwhere(hint).mean(axis=0)
+        nearest = np.argmin(np.hypot(core_rows - hint_row, core_cols - hint_col))
+        label = cores[core_rows[nearest], core_cols[nearest]]
+    own = cores == label
+    return attached(nearer_to(component, own, body_cores & ~own), own, 1)
+
+
+def _touches_inner_edge(mask: np.ndarray, rows: slice, cols: slice) -> bool:
+    """Whether ``mask`` reaches a side of the window that is not the frame's edge (so the
+    window cut the animal off)."""
+    height, width = mask.shape
+    sides = []
+    if rows.start > 0:
+        sides.append(mask[rows.start, cols])
+    if rows.stop < height:
+        sides.append(mask[rows.stop - 1, cols])
+    if cols.start > 0:
+        sides.append(mask[rows, cols.start])
+    if cols.stop < width:
+        sides.append(mask[rows, cols.stop - 1])
+    return any(side.any() for side in sides)
+
+
+class NetTracker:
+    """The network tracker (implements ``Segmenter``); see the module doc."""
+
+    def __init__(self, settings: NetSettings = NetSettings(),
+                 only_frames: Sequence[int] | None = None,
+                 net: SalientNet | None = None) -> None:
+        """``only_frames``: segment just these frame indices (the seed frame is always
+        segmented); the others are reported not visible. ``net``: a loaded network to share
+        (default: load the installed weights)."""
+        self.settings = settings
+        self.only_frames = None if only_frames is None else sorted(set(only_frames))
+        self.net = net if net is not None else SalientNet()
+
+    def segment(self, frames: Frames, seed: Seed, progress: ProgressCallback | None = None,
+                cancel: threading.Event | None = None) -> MaskTrack:
+        """Masks for the chosen frames of ``frames``, tracked from ``seed``.
+
+        InputError if the seed finds no animal; core.progress.Cancelled once ``cancel`` is set.
+        """
+        num_frames = len(frames)
+        if not 0 <= seed.frame_idx < num_frames:
+            raise IndexError(f"seed frame {seed.frame_idx} is outside the clip "
+                             f"(0…{num_frames - 1})")
+        chosen = range(num_frames) if self.only_frames is None else \
+            [t for t in self.only_frames if 0 <= t < num_frames]
+        forward = [t for t in chosen if t > seed.frame_idx]
+        backward = [t for t in reversed(chosen) if t < seed.frame_idx]
+        total = 1 + len(forward) + len(backward)
+        check_cancel(cancel)
+        first = frames[seed.frame_idx]
+        height, width = first.shape[:2]
+        mask = self._seed_mask(first, seed)
+        crops: dict[int, MaskCrop] = {seed.frame_idx: crop_of(mask)}
+        done = 1
+        if progress is not None:
+            progress(Progress(TRACK_STAGE, done, total))
+        reference = separation(*models_near(first, mask))
+        for order in (forward, backward):
+            state = _State(mask, mask, float(mask.sum()), reference)
+            for frame_idx in order:
+                check_cancel(cancel)
+                found = self._next(frames[frame_idx], state)
+                if found is not None:
+                    crops[frame_idx] = crop_of(found)
+                done += 1
+                if progress is not None:
+                    progress(Progress(TRACK_STAGE, done, total))
+        is_visible = np.array([t in crops for t in range(num_frames)])
+        return MaskTrack(is_visible, width, height, f"{BACKEND_NAME} from {seed}",
+                         lambda t: crops[t].paste(height, width))
+
+    def _masked(self, frame_rgb: np.ndarray, rows: slice, cols: slice,
+                prediction: np.ndarray, near: bool = True,
+                focus_px: int | None = None) -> np.ndarray:
+        """Steps 2 and 3 in one window: the (H, W) mask attached to ``prediction``, kept near
+        it unless ``near`` is False (at the seed, or after the animal moved off its
+        prediction, where the prediction may be only a part of the animal)."""
+        settings = self.settings
+        crop = np.ascontiguousarray(frame_rgb[rows, cols])
+        local = prediction[rows, cols]
+        mask = np.zeros(frame_rgb.shape[:2], bool)
+        if not local.any():
+            return mask
+        near_px = max(settings.min_near_px,
+                      round(settings.near_fraction * longer_side(local)))
+        if focus_px is not None:
+            # what lies well away from where the animal can be (another animal, glitter,
+            # seagrass) is painted over with the water's colour so it cannot draw the network
+            around = dilate(local, max(near_px, focus_px))
+            crop_seen = crop.copy()
+            if (~around).any():
+                crop_seen[~around] = np.median(crop[~around], axis=0).astype(crop.dtype)
+        else:
+            crop_seen = crop
+        saliency = self._saliency(crop_seen, local)
+        salient = saliency >= settings.threshold
+        found = attached(salient, local, settings.gap_px)
+        beyond = found & ~dilate(local, near_px)
+        if near and beyond.any():  # a neighbour touching the animal: split between the two
+            found = attached(nearer_to(found, local & found, beyond), local, settings.gap_px)
+        elif found.any():
+            found = own_body(found, local, saliency, float(np.count_nonzero(local)))
+        mask[rows, cols] = refine_edges(crop, found, settings)
+        return mask
+
+    def _saliency(self, crop: np.ndarray, expected: np.ndarray) -> np.ndarray:
+        """(h, w) saliency of a crop. The network marks one salient object, not necessarily
+        the one asked for: when nothing salient meets ``expected`` (where the animal is: the
+        click, the prediction) but something else is, that something (another animal) is
+        painted over with the water's median colour and the crop looked at again."""
+        threshold = self.settings.threshold
+        saliency = self.net.saliency(crop)
+        salient = saliency >= threshold
+        if (salient & expected).any() or not salient.any():
+            return saliency
+        other = dilate(salient, self.settings.min_near_px)
+        if other.all():
+            return saliency
+        painted = crop.copy()
+        painted[other] = np.median(crop[~other], axis=0).astype(crop.dtype)
+        return self.net.saliency(painted)
+
+    def _around(self, frame_rgb: np.ndarray, mask: np.ndarray,
+                growth: float = 1.0) -> tuple[slice, slice]:
+        """The square window around a mask (module doc, step 1)."""
+        side = max(MIN_WINDOW_PX,
+                   longer_side(mask) * (1.0 + 2.0 * self.settings.context) * growth)
+        return square_window(centroid(mask), side, *frame_rgb.shape[:2])
+
+    def _seed_mask(self, frame_rgb: np.ndarray, seed: Seed) -> np.ndarray:
+        """The animal in the seed frame: a click, a box or the automatic search starts a
+        window that is re-centred on what the network finds there until it holds the whole
+        animal."""
+        height, width = frame_rgb.shape[:2]
+        if isinstance(seed, PointSeed):
+            if not (0 <= seed.x_px < width and 0 <= seed.y_px < height):
+                raise InputError(f"seed {seed}: outside the {width}x{height} px frame")
+            side = max(MIN_WINDOW_PX, self.settings.first_window_fraction * min(height, width))
+            rows, cols = square_window(np.array([seed.x_px, seed.y_px]), side, height, width)
+            mask = self._clicked(frame_rgb, rows, cols, seed)
+        elif isinstance(seed, BoxSeed):
+            box = np.zeros((height, width), bool)
+            box[seed.y_px:seed.y_px + seed.height_px, seed.x_px:seed.x_px + seed.width_px] = True
+            mask = self._masked(frame_rgb, *self._around(frame_rgb, box), box) & \
+                dilate(box, self.settings.min_near_px)
+        else:
+            mask = self._found(frame_rgb)
+        growth = 1.0
+        for _ in range(self.settings.seed_rounds):
+            if not mask.any():
+                break
+            rows, cols = self._around(frame_rgb, mask, growth)
+            again = self._masked(frame_rgb, rows, cols, mask, near=False)
+            if isinstance(seed, BoxSeed):
+                again &= dilate(box, self.settings.min_near_px)
+            if not again.any():
+                growth *= self.settings.search_growth  # the window may hold only the animal
+                continue
+            cut_off = _touches_inner_edge(again, rows, cols)
+            if not cut_off and np.array_equal(again, mask):
+                break
+            mask = again
+            growth = self.settings.search_growth if cut_off else 1.0
+        if not mask.any():
+            kind = "at the seed" if not isinstance(seed, AutoSeed) else "in the frame"
+            raise InputError(f"frame {seed.frame_idx}: the network found no animal {kind} "
+                             f"({seed})")
+        return mask
+
+    def _found(self, frame_rgb: np.ndarray) -> np.ndarray:
+        """An automatic seed: the most salient dolphin-like blob (the shape tests of
+        ``seed.find_blobs``) in overlapping square tiles that cover the frame."""
+        height, width = frame_rgb.shape[:2]
+        side = min(height, width)
+        best, best_score = np.zeros((height, width), bool), 0.0
+        for row0 in _tile_starts(height, side):
+            for col0 in _tile_starts(width, side):
+                rows, cols = slice(row0, row0 + side), slice(col0, col0 + side)
+                saliency = self.net.saliency(np.ascontiguousarray(frame_rgb[rows, cols]))
+                count, labels = cv2.connectedComponents(
+                    (saliency >= self.settings.threshold).astype(np.uint8), connectivity=8)
+                for label in range(1, count):
+                    blob = labels == label
+                    area, elongation, fill = shape_of(blob)
+                    if not (MIN_AREA_FRACTION * height * width <= area
+                            <= MAX_AREA_FRACTION * height * width
+                            and MIN_ELONGATION <= elongation <= MAX_ELONGATION
+                            and fill >= MIN_FILL):
+                        continue
+                    score = float(saliency[blob].mean() * np.sqrt(area))
+                    if score > best_score:
+                        best_score = score
+                        best = np.zeros((height, width), bool)
+                        best[rows, cols] = blob
+        return best
+
+    def _clicked(self, frame_rgb: np.ndarray, rows: slice, cols: slice,
+                 seed: PointSeed) -> np.ndarray:
+        """The salient component under (or nearest to) a click, in the first window."""
+        crop = np.ascontiguousarray(frame_rgb[rows, cols])
+        col, row = int(seed.x_px) - cols.start, int(seed.y_px) - rows.start
+        clicked = np.zeros(crop.shape[:2], bool)
+        clicked[row, col] = True
+        saliency = self._saliency(crop, clicked)
+        count, labels = cv2.connectedComponents(
+            (saliency >= self.settings.threshold).astype(np.uint8), connectivity=8)
+        mask = np.zeros(frame_rgb.shape[:2], bool)
+        label = labels[row, col]
+        if label == 0:
+            colour = self._colour_seed(frame_rgb, seed)
+            if colour is not None:
+                return colour
+        if count < 2:
+            return mask
+        if label == 0:
+            found_rows, found_cols = np.nonzero(labels)
+            gaps = np.hypot(found_rows - row, found_cols - col)
+            nearest = np.argmin(gaps)
+            if gaps[nearest] > POINT_SEARCH_FRACTION * np.hypot(*frame_rgb.shape[:2]):
+                return mask
+            label = labels[found_rows[nearest], found_cols[nearest]]
+        mask[rows, cols] = own_body(labels == label, clicked, saliency)
+        return mask
+
+    def _colour_seed(self, frame_rgb: np.ndarray, seed: PointSeed) -> np.ndarray | None:
+        """When the network sees nothing at a click (a dark animal over dark seagrass, an
+        animal in glitter), the built-in detector's blob under the click, looked at again by
+        the network with everything away from it painted out; None if there is none."""
+        try:
+            rough = seed_mask(frame_rgb, seed)
+        except InputError:
+            return None
+        again = self._masked(frame_rgb, *self._around(frame_rgb, rough), rough)
+        return again if np.count_nonzero(again) >= 0.5 * np.count_nonzero(rough) else rough
+
+    def _next(self, frame_rgb: np.ndarray, state: _State) -> np.ndarray | None:
+        """The mask in the next chosen frame (None if lost), updating ``state``."""
+        settings = self.settings
+        if state.mask is not None:
+            prediction = shifted(state.mask, state.velocity_px)
+            growth = 1.0
+        else:
+            prediction = state.last_seen
+            growth = settings.search_growth ** min(state.lost_steps, 3)
+        mask = None
+        if prediction.any():
+            near_window = self._around(frame_rgb, prediction, growth)
+            if growth > 1.0:
+                prediction = np.zeros_like(prediction)
+                prediction[near_window] = True
+            # painting out needs to know where the animal can be: not before its motion is
+            focus_px = (round(settings.focus_fraction * longer_side(state.last_seen))
+                        if state.moving else None)
+            found = self._masked(frame_rgb, *near_window, prediction, focus_px=focus_px)
+            candidates = [found]
+            if not found.any() or mask_iou(found, prediction) < settings.follow_iou:
+                # moved off its prediction (or out of the window, where the network loses
+                # what the window cuts): look again around what was found, or wider
+                anchor = found if found.any() else prediction
+                wider = 1.0 if found.any() else settings.search_growth
+                candidates.append(self._masked(
+                    frame_rgb, *self._around(frame_rgb, anchor, wider), anchor, near=False,
+                    focus_px=focus_px))
+            animals = [c for c in candidates if self._is_animal(frame_rgb, c, state)]
+            if animals:  # the one whose area is closest to the animal's
+                mask = min(animals, key=lambda c: abs(np.log(np.count_nonzero(c)
+                                                             / state.area_px)))
+        if mask is None:
+            state.mask = None
+            state.lost_steps += 1
+            return None
+        state.moving = state.mask is not None
+        state.velocity_px = (centroid(mask) - centroid(state.mask) if state.moving
+                             else np.zeros(2))
+        state.area_px = ((1 - settings.model_rate) * state.area_px
+                         + settings.model_rate * float(np.count_nonzero(mask)))
+        state.mask = state.last_seen = mask
+        state.lost_steps = 0
+        return mask
+
+    def _is_animal(self, frame_rgb: np.ndarray, mask: np.ndarray, state: _State) -> bool:
+        """Enough area, not too much, and enough colour contrast to the water."""
+        settings = self.settings
+        area = np.count_nonzero(mask)
+        low, high = (settings.reacquire_area_range if state.mask is None
+                     else (settings.lost_area_ratio, np.inf))
+        if not max(1.0, low * state.area_px) <= area <= high * state.area_px:
+            return False
+        contrast = separation(*models_near(frame_rgb, mask))
+        return contrast >= settings.lost_separation_ratio * state.reference_separation
