@@ -284,3 +284,14 @@ def test_without_masks_the_tracker_finds_the_dolphin(clip_dir):
     assert run.masks.is_visible.sum() >= 6
     assert set(run.result.frame_idx) <= set(np.flatnonzero(run.masks.is_visible))
     assert run.result.iou.mean() > 0.6
+
+
+def test_a_fit_that_explains_its_masks_poorly_is_flagged():
+    """Mean IoU below 0.7 (masks of a seagrass patch gave 0.61 on the bench suite) adds a
+    warning that names the IoU; good fits get none."""
+    from core.fit.engine import quality_warnings
+
+    assert quality_warnings(np.array([0.9, 0.85, 0.75])) == ()
+    (warning,) = quality_warnings(np.array([0.7, 0.6, 0.55]))
+    assert "poor fit" in warning and "0.62" in warning
+    assert quality_warnings(np.array([])) != ()
