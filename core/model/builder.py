@@ -55,6 +55,9 @@ class GrownFin:
     chord_s: np.ndarray     # (C,) chord fraction of each base row
 
 
+UV_DECIMALS = 9
+
+
 def build_template(length_m: float = TEMPLATE_LENGTH_M) -> Template:
     """Build the template with body length ``length_m`` (rostrum tip to fluke notch)."""
     rows_t = ring_fractions()
@@ -90,7 +93,10 @@ def build_template(length_m: float = TEMPLATE_LENGTH_M) -> Template:
     corner_uvs = np.concatenate(
         [_body_corner_uvs(tube, tube_faces, tube_slots)]
         + [_fin_corner_uvs(strip, fins[strip.joint]) for strip in STRIPS])
-    uvs, inverse = np.unique(corner_uvs.reshape(-1, 2), axis=0, return_inverse=True)
+    # corners that share a UV agree only up to float noise, whose last bits differ between
+    # numpy builds: merge them on rounded values so the asset rebuilds the same everywhere
+    uvs, inverse = np.unique(np.round(corner_uvs.reshape(-1, 2), UV_DECIMALS), axis=0,
+                             return_inverse=True)
 
     rest_joints = _rest_joints(tube, fins, length_m)
     joint_axes = np.stack([
