@@ -10,9 +10,11 @@ from dataclasses import asdict, dataclass, field, fields
 from core.errors import InputError
 from core.io.json_file import dataclass_from_json
 from core.limits import FPS, check_fields, count, time_window
+from core.render import SOFT_PRIMITIVES
 
 COUNT_MINIMUMS = {"heading_trial_steps": 0, "steps_global": 0, "steps_body": 0,
-                  "steps_shape": 0, "roi_margin_px": 0, "frames_per_chunk": 1,
+                  "steps_shape": 0, "heading_max_frames": 0, "shape_max_frames": 0,
+                  "shape_full_steps": 0, "coarse_factor": 1, "coarse_steps": 0, "roi_margin_px": 0, "frames_per_chunk": 1,
                   "paper_width_px": 1, "max_faces_per_pixel": 1}  # whole-number fields
 
 
@@ -63,6 +65,17 @@ class FitConfig:
     steps_body: int = 40            # stage 2: + body pose
     steps_shape: int = 80           # stage 3: + overall and part shape, albedo, water, light
     heading_trial_steps: int = 15   # each of the two headings gets these, the better goes on
+    # Frames rendered per step where fewer serve as well (0: all; evenly spread in time): the
+    # heading trials only compare two headings; the shape stage fits shared shape, and its
+    # last shape_full_steps steps render all its frames so each pose catches up with it.
+    heading_max_frames: int = 8
+    # The heading trials and the first coarse_steps steps of the pose stages (global, then
+    # body) render at 1/coarse_factor of the crops' resolution (1: native throughout); the
+    # rest, and the shape stage, see native pixels.
+    coarse_factor: int = 2
+    coarse_steps: int = 40
+    shape_max_frames: int = 16
+    shape_full_steps: int = 10
     # Both switches beyond the paper were measured by `dolphinfit bench fit --suite` (8 clips):
     # crops halve the length error (median 0.70 % vs 1.18 %, worst 1.44 % vs 2.79 %) and fit
     # 2.1× faster, so they are on; refraction did not help yet (median volume error 4.98 % on
@@ -84,6 +97,10 @@ class FitConfig:
     # synthetic clip the overall scale drifted −11 % in 30 steps while the loss rose. With the
     # cap lifted the same steps lower the loss and move the scale towards the truth.
     max_faces_per_pixel: int = 1000
+    # What the soft silhouette measures distances to (core/render/soft_mask.py): "contour"
+    # (the mesh's contour edges; default, measured by `dolphinfit bench fit --speed`) or
+    # "faces" (every face within the margin, DIB-R's and the paper's).
+    soft_primitives: str = "contour"
     # Frames the pose stages cannot explain (deep dives seen edge-on, pitched bodies) would
     # bias the shared shape: the shape stage uses frames whose IoU after the pose stages is at
     # least the clip's median minus this margin.
@@ -100,6 +117,9 @@ class FitConfig:
         check_fields(self, "fit option ", ranges={"fps": FPS},
                      minimum={"shape_iou_margin": 0.0, "target_edge_scale": 0.0})
         time_window(self.start_s, self.end_s, "fit option start_s", "fit option end_s")
+        if self.soft_primitives not in SOFT_PRIMITIVES:
+            raise InputError(f"fit option soft_primitives: one of {', '.join(SOFT_PRIMITIVES)}, "
+                             f"got {self.soft_primitives!r}")
         if self.smooth_order not in (1, 2):
             raise InputError(f"fit option smooth_order: 1 or 2, got {self.smooth_order}")
 

@@ -9,11 +9,12 @@ Without it, whole frames are downscaled to the paper's 720 px width, as the pape
 import math
 import threading
 from collections.abc import Callable, Iterator
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import cv2
 import numpy as np
 import torch
+import torch.nn.functional as F
 
 from core.camera import NadirCamera
 from core.errors import InputError
@@ -28,6 +29,7 @@ from core.progress import Progress, ProgressCallback, check_cancel
 from core.render.settings import Viewport
 
 ROI_MULTIPLE_PX = 8
+ROI_ALIGN_PX = 2   # window corners on even pixels, so a 2× coarser copy of them is exact
 
 
 @dataclass(frozen=True, eq=False)
@@ -46,6 +48,25 @@ class FitData:
     def num_frames(self) -> int:
         """T."""
         return len(self.frame_idx)
+
+
+def downscaled(data: FitData, factor: int) -> FitData | None:
+    """The same frames at 1/``factor`` of the resolution (each pixel the mean of factor ×
+    factor pixels, masks where at least half was dolphin), or None where the windows and the
+    frame are not whole multiples of ``factor`` (the metric is exact only then)."""
+    viewport, intrinsics = data.viewport, data.camera.intrinsics
+    sizes = (viewport.width_px, viewport.height_px, intrinsics.width_px, intrinsics.height_px)
+    if (any(size % factor for size in sizes) or bool((viewport.x0_px % factor).any())
+            or bool((viewport.y0_px % factor).any())):
+        return None
+    images = F.avg_pool2d(data.images.permute(0, 3, 1, 2), factor).permute(0, 2, 3, 1)
+    masks = (F.avg_pool2d(data.masks[:, None], factor)[:, 0] >= 0.5).to(data.masks.dtype)
+    camera = replace(data.camera, intrinsics=intrinsics.resized(intrinsics.width_px // factor,
+                                                                intrinsics.height_px // factor))
+    coarse_viewport = Viewport(viewport.x0_px // factor, viewport.y0_px // factor,
+                               viewport.width_px // factor, viewport.height_px // factor)
+    return replace(data, images=images.contiguous(), masks=masks, camera=camera,
+                   viewport=coarse_viewport)
 
 
 def select_frames(clip: Clip, masks: MaskTrack,
@@ -155,7 +176,7 @@ def _roi_windows(masks: np.ndarray, margin_px: int) -> tuple[np.ndarray, np.ndar
     centre_y = (boxes[:, 1] + boxes[:, 3]) / 2
     x0 = np.floor(centre_x - (width - 1) / 2).astype(np.int64)
     y0 = np.floor(centre_y - (height - 1) / 2).astype(np.int64)
-    return x0, y0, width, height
+    return x0 - x0 % ROI_ALIGN_PX, y0 - y0 % ROI_ALIGN_PX, width, height
 
 
 def _round_up(size: int) -> int:

@@ -19,7 +19,7 @@ import torch
 
 from core.fit import losses
 from core.fit.config import FitConfig
-from core.fit.data import FitData
+from core.fit.data import FitData, downscaled
 from core.fit.init import initial_state, root_positions, silhouette_centroid_offset
 from core.fit.reporter import (
     HEADING_STAGE, PREPARE_STAGE, RESULT_STAGE, FitPreview, FitReporter,
@@ -33,8 +33,9 @@ from core.model.lbs import axis_angle_to_matrix
 from core.model.model import DolphinModel
 from core.model.template import Template, load_template
 from core.progress import Cancelled, ProgressCallback, check_cancel
-from core.render.pyramid import pyramid_loss
-from core.render.render import Appearance, render
+from core.render.contour import mesh_edges
+from core.render.pyramid import pyramid_loss, silhouette_pyramid
+from core.render.render import Appearance, RenderOutput, render
 from core.render.settings import RasterSettings, Viewport
 from core.render.shade import SGLight
 
@@ -161,13 +162,21 @@ class _Problem:
         self.data, self.model, self.config = data, model, config
         self.reporter, self.cancel = reporter, cancel
         self.template = template
-        self.settings = RasterSettings(max_faces_per_pixel=config.max_faces_per_pixel)
+        self.settings = RasterSettings(max_faces_per_pixel=config.max_faces_per_pixel,
+                                       soft_primitives=config.soft_primitives)
+        self.edges = mesh_edges(model.faces)
         self.face_uvs = torch.tensor(template.uvs[template.face_uvs_idx], dtype=torch.float32)
         self.time_s = torch.as_tensor(data.time_s, dtype=torch.float32)
         interval = float(np.median(np.diff(data.time_s))) if data.num_frames > 1 else 1.0
         self.frame_ratio = SMOOTH_REFERENCE_S / interval
-        self.targets = data.masks
+        self.set_targets(data.masks)
         self.use_all_frames()
+
+    def set_targets(self, targets: torch.Tensor) -> None:
+        """Fit to soft ``targets`` (T, H, W); their pyramid is computed once here."""
+        self.targets = targets
+        with torch.no_grad():
+            self.target_pyramid = silhouette_pyramid(targets)
 
     def use_all_frames(self) -> None:
         """Render every frame in each step."""
@@ -176,6 +185,7 @@ class _Problem:
     def set_frames(self, frames: torch.Tensor) -> None:
         """Render only ``frames`` in each step, in chunks."""
         size = self.config.frames_per_chunk
+        self.frames = frames
         self.chunks = [frames[s:s + size] for s in range(0, len(frames), size)]
         self.num_used = len(frames)
 
@@ -208,7 +218,7 @@ class _Problem:
         viewport = Viewport(self.data.viewport.x0_px[chunk], self.data.viewport.y0_px[chunk],
                             self.data.viewport.width_px, self.data.viewport.height_px)
         return render(out.verts, self.model.faces, appearance,
-                      self.data.camera.select(chunk), viewport, self.settings)
+                      self.data.camera.select(chunk), viewport, self.settings, self.edges)
 
     def step_loss(self, params: SceneParams, pyramid_weight: float) -> tuple[dict, torch.Tensor]:
         """Accumulate gradients of the total loss; returns term values and per-frame IoU."""
@@ -222,11 +232,12 @@ class _Problem:
             out = self.render_chunk(params, chunk)
             target = self.targets[chunk]
             mask_term = losses.soft_iou_loss(out.soft_mask, target) / num_frames
-            rgb_term = losses.rgb_loss(out.rgb, out.coverage, self.data.images[chunk],
-                                       self.data.masks[chunk]) / num_frames
+            rgb_term = self.rgb_term(out, chunk) / num_frames
             total = weights.mask * mask_term + weights.rgb * rgb_term
             if pyramid_weight > 0:
-                pyramid_term = pyramid_loss(out.soft_mask, target) * len(chunk) / num_frames
+                pyramid_term = (pyramid_loss(out.soft_mask, [level[chunk] for level in
+                                                             self.target_pyramid])
+                                * len(chunk) / num_frames)
                 total = total + pyramid_weight * pyramid_term
                 terms["pyramid"] += float(pyramid_term.detach())
             total.backward()
@@ -240,6 +251,15 @@ class _Problem:
         terms.update({name: float(value.detach()) for name, value in prior_terms.items()})
         terms["total"] += float(prior_total.detach())
         return terms, torch.cat(ious)
+
+    def rgb_term(self, out: RenderOutput, chunk: torch.Tensor) -> torch.Tensor:
+        """The colour loss of a chunk's render, read at its covered pixels only."""
+        pixels = self.data.viewport.num_pixels
+        local_frame = torch.div(out.pixel, pixels, rounding_mode="floor")
+        at = chunk[local_frame] * pixels + out.pixel % pixels
+        return losses.rgb_loss(out.pixel_rgb, local_frame,
+                               self.data.images.reshape(-1, 3)[at],
+                               self.data.masks.reshape(-1)[at], len(chunk))
 
     def prior_terms(self, params: SceneParams) -> dict[str, torch.Tensor]:
         order = self.config.smooth_order
@@ -282,21 +302,27 @@ def fit(data: FitData, config: FitConfig = FitConfig(), template: Template | Non
     offset_xy = silhouette_centroid_offset(model)
     candidates = [_initial_params(data, model, template, config, state.heading_rad + flip,
                                   state, offset_xy) for flip in (0.0, math.pi)]
-    problem.targets = _debiased_targets(problem, candidates[0])
+    problem.set_targets(_debiased_targets(problem, candidates[0]))
+    coarse = _coarse_problem(problem, candidates[0])
     timings["setup"] = time.perf_counter() - started
     warnings = list(data.warnings)
     status, message = STATUS_COMPLETE, ""
     try:
-        params = _choose_heading(problem, candidates, history, timings)
+        params = _choose_heading(coarse, candidates, history, timings)
         fade_steps = max(1, config.steps_global + config.steps_body)
         done = 0
         for stage, steps in zip(STAGES, (config.steps_global, config.steps_body,
                                          config.steps_shape)):
             stage_started = time.perf_counter()
+            fade = lambda k, o=done: max(0.0, 1.0 - (o + k) / fade_steps)  # noqa: E731
             if stage == "shape":
                 warnings += problem.restrict_to_explained_frames(params)
-            _run_stage(problem, params, stage, steps,
-                       lambda k, o=done: max(0.0, 1.0 - (o + k) / fade_steps), history)
+                parts = _shape_parts(problem, steps)
+            else:
+                at_coarse = min(steps, max(0, config.coarse_steps - done))
+                every = torch.arange(data.num_frames)
+                parts = [(coarse, every, at_coarse), (problem, every, steps - at_coarse)]
+            _run_in_parts(params, stage, parts, fade, history)
             done += steps
             timings[stage] = time.perf_counter() - stage_started
     except _Stop as stop:
@@ -312,11 +338,26 @@ def fit(data: FitData, config: FitConfig = FitConfig(), template: Template | Non
     return result
 
 
+def _coarse_problem(problem: _Problem, params: SceneParams) -> _Problem:
+    """The problem at 1/``coarse_factor`` resolution (itself where that is 1 or the windows
+    do not allow it), with targets debiased at that resolution."""
+    coarse_data = (downscaled(problem.data, problem.config.coarse_factor)
+                   if problem.config.coarse_factor > 1 else None)
+    if coarse_data is None:
+        return problem
+    coarse = _Problem(coarse_data, problem.model, problem.template, problem.config,
+                      problem.reporter, problem.cancel)
+    coarse.set_targets(_debiased_targets(coarse, params))
+    return coarse
+
+
 def _choose_heading(problem: _Problem, candidates: list[SceneParams], history: list[dict],
                     timings: dict[str, float]) -> SceneParams:
     """Fit both headings for a few steps and keep the one with the lower loss."""
     trial_started = time.perf_counter()
     trials = []
+    problem.set_frames(evenly_spaced(torch.arange(problem.data.num_frames),
+                                     problem.config.heading_max_frames))
     try:
         for candidate in candidates:
             last_total = _run_stage(problem, candidate, "global",
@@ -328,7 +369,42 @@ def _choose_heading(problem: _Problem, candidates: list[SceneParams], history: l
         stop.params = min(trials, key=lambda item: item[0])[1]
         raise
     timings[HEADING_STAGE] = time.perf_counter() - trial_started
+    problem.use_all_frames()
     return min(trials, key=lambda item: item[0])[1]
+
+
+def evenly_spaced(frames: torch.Tensor, limit: int) -> torch.Tensor:
+    """At most ``limit`` of ``frames`` (all of them for 0), spread evenly from first to last."""
+    if limit <= 0 or len(frames) <= limit:
+        return frames
+    return frames[torch.linspace(0, len(frames) - 1, limit).round().to(torch.int64)]
+
+
+def _shape_parts(problem: _Problem, steps: int) -> list[tuple["_Problem", torch.Tensor, int]]:
+    """The shape stage on at most ``shape_max_frames`` of the frames chosen for it, then on
+    all of them for its last ``shape_full_steps`` steps, so that every frame's pose catches up
+    with the shape."""
+    chosen = problem.frames
+    subset = evenly_spaced(chosen, problem.config.shape_max_frames)
+    full_steps = steps if len(subset) == len(chosen) else min(steps,
+                                                              problem.config.shape_full_steps)
+    return [(problem, subset, steps - full_steps), (problem, chosen, full_steps)]
+
+
+def _run_in_parts(params: SceneParams, stage: str,
+                  parts: list[tuple["_Problem", torch.Tensor, int]],
+                  pyramid_fade: Callable[[int], float], history: list[dict]) -> None:
+    """One stage, one optimiser, in consecutive parts: each renders its problem's (its
+    resolution's) frames for its number of steps."""
+    optimiser = torch.optim.Adam(_stage_groups(params, stage, parts[0][0].config))
+    done = 0
+    for problem, frames, steps in parts:
+        if steps == 0:
+            continue
+        problem.set_frames(frames)
+        _run_stage(problem, params, stage, steps, lambda k, o=done: pyramid_fade(o + k),
+                   history, optimiser=optimiser, first_step=done)
+        done += steps
 
 
 def _stop_message(stop: _Stop, reporter: FitReporter) -> str:
@@ -344,12 +420,15 @@ def _stop_message(stop: _Stop, reporter: FitReporter) -> str:
 
 def _run_stage(problem: _Problem, params: SceneParams, stage: str, steps: int,
                pyramid_fade: Callable[[int], float], history: list[dict],
-               label: str | None = None) -> float:
-    """Optimise ``stage``'s parameters for ``steps``; returns the last step's loss. On a cancel
-    or a non-finite loss restore the best state of this run (losses of one run share their
-    weights and frames, so they compare) and raise _Stop."""
+               label: str | None = None, optimiser: torch.optim.Optimizer | None = None,
+               first_step: int = 0) -> float:
+    """Optimise ``stage``'s parameters for ``steps`` (with ``optimiser``, a fresh Adam over
+    the stage's groups by default); returns the last step's loss. On a cancel or a non-finite
+    loss restore the best state of this run (losses of one run share their weights and
+    frames, so they compare) and raise _Stop. ``first_step`` numbers the steps in history."""
     label = label or stage
-    optimiser = torch.optim.Adam(_stage_groups(params, stage, problem.config))
+    if optimiser is None:
+        optimiser = torch.optim.Adam(_stage_groups(params, stage, problem.config))
     problem.reporter.preview_source = lambda: _preview(problem, params)
     best_total, best = math.inf, params.snapshot()
     total = math.inf
@@ -365,7 +444,8 @@ def _run_stage(problem: _Problem, params: SceneParams, stage: str, steps: int,
                         params) from None
         if not math.isfinite(terms["total"]):
             params.restore(best)
-            raise _Stop(STATUS_DIVERGED, f"the loss became non-finite at step {k + 1} of the "
+            raise _Stop(STATUS_DIVERGED, f"the loss became non-finite at step "
+                        f"{first_step + k + 1} of the "
                         f"{label} stage", label, best_total, params)
         total = terms["total"]
         if total < best_total:
@@ -373,7 +453,8 @@ def _run_stage(problem: _Problem, params: SceneParams, stage: str, steps: int,
         optimiser.step()
         params.project_to_valid()
         mean_iou = float(iou.float().mean())
-        history.append({"stage": label, "step": k, **terms, "mean_iou": mean_iou})
+        history.append({"stage": label, "step": first_step + k, **terms,
+                        "mean_iou": mean_iou})
         problem.reporter.step_done(label, terms, mean_iou)
     return total
 

@@ -14,12 +14,19 @@ def soft_iou_loss(soft: torch.Tensor, target: torch.Tensor) -> torch.Tensor:
     return (1.0 - inter / union).sum()
 
 
-def rgb_loss(rgb: torch.Tensor, coverage: torch.Tensor, image: torch.Tensor,
-             target: torch.Tensor) -> torch.Tensor:
-    """Σ_t mean squared colour error over pixels covered by the render and the target mask."""
-    both = (coverage & (target > 0.5)).to(rgb.dtype)
-    error = ((rgb - image) ** 2).sum(-1) * both
-    return (error.sum((1, 2)) / both.sum((1, 2)).clamp(min=1.0)).sum()
+def rgb_loss(colour: torch.Tensor, frame: torch.Tensor, image: torch.Tensor,
+             target: torch.Tensor, num_frames: int) -> torch.Tensor:
+    """Σ_t mean squared colour error over the pixels covered by the render and the target.
+
+    Per covered pixel (C,): rendered ``colour`` (C, 3), its ``frame`` (C,) in 0 … T − 1, the
+    image's colour there (C, 3) and the target mask's value (C,); only covered pixels are
+    ever touched (a tenth of an ROI), never the whole image.
+    """
+    both = (target > 0.5).to(colour.dtype)
+    error = ((colour - image) ** 2).sum(-1) * both
+    per_frame = torch.zeros(num_frames, dtype=colour.dtype).index_add(0, frame, error)
+    count = torch.zeros(num_frames, dtype=colour.dtype).index_add(0, frame, both)
+    return (per_frame / count.clamp(min=1.0)).sum()
 
 
 def pose_prior(body_pose: torch.Tensor) -> torch.Tensor:

@@ -51,7 +51,9 @@ def fit_config(settings: FitSettings, base: FitConfig = FitConfig()) -> FitConfi
 
     return replace(base, steps_global=steps(base.steps_global),
                    steps_body=steps(base.steps_body), steps_shape=steps(base.steps_shape),
-                   heading_trial_steps=steps(base.heading_trial_steps), fps=settings.fps,
+                   heading_trial_steps=steps(base.heading_trial_steps),
+                   coarse_steps=round(base.coarse_steps * scale),
+                   shape_full_steps=round(base.shape_full_steps * scale), fps=settings.fps,
                    start_s=settings.start_s, end_s=settings.end_s,
                    use_refraction=settings.refraction, use_roi=settings.roi)
 

@@ -5,3 +5,7 @@
 silhouette); ``render`` composes them. All work is on sparse (pixel, face) pair lists batched
 over frames, so cost grows with the summed area of face boxes, never pixels × faces.
 """
+
+# What the soft silhouette measures distances to (core/render/soft_mask.py); torch-free here so
+# that configuration files validate without loading torch.
+SOFT_PRIMITIVES = ("contour", "faces")

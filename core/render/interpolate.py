@@ -7,12 +7,12 @@ vertex positions through d(weights)/d(2-D vertex); depth gets none.
 
 import torch
 
-from core.render.rasterize import Fragments, edge_weights, gather_triangles
+from core.render.rasterize import Fragments, edge_weights, gather_corners
 
 
 def barycentrics(xy_px: torch.Tensor, faces: torch.Tensor, frags: Fragments) -> torch.Tensor:
     """(C, 3) weights of the covered pixels in their faces; xy_px: (T, V, 2)."""
-    tri = gather_triangles(xy_px, faces, frags.frame, frags.face)  # (C, 3, 2)
+    tri = gather_corners(xy_px, faces, frags.frame, frags.face)  # (C, 3, 2)
     return edge_weights(tri, frags.pixel_centres(xy_px.dtype))
 
 

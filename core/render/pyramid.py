@@ -30,7 +30,7 @@ def silhouette_pyramid(masks: torch.Tensor) -> list[torch.Tensor]:
             for factor, sigma in PYRAMID_LEVELS]
 
 
-def pyramid_loss(rendered: torch.Tensor, target: torch.Tensor) -> torch.Tensor:
-    """Sum over levels of the mean squared difference of the two pyramids."""
-    return sum(((a - b) ** 2).mean() for a, b in zip(silhouette_pyramid(rendered),
-                                                     silhouette_pyramid(target)))
+def pyramid_loss(rendered: torch.Tensor, target: list[torch.Tensor]) -> torch.Tensor:
+    """Sum over levels of the mean squared difference between the pyramid of ``rendered``
+    and ``target``, a ``silhouette_pyramid`` (computed once: the targets do not change)."""
+    return sum(((a - b) ** 2).mean() for a, b in zip(silhouette_pyramid(rendered), target))

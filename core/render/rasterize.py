@@ -51,15 +51,16 @@ def edge_weights(tri: torch.Tensor, point: torch.Tensor) -> torch.Tensor:
     return w / (total + BARY_EPS * torch.sign(total))
 
 
-def gather_triangles(xy_px: torch.Tensor, faces: torch.Tensor, frame: torch.Tensor,
-                     face: torch.Tensor) -> torch.Tensor:
-    """(N, 3, 2) projected corners of faces ``face`` (N,) in frames ``frame`` (N,).
+def gather_corners(xy_px: torch.Tensor, faces: torch.Tensor, frame: torch.Tensor,
+                   face: torch.Tensor) -> torch.Tensor:
+    """(N, C, 2) projected corners of faces ``face`` (N,) in frames ``frame`` (N,); ``faces``
+    (F, C) may hold triangles or edges.
 
     One flat ``index_select`` (frame·V + vertex) instead of multi-tensor advanced indexing,
     which is several times slower on the CPU, and whose backward is a fast ``index_add``.
     """
     flat_idx = (frame[:, None] * xy_px.shape[1] + faces[face]).reshape(-1)
-    return xy_px.reshape(-1, 2).index_select(0, flat_idx).reshape(-1, 3, 2)
+    return xy_px.reshape(-1, 2).index_select(0, flat_idx).reshape(face.shape[0], -1, 2)
 
 
 def face_boxes(tri: torch.Tensor, width_px: int, height_px: int,
@@ -94,7 +95,7 @@ def rasterize(xy_px: torch.Tensor, depth: torch.Tensor, faces: torch.Tensor, hei
         tri_depth = depth[:, faces]                               # (T, F, 3)
         area2 = cross2(tri[:, :, 1] - tri[:, :, 0], tri[:, :, 2] - tri[:, :, 0])
         frame, face = torch.nonzero((area2 < 0) & (tri_depth > 0).all(-1), as_tuple=True)
-        front_tri = gather_triangles(xy_px, faces, frame, face)  # (N, 3, 2)
+        front_tri = gather_corners(xy_px, faces, frame, face)  # (N, 3, 2)
         front_depth = tri_depth.reshape(-1, 3)[frame * faces.shape[0] + face]
         col_min, col_max, row_min, row_max = face_boxes(front_tri, width_px, height_px)
 

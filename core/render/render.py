@@ -5,6 +5,7 @@ from dataclasses import dataclass
 import torch
 
 from core.camera import NadirCamera
+from core.render.contour import MeshEdges
 from core.render.interpolate import (
     barycentrics, interpolate_corner_values, interpolate_vertex_values,
 )
@@ -35,6 +36,8 @@ class RenderOutput:
     coverage: torch.Tensor    # (T, H, W) bool hard coverage
     face_idx: torch.Tensor    # (T, H, W) int64 front face, −1 where uncovered
     height_m: torch.Tensor    # (T, H, W) world height of the surface (z), 0 where uncovered
+    pixel: torch.Tensor       # (C,) int64 flat index t·H·W + row·W + col of covered pixels
+    pixel_rgb: torch.Tensor   # (C, 3) their colour: rgb without the uncovered pixels
 
 
 def project_to_viewport(verts_world: torch.Tensor, camera: NadirCamera,
@@ -48,19 +51,24 @@ def project_to_viewport(verts_world: torch.Tensor, camera: NadirCamera,
 
 def render(verts_world: torch.Tensor, faces: torch.Tensor, appearance: Appearance,
            camera: NadirCamera, viewport: Viewport,
-           settings: RasterSettings = RasterSettings()) -> RenderOutput:
-    """Render meshes (T, V, 3) (world frame, metres) into the viewports of ``camera``."""
+           settings: RasterSettings = RasterSettings(),
+           edges: MeshEdges | None = None) -> RenderOutput:
+    """Render meshes (T, V, 3) (world frame, metres) into the viewports of ``camera``.
+
+    ``edges``: ``mesh_edges(faces)``, to save recomputing it in every call.
+    """
     xy_px, depth = project_to_viewport(verts_world, camera, viewport)
     frags = rasterize(xy_px, depth, faces, viewport.height_px, viewport.width_px,
                       settings.max_pairs_per_chunk)
-    silhouette = soft_mask(xy_px, depth, faces, frags, settings)
+    silhouette = soft_mask(xy_px, depth, faces, frags, settings, edges)
     colour, height = shade_fragments(verts_world, xy_px, faces, frags, appearance)
     shape = frags.face_idx.shape
     flat_rgb = torch.zeros(shape.numel(), 3, dtype=colour.dtype).index_put((frags.pixel,), colour)
     flat_height = torch.zeros(shape.numel(), dtype=height.dtype).index_put((frags.pixel,), height)
     return RenderOutput(rgb=flat_rgb.reshape(*shape, 3), soft_mask=silhouette,
                         coverage=frags.covered, face_idx=frags.face_idx,
-                        height_m=flat_height.reshape(shape))
+                        height_m=flat_height.reshape(shape), pixel=frags.pixel,
+                        pixel_rgb=colour)
 
 
 def shade_fragments(verts_world: torch.Tensor, xy_px: torch.Tensor, faces: torch.Tensor,

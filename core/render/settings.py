@@ -17,6 +17,7 @@ from dataclasses import dataclass
 import torch
 
 from core.intrinsics import CameraIntrinsics
+from core.render import SOFT_PRIMITIVES
 
 # The paper's DIB-R settings (arXiv 2504.15782, appendix; reference/rendering.md §3.2).
 PAPER_SIGMA_INV = 1e5
@@ -34,6 +35,14 @@ class RasterSettings:
     max_faces_per_pixel: int = PAPER_MAX_FACES_PER_PIXEL  # k: first faces in index order
     reference_width_px: int = PAPER_WIDTH_PX
     max_pairs_per_chunk: int = 4_000_000        # memory bound of one pair-list chunk
+    # what the soft mask measures distances to (core/render/soft_mask.py): "contour", the
+    # mesh's contour edges, or "faces", every face as DIB-R does
+    soft_primitives: str = "contour"
+
+    def __post_init__(self) -> None:
+        if self.soft_primitives not in SOFT_PRIMITIVES:
+            raise ValueError(f"soft_primitives: one of {', '.join(SOFT_PRIMITIVES)}, got "
+                             f"{self.soft_primitives!r}")
 
     @property
     def sigma_px(self) -> float:

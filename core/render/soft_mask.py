@@ -1,31 +1,53 @@
 """DIB-R soft silhouette: A = 1 − Π_j (1 − exp(−σ·d_j²)) at uncovered pixels, 1 where covered.
 
-d_j is the distance from the pixel centre to face j's boundary (nearest edge or vertex), in
-pixels; σ and the box margin come from :class:`RasterSettings` (softness rule there). The faces
-considered at a pixel are all faces (front and back) whose box enlarged by the margin contains
-the pixel centre, at most k of them, the first in face-index order.
+d_j is the distance from the pixel centre to primitive j, in pixels; σ and the box margin come
+from :class:`RasterSettings` (softness rule there). The primitives considered at a pixel are
+those whose box enlarged by the margin contains the pixel centre, at most k of them, the first
+in index order. Two kinds of primitive (``RasterSettings.soft_primitives``):
 
-Only uncovered pixels are ever paired with faces: a summed-area table first drops the faces
+- "faces", DIB-R's own: every face (front and back), d_j the distance to its boundary;
+- "contour": the mesh's contour edges in that frame (core/render/contour.py), d_j the distance
+  to the segment. Outside the silhouette the nearest point of the mesh lies on one of them, so
+  the nearest term is the same; what differs is the crowd of faces seen edge-on along the
+  outline, each adding a term, which makes the "faces" edge wider and costs ~20× the pairs.
+
+Only uncovered pixels are ever paired with primitives: a summed-area table first drops those
 whose enlarged box holds no uncovered pixel; then, since in row-major order the uncovered
 pixels of one box row form a contiguous run of the list of all uncovered pixels, a prefix count
-over the uncovered map gives each (face, box row) segment its run directly.
+over the uncovered map gives each (primitive, box row) segment its run directly.
 """
 
 import torch
 
+from core.render.contour import MeshEdges, contour_edges, mesh_edges
 from core.render.pairs import ragged_chunks
-from core.render.rasterize import Fragments, face_boxes, gather_triangles
+from core.render.rasterize import Fragments, face_boxes, gather_corners
 from core.render.settings import RasterSettings
 
 MAX_PROBABILITY = 1.0 - 1e-6   # clamp before log1p(−p) (rendering.md §11.8)
-_NEXT_CORNER = [1, 2, 0]       # edge k runs from corner k to corner k + 1
+_TRIANGLE_EDGES = ([0, 1, 2], [1, 2, 0])   # boundary edge k runs from corner k to k + 1
+_SEGMENT_EDGES = ([0], [1])
 
 
 def soft_mask(xy_px: torch.Tensor, depth: torch.Tensor, faces: torch.Tensor,
-              frags: Fragments, settings: RasterSettings) -> torch.Tensor:
-    """(T, H, W) soft mask with gradients to ``xy_px`` (T, V, 2)."""
+              frags: Fragments, settings: RasterSettings,
+              edges: MeshEdges | None = None) -> torch.Tensor:
+    """(T, H, W) soft mask with gradients to ``xy_px`` (T, V, 2).
+
+    ``edges``: the mesh's edges (contour mode), computed from ``faces`` when not given.
+    """
     num_frames, height, width = frags.face_idx.shape
-    frame, face, pixel = candidate_pairs(xy_px.detach(), depth, faces, frags, settings)
+    if settings.soft_primitives == "contour":
+        edges = edges if edges is not None else mesh_edges(faces)
+        primitives = edges.verts
+        frame, index = contour_edges(xy_px.detach(), depth, faces, edges)
+        corner_edges = _SEGMENT_EDGES
+    else:
+        primitives = faces
+        frame, index = torch.nonzero((depth[:, faces] > 0).all(-1), as_tuple=True)
+        corner_edges = _TRIANGLE_EDGES
+    corners = gather_corners(xy_px.detach(), primitives, frame, index)
+    item, pixel = candidate_pairs(corners, frame, frags, settings)
     mask = frags.covered.to(xy_px.dtype).reshape(-1)
     if pixel.numel() == 0:
         return mask.reshape(num_frames, height, width)
@@ -33,8 +55,9 @@ def soft_mask(xy_px: torch.Tensor, depth: torch.Tensor, faces: torch.Tensor,
     within = band % (height * width)
     band_xy = torch.stack([within % width, torch.div(within, width, rounding_mode="floor")],
                           dim=-1).to(xy_px.dtype)
-    tri = gather_triangles(xy_px, faces, frame, face)               # (P, 3, 2)
-    probability = torch.exp(-settings.sigma_px * boundary_distance_sq(tri, band_xy[slot]))
+    polygon = gather_corners(xy_px, primitives, frame[item], index[item])   # (P, C, 2)
+    distance_sq = BoundaryDistanceSq.apply(polygon, band_xy[slot], *corner_edges)
+    probability = torch.exp(-settings.sigma_px * distance_sq)
     log_keep = torch.log1p(-probability.clamp(max=MAX_PROBABILITY))
     total = torch.zeros(band.shape[0], dtype=xy_px.dtype).index_add(0, slot, log_keep)
     mask = mask.index_put((band,), 1.0 - torch.exp(total))
@@ -42,7 +65,8 @@ def soft_mask(xy_px: torch.Tensor, depth: torch.Tensor, faces: torch.Tensor,
 
 
 class BoundaryDistanceSq(torch.autograd.Function):
-    """(P,) squared distance from points (P, 2) to the boundaries of triangles (P, 3, 2).
+    """(P,) squared distance from points (P, 2) to polylines (P, C, 2) made of the edges
+    ``starts[k]`` → ``ends[k]`` (a triangle's boundary, or one segment).
 
     The nearest point of an edge a→b is c = a + t(b − a), t clamped to [0, 1]; with r = p − c
     the gradient is ∂d²/∂a = −2(1 − t)·r and ∂d²/∂b = −2t·r on the nearest edge (envelope
@@ -51,11 +75,13 @@ class BoundaryDistanceSq(torch.autograd.Function):
     """
 
     @staticmethod
-    def forward(ctx, tri: torch.Tensor, point: torch.Tensor) -> torch.Tensor:
-        # x and y as separate (P, 3) tensors: reductions over a trailing size-2 axis are slow
-        start_x, start_y = tri[..., 0].contiguous(), tri[..., 1].contiguous()
-        edge_x = start_x[:, _NEXT_CORNER] - start_x
-        edge_y = start_y[:, _NEXT_CORNER] - start_y
+    def forward(ctx, corners: torch.Tensor, point: torch.Tensor, starts: list[int],
+                ends: list[int]) -> torch.Tensor:
+        # x and y as separate (P, C) tensors: reductions over a trailing size-2 axis are slow
+        corner_x, corner_y = corners[..., 0].contiguous(), corners[..., 1].contiguous()
+        start_x, start_y = corner_x[:, starts], corner_y[:, starts]
+        edge_x = corner_x[:, ends] - start_x
+        edge_y = corner_y[:, ends] - start_y
         rel_x = point[:, :1] - start_x
         rel_y = point[:, 1:] - start_y
         length_sq = (edge_x * edge_x + edge_y * edge_y).clamp(min=1e-30)
@@ -64,34 +90,30 @@ class BoundaryDistanceSq(torch.autograd.Function):
         offset_y = rel_y - along * edge_y
         dist_sq, nearest = (offset_x * offset_x + offset_y * offset_y).min(dim=1)
         pick = nearest[:, None]
-        ctx.save_for_backward(nearest, along.gather(1, pick)[:, 0],
+        ctx.num_corners = corners.shape[1]
+        ctx.save_for_backward(torch.tensor(starts)[nearest], torch.tensor(ends)[nearest],
+                              along.gather(1, pick)[:, 0],
                               torch.cat([offset_x.gather(1, pick), offset_y.gather(1, pick)], 1))
         return dist_sq
 
     @staticmethod
     def backward(ctx, grad_dist_sq: torch.Tensor):
-        nearest, along, offset = ctx.saved_tensors
-        corners = torch.arange(3, device=nearest.device)
-        weight = ((corners == nearest[:, None]) * (1.0 - along)[:, None]
-                  + (corners == ((nearest + 1) % 3)[:, None]) * along[:, None])   # (P, 3)
-        grad_tri = (-2.0 * grad_dist_sq)[:, None, None] * weight[..., None] * offset[:, None, :]
-        return grad_tri.to(offset.dtype), None
+        start, end, along, offset = ctx.saved_tensors
+        corners = torch.arange(ctx.num_corners, device=start.device)
+        weight = ((corners == start[:, None]) * (1.0 - along)[:, None]
+                  + (corners == end[:, None]) * along[:, None])                # (P, C)
+        grad = (-2.0 * grad_dist_sq)[:, None, None] * weight[..., None] * offset[:, None, :]
+        return grad.to(offset.dtype), None, None, None
 
 
-def boundary_distance_sq(tri: torch.Tensor, point: torch.Tensor) -> torch.Tensor:
-    """(P,) squared distance from ``point`` (P, 2) to the boundary of ``tri`` (P, 3, 2)."""
-    return BoundaryDistanceSq.apply(tri, point)
-
-
-def candidate_pairs(xy_px: torch.Tensor, depth: torch.Tensor, faces: torch.Tensor,
-                    frags: Fragments, settings: RasterSettings) -> tuple[torch.Tensor, ...]:
-    """(frame, face, flat pixel) of the pairs in the product, sorted by pixel, k cap applied."""
+def candidate_pairs(corners: torch.Tensor, frame: torch.Tensor, frags: Fragments,
+                    settings: RasterSettings) -> tuple[torch.Tensor, torch.Tensor]:
+    """(item, flat pixel) pairs of primitives (N, C, 2) in frames ``frame`` (N,) with the
+    uncovered pixels of their enlarged boxes, sorted by pixel, k cap applied."""
     num_frames, height, width = frags.face_idx.shape
-    frame, face = torch.nonzero((depth[:, faces] > 0).all(-1), as_tuple=True)
-    boxes = face_boxes(gather_triangles(xy_px, faces, frame, face), width, height,
-                       settings.margin_px)
-    near = _uncovered_count(~frags.covered, frame, *boxes) > 0
-    frame, face = frame[near], face[near]
+    boxes = face_boxes(corners, width, height, settings.margin_px)
+    near = torch.nonzero(_uncovered_count(~frags.covered, frame, *boxes) > 0, as_tuple=True)[0]
+    frame = frame[near]
     col_min, col_max, row_min, row_max = (b[near] for b in boxes)
     rows = (row_max - row_min + 1).clamp(min=0)
 
@@ -116,8 +138,7 @@ def candidate_pairs(xy_px: torch.Tensor, depth: torch.Tensor, faces: torch.Tenso
     # a stable sort keeps each pixel's faces in index order; 32-bit keys sort twice as fast
     pixel32, order = torch.sort(pixel.to(torch.int32), stable=True)
     keep = _rank_within_runs(pixel32) < settings.max_faces_per_pixel
-    owner = owner[order[keep]]
-    return frame[owner], face[owner], pixel32[keep].to(torch.int64)
+    return near[owner[order[keep]]], pixel32[keep].to(torch.int64)
 
 
 def _uncovered_count(uncovered: torch.Tensor, frame: torch.Tensor, col_min: torch.Tensor,

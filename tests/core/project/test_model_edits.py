@@ -114,6 +114,9 @@ def test_fit_settings_make_the_engines_configuration():
                                    refraction=True, roi=False))
     assert (quick.steps_shape, quick.steps_global) == (base.steps_shape // 2,
                                                        base.steps_global // 2)
+    # the coarse steps and the shape's final steps on every frame keep their share of the steps
+    assert (quick.coarse_steps, quick.shape_full_steps) == (base.coarse_steps // 2,
+                                                            base.shape_full_steps // 2)
     assert (quick.start_s, quick.end_s, quick.fps) == (1.0, 3.0, 2.5)
     assert quick.use_refraction and not quick.use_roi
     assert fit_config(FitSettings()).steps_shape == base.steps_shape

@@ -6,7 +6,7 @@ import numpy as np
 import torch
 
 from core.render.interpolate import barycentrics, interpolate_vertex_values
-from core.render.pyramid import pyramid_loss
+from core.render.pyramid import pyramid_loss, silhouette_pyramid
 from core.render.rasterize import rasterize
 from core.render.render import project_to_viewport, render
 from core.render.settings import RasterSettings, Viewport
@@ -153,5 +153,5 @@ def test_pyramid_loss_pulls_a_non_overlapping_silhouette():
     target = silhouette(torch.tensor([1.5, 0.0, 0.0], dtype=torch.float64)).detach()
     rendered = silhouette(shift)
     assert float((rendered.detach() * target).sum()) == 0.0
-    (grad,) = torch.autograd.grad(pyramid_loss(rendered, target), shift)
+    (grad,) = torch.autograd.grad(pyramid_loss(rendered, silhouette_pyramid(target)), shift)
     assert float(grad[0]) < 0  # moving towards +x lowers the loss

@@ -11,9 +11,13 @@ from .scenes import appearance, camera, moved, two_ellipsoids
 
 WIDTH, HEIGHT = 64, 48
 SETTINGS = {
-    "paper": RasterSettings(),
-    "k binds": RasterSettings(sigma_inv=7000.0, box_len=0.05, max_faces_per_pixel=3),
-    "tiny chunks": RasterSettings(max_pairs_per_chunk=97),
+    "paper": RasterSettings(soft_primitives="faces"),
+    "k binds": RasterSettings(sigma_inv=7000.0, box_len=0.05, max_faces_per_pixel=3,
+                              soft_primitives="faces"),
+    "tiny chunks": RasterSettings(max_pairs_per_chunk=97, soft_primitives="faces"),
+    "contour": RasterSettings(),
+    "contour, k binds": RasterSettings(sigma_inv=7000.0, box_len=0.05, max_faces_per_pixel=2),
+    "contour, tiny chunks": RasterSettings(max_pairs_per_chunk=97),
 }
 
 
@@ -39,7 +43,7 @@ def test_results_match_dense_reference(name):
     torch.testing.assert_close(out.rgb, rgb, rtol=0, atol=1e-12)
 
 
-@pytest.mark.parametrize("name", ["paper", "k binds"])
+@pytest.mark.parametrize("name", ["paper", "k binds", "contour", "contour, k binds"])
 def test_gradients_match_dense_reference(name):
     """Gradients of a scalar loss w.r.t. vertices, texture, water and light agree to 1e-4."""
     settings = SETTINGS[name]
