@@ -10,7 +10,9 @@ render: forward+backward time of the differentiable renderer per frame at the pa
 (a full 720×480 frame) and for a batch of 256×256 ROI crops of 1920×1080 footage at 20 m,
 against a forward-only OpenCV fill of the same triangles (ratio_vs_floor) and the dense
 brute-force reference on the same scene at the largest size it fits in memory
-(speedup_vs_dense), plus the peak memory of a 64-frame batch. --quick shrinks everything for
+(speedup_vs_dense), plus the peak memory of a 64-frame batch. Forward and backward are timed
+within the same repeats. The soft mask is the default "contour" one, and for the ROI batch
+also DIB-R's "faces" one side by side; the dense comparison uses "faces" on both sides. --quick shrinks everything for
 a smoke test; its figures are not the benchmark's.
 
 fit --suite: the widened synthetic suite (12 1920×1080 clips: light-grey and dark animals over
@@ -18,8 +20,10 @@ green, blue, sandy and murky water, pairs, splash, glitter, sharp turns; every u
 effect on), each fitted in the chosen variants side by side (default: the true masks and the
 product's own masks from a click on the target): relative errors of volume, length and mass
 per clip, their median and worst, and the fit's IoU per frame. fit --speed: a 10 s, 25 fps,
-1920×1080 clip fitted with the defaults: wall time, seconds of fit per second of video, time
-by stage, peak memory. Clips are rendered once into the cache.
+1920×1080 clip fitted with the defaults and exhaustively (every face in the soft mask, every
+frame in every step, native resolution: the fit before its speed work), side by side: wall
+time, seconds of fit per second of video, time by stage, peak memory, errors against the
+truth. Clips are rendered once into the cache.
 
 masks: each mask back-end from the same click on the target, on the frames a suite fit uses
 (every 4th): IoU against the true masks, IoU around the flukes and around the rostrum (the
@@ -203,12 +207,19 @@ def format_suite(figures: dict) -> str:
 
 
 def format_speed(figures: dict) -> str:
-    """Wall time, rate and stages of the speed run."""
-    stages = ", ".join(f"{k} {v:.0f} s" for k, v in figures["stages_s"].items())
-    return (f"{figures['video_s']:.0f} s of {figures['clip_fps']:.0f} fps video, "
-            f"{figures['frames_fitted']} frames fitted: {figures['wall_s']:.0f} s "
-            f"({figures['fit_s_per_video_s']:.1f} s per second of video); {stages}; "
-            f"peak memory {figures['peak_memory_mb']:.0f} MB")
+    """Wall time, rate, stages and errors of each speed run, and the ratio."""
+    lines = [f"{figures['video_s']:.0f} s of {figures['clip_fps']:.0f} fps video, fitted at "
+             f"{figures['fit_fps']:g} frames per second of video"]
+    for name, run in figures["runs"].items():
+        stages = ", ".join(f"{k} {v:.0f} s" for k, v in run["stages_s"].items())
+        lines.append(f"{name:10s} {run['frames_fitted']} frames: {run['wall_s']:.0f} s "
+                     f"({run['fit_s_per_video_s']:.1f} s per second of video); {stages}; peak "
+                     f"memory {run['peak_memory_mb']:.0f} MB; volume "
+                     f"{100 * run['volume_error']:+.2f} %, length "
+                     f"{100 * run['length_error']:+.2f} %, mean IoU {run['mean_iou']:.3f}")
+    if "speedup" in figures:
+        lines.append(f"exhaustive / default: {figures['speedup']:.2f}×")
+    return "\n".join(lines)
 
 
 def format_batch(figures: dict) -> str:
@@ -235,6 +246,8 @@ def format_render(r: RenderBench) -> str:
         f"  forward {r.roi_forward_ms:.1f} ms + backward {r.roi_backward_ms:.1f} ms "
         f"= {r.roi_ms:.1f} ms per frame",
         f"  OpenCV fill floor {r.roi_floor_ms:.2f} ms → ratio {r.roi_ratio_vs_floor:.1f}×",
+        f"  with DIB-R's soft mask over faces: {r.roi_faces_ms:.1f} ms per frame → ratio "
+        f"{r.roi_faces_ratio_vs_floor:.1f}×",
         f"dense reference at {r.dense_size_px[0]}×{r.dense_size_px[1]}: {r.dense_ms:.0f} ms vs "
         f"sparse {r.sparse_ms_at_dense_size:.1f} ms → {r.speedup_vs_dense:.0f}× faster",
         f"peak memory, {r.memory_frames}-frame ROI batch forward+backward: "

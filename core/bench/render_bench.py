@@ -15,13 +15,14 @@ Scenes are the template swimming (motion of core/synth) under the paper's camera
 import math
 import os
 import platform
+import time
 from dataclasses import asdict, dataclass
 
 import cv2
 import numpy as np
 import torch
 
-from core.bench.timing import median_ms, peak_rss_mb_of
+from core.bench.timing import median_ms, median_phases_ms, peak_rss_mb_of
 from core.camera import NadirCamera
 from core.fit.losses import soft_iou_loss
 from core.intrinsics import CameraIntrinsics
@@ -47,6 +48,9 @@ DENSE_SIZES = ((160, 120), (128, 96), (96, 72), (64, 48), (48, 36))
 # 241–247 B at 48×36 to 96×72 px with the 8000-face template.
 DENSE_BYTES_PER_PAIR = 250
 DENSE_MEMORY_FRACTION = 0.3     # of physical memory the dense reference may use
+# The dense reference's contour search grows with faces², so the dense comparison (both sides)
+# and the second ROI figure use DIB-R's own soft mask over faces.
+FACES_SETTINGS = RasterSettings(soft_primitives="faces")
 
 
 @dataclass(frozen=True)
@@ -66,6 +70,8 @@ class RenderBench:
     roi_ms: float
     roi_floor_ms: float
     roi_ratio_vs_floor: float
+    roi_faces_ms: float           # the same batch with the "faces" soft mask (DIB-R's)
+    roi_faces_ratio_vs_floor: float
     dense_size_px: tuple[int, int]
     dense_ms: float
     sparse_ms_at_dense_size: float
@@ -109,13 +115,15 @@ def _roi_viewport(camera: NadirCamera, verts: torch.Tensor) -> Viewport:
     return Viewport(corner[:, 0], corner[:, 1], ROI_PX, ROI_PX)
 
 
-def _sparse_renderer(verts, faces, appearance, camera, viewport):
-    out = render(verts, faces, appearance, camera, viewport)
-    return out.soft_mask, out.rgb
+def _sparse_renderer(settings: RasterSettings = RasterSettings()):
+    def run(verts, faces, appearance, camera, viewport):
+        out = render(verts, faces, appearance, camera, viewport, settings)
+        return out.soft_mask, out.rgb
+    return run
 
 
-def _forward_backward(verts, faces, appearance, camera, viewport, renderer=_sparse_renderer):
-    """Closures timing the forward alone and forward + backward of a fit-like loss.
+def _forward_backward(verts, faces, appearance, camera, viewport, renderer=_sparse_renderer()):
+    """A closure running forward and backward of a fit-like loss; returns the seconds of each.
 
     ``renderer`` returns (soft mask, colour) of meshes (T, V, 3).
     """
@@ -124,11 +132,14 @@ def _forward_backward(verts, faces, appearance, camera, viewport, renderer=_spar
 
     target = forward()[0].detach()
 
-    def both():
+    def step() -> tuple[float, float]:
+        start = time.perf_counter()
         soft, rgb = forward()
+        middle = time.perf_counter()
         (soft_iou_loss(soft, target) + (rgb ** 2).mean()).backward()
+        return middle - start, time.perf_counter() - middle
 
-    return forward, both
+    return step
 
 
 def opencv_floor_ms(verts: torch.Tensor, faces: torch.Tensor, camera: NadirCamera,
@@ -148,6 +159,12 @@ def opencv_floor_ms(verts: torch.Tensor, faces: torch.Tensor, camera: NadirCamer
             cv2.fillPoly(image, frame_polygons, 255, lineType=cv2.LINE_8, shift=4)
 
     return median_ms(fill, repeats) / len(polygons)
+
+
+def _phases(measured: tuple[list[float], float]) -> tuple[float, float, float]:
+    """(forward, backward, total) ms of a median_phases_ms result."""
+    (forward, backward), total = measured
+    return forward, backward, total
 
 
 def dense_size(num_faces: int) -> tuple[int, int]:
@@ -173,9 +190,8 @@ def memory_job(num_frames: int):
     model, appearance = _model_and_appearance()
     verts = swimming_verts(model, num_frames)
     _, camera = _camera(FOOTAGE_SIZE, num_frames)
-    _, both = _forward_backward(verts, model.faces, appearance, camera,
-                                _roi_viewport(camera, verts))
-    return both
+    return _forward_backward(verts, model.faces, appearance, camera,
+                             _roi_viewport(camera, verts))
 
 
 def bench_render(repeats: int = 5, quick: bool = False) -> RenderBench:
@@ -191,9 +207,8 @@ def bench_render(repeats: int = 5, quick: bool = False) -> RenderBench:
     paper_verts = swimming_verts(model, 1)
     paper_intr, paper_cam = _camera(PAPER_SIZE, 1)
     paper_view = Viewport.full_frame(paper_intr, 1)
-    forward, both = _forward_backward(paper_verts, faces, appearance, paper_cam, paper_view)
-    paper_fwd = median_ms(forward, repeats)
-    paper_both = median_ms(both, repeats)
+    (paper_fwd, paper_bwd), paper_both = median_phases_ms(
+        _forward_backward(paper_verts, faces, appearance, paper_cam, paper_view), repeats)
     paper_floor = opencv_floor_ms(paper_verts, faces, paper_cam, paper_view, repeats * 4)
     with torch.no_grad():
         covered = int(render(paper_verts, faces, appearance, paper_cam, paper_view).coverage.sum())
@@ -201,9 +216,12 @@ def bench_render(repeats: int = 5, quick: bool = False) -> RenderBench:
     roi_verts = swimming_verts(model, roi_batch)
     _, roi_cam = _camera(FOOTAGE_SIZE, roi_batch)
     roi_view = _roi_viewport(roi_cam, roi_verts)
-    forward, both = _forward_backward(roi_verts, faces, appearance, roi_cam, roi_view)
-    roi_fwd = median_ms(forward, repeats) / roi_batch
-    roi_both = median_ms(both, repeats) / roi_batch
+    roi_fwd, roi_bwd, roi_both = (ms / roi_batch for ms in _phases(median_phases_ms(
+        _forward_backward(roi_verts, faces, appearance, roi_cam, roi_view), repeats)))
+    _, roi_faces = median_phases_ms(_forward_backward(
+        roi_verts, faces, appearance, roi_cam, roi_view,
+        renderer=_sparse_renderer(FACES_SETTINGS)), repeats)
+    roi_faces /= roi_batch
     roi_floor = opencv_floor_ms(roi_verts, faces, roi_cam, roi_view, repeats * 4)
 
     size = DENSE_SIZES[-1] if quick else dense_size(faces.shape[0])
@@ -211,19 +229,21 @@ def bench_render(repeats: int = 5, quick: bool = False) -> RenderBench:
     focal_px = 12.29 / 17.27 * size[0]
     dense_intr, dense_cam = _camera(size, 1, altitude_m=focal_px * LENGTH_M / (0.8 * size[0]))
     dense_view = Viewport.full_frame(dense_intr, 1)
-    _, sparse_both = _forward_backward(paper_verts, faces, appearance, dense_cam, dense_view)
-    _, dense_both = _forward_backward(paper_verts, faces, appearance, dense_cam, dense_view,
-                                      renderer=_dense_renderer(RasterSettings()))
-    sparse_ms = median_ms(sparse_both, repeats)
-    dense_ms = median_ms(dense_both, max(1, repeats // 2))
+    _, sparse_ms = median_phases_ms(_forward_backward(
+        paper_verts, faces, appearance, dense_cam, dense_view,
+        renderer=_sparse_renderer(FACES_SETTINGS)), repeats)
+    _, dense_ms = median_phases_ms(_forward_backward(
+        paper_verts, faces, appearance, dense_cam, dense_view,
+        renderer=_dense_renderer(FACES_SETTINGS)), max(1, repeats // 2))
 
     return RenderBench(
         threads=torch.get_num_threads(), faces=int(faces.shape[0]),
-        paper_forward_ms=paper_fwd, paper_backward_ms=paper_both - paper_fwd,
+        paper_forward_ms=paper_fwd, paper_backward_ms=paper_bwd,
         paper_ms=paper_both, paper_covered_px=covered, paper_floor_ms=paper_floor,
         ratio_vs_floor=paper_both / paper_floor,
-        roi_forward_ms=roi_fwd, roi_backward_ms=roi_both - roi_fwd, roi_ms=roi_both,
+        roi_forward_ms=roi_fwd, roi_backward_ms=roi_bwd, roi_ms=roi_both,
         roi_floor_ms=roi_floor, roi_ratio_vs_floor=roi_both / roi_floor,
+        roi_faces_ms=roi_faces, roi_faces_ratio_vs_floor=roi_faces / roi_floor,
         dense_size_px=size, dense_ms=dense_ms, sparse_ms_at_dense_size=sparse_ms,
         speedup_vs_dense=dense_ms / sparse_ms,
         memory_frames=memory_batch,

@@ -20,6 +20,19 @@ def median_ms(run: Callable[[], object], repeats: int, warmup: int = 1) -> float
     return 1e3 * times[len(times) // 2]
 
 
+def median_phases_ms(run: Callable[[], Sequence[float]], repeats: int,
+                     warmup: int = 1) -> tuple[list[float], float]:
+    """Medians (ms) of each phase of ``run``, which returns the seconds each of its phases
+    took, and the median of their sums: phases timed within the same repeats, so that a
+    phase never comes out as the difference of two separately measured medians."""
+    for _ in range(warmup):
+        run()
+    samples = [list(run()) for _ in range(repeats)]
+    totals = sorted(sum(sample) for sample in samples)
+    phases = [sorted(column)[len(column) // 2] for column in zip(*samples)]
+    return [1e3 * phase for phase in phases], 1e3 * totals[len(totals) // 2]
+
+
 def _status_mb(key: str) -> float:
     """A memory figure of this process from /proc/self/status (Linux), MB."""
     with open("/proc/self/status") as status:
