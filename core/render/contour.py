@@ -11,7 +11,7 @@ from dataclasses import dataclass
 
 import torch
 
-from core.render.rasterize import cross2
+from core.render.rasterize import face_corners
 
 
 @dataclass(frozen=True, eq=False)
@@ -34,21 +34,19 @@ def mesh_edges(faces: torch.Tensor) -> MeshEdges:
     return MeshEdges(verts=verts, of_corner=of_corner, num_faces=counts)
 
 
-def contour_edges(xy_px: torch.Tensor, depth: torch.Tensor, faces: torch.Tensor,
+def contour_edges(front: torch.Tensor, depth: torch.Tensor,
                   edges: MeshEdges) -> tuple[torch.Tensor, torch.Tensor]:
     """(frame, edge) of every contour edge in front of the camera in each frame.
 
-    xy_px: (T, V, 2) viewport pixels; depth: (T, V) distance below the camera. An edge is on
-    the contour when its faces do not all face the same way (front: negative signed area, as
-    in the raster), or when it bounds an open surface.
+    front: (T, F) bool faces facing the camera (``Fragments.front``); depth: (T, V) distance
+    below the camera. An edge is on the contour when its faces do not all face the same way,
+    or when it bounds an open surface.
     """
     with torch.no_grad():
-        tri = xy_px[:, faces]                                             # (T, F, 3, 2)
-        area2 = cross2(tri[:, :, 1] - tri[:, :, 0], tri[:, :, 2] - tri[:, :, 0])
-        front = (area2 < 0).to(torch.int64).repeat_interleave(3, dim=1)   # (T, 3F)
-        num_front = torch.zeros(xy_px.shape[0], edges.verts.shape[0], dtype=torch.int64)
-        num_front.index_add_(1, edges.of_corner, front)
+        facing = front.to(torch.int64).repeat_interleave(3, dim=1)         # (T, 3F)
+        num_front = torch.zeros(front.shape[0], edges.verts.shape[0], dtype=torch.int64)
+        num_front.index_add_(1, edges.of_corner, facing)
         mixed = (num_front > 0) & (num_front < edges.num_faces)
         on_contour = mixed | (edges.num_faces == 1)
-        in_front = (depth[:, edges.verts] > 0).all(-1)
+        in_front = (face_corners(depth, edges.verts) > 0).all(-1)
         return torch.nonzero(on_contour & in_front, as_tuple=True)

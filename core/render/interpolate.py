@@ -20,11 +20,12 @@ def interpolate_vertex_values(values: torch.Tensor, faces: torch.Tensor, frags: 
                               weights: torch.Tensor) -> torch.Tensor:
     """(C, D) per-vertex ``values`` (T, V, D) interpolated at the covered pixels."""
     flat_idx = frags.frame[:, None] * values.shape[1] + faces[frags.face]
-    corner = values.reshape(-1, values.shape[-1])[flat_idx]       # (C, 3, D)
+    corner = values.reshape(-1, values.shape[-1]).index_select(0, flat_idx.reshape(-1))
+    corner = corner.reshape(*flat_idx.shape, values.shape[-1])    # (C, 3, D)
     return (weights[..., None] * corner).sum(-2)
 
 
 def interpolate_corner_values(corner_values: torch.Tensor, frags: Fragments,
                               weights: torch.Tensor) -> torch.Tensor:
     """(C, D) per-face-corner ``corner_values`` (F, 3, D) interpolated at covered pixels."""
-    return (weights[..., None] * corner_values[frags.face]).sum(-2)
+    return (weights[..., None] * corner_values.index_select(0, frags.face)).sum(-2)

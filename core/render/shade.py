@@ -12,6 +12,8 @@ from dataclasses import dataclass
 import torch
 import torch.nn.functional as F
 
+from core.render.rasterize import face_corners
+
 COSINE_LOBE_SHARPNESS = 2.133   # clamped cosine fitted as one SG lobe (Wang et al. 2009)
 COSINE_LOBE_AMPLITUDE = 1.17
 
@@ -78,7 +80,7 @@ def water_filter(colour: torch.Tensor, height_m: torch.Tensor,
 
 def vertex_normals(verts: torch.Tensor, faces: torch.Tensor) -> torch.Tensor:
     """(T, V, 3) unit area-weighted vertex normals of meshes (T, V, 3), outward winding."""
-    v0, v1, v2 = (verts[:, faces[:, k]] for k in range(3))
+    v0, v1, v2 = face_corners(verts, faces).unbind(2)
     face_normals = torch.linalg.cross(v1 - v0, v2 - v0, dim=-1)    # (T, F, 3), 2·area
     normals = torch.zeros_like(verts)
     for k in range(3):

@@ -21,7 +21,7 @@ import torch
 
 from core.render.contour import MeshEdges, contour_edges, mesh_edges
 from core.render.pairs import ragged_chunks
-from core.render.rasterize import Fragments, face_boxes, gather_corners
+from core.render.rasterize import Fragments, face_boxes, face_corners, gather_corners
 from core.render.settings import RasterSettings
 
 MAX_PROBABILITY = 1.0 - 1e-6   # clamp before log1p(−p) (rendering.md §11.8)
@@ -40,11 +40,11 @@ def soft_mask(xy_px: torch.Tensor, depth: torch.Tensor, faces: torch.Tensor,
     if settings.soft_primitives == "contour":
         edges = edges if edges is not None else mesh_edges(faces)
         primitives = edges.verts
-        frame, index = contour_edges(xy_px.detach(), depth, faces, edges)
+        frame, index = contour_edges(frags.front, depth, edges)
         corner_edges = _SEGMENT_EDGES
     else:
         primitives = faces
-        frame, index = torch.nonzero((depth[:, faces] > 0).all(-1), as_tuple=True)
+        frame, index = torch.nonzero((face_corners(depth, faces) > 0).all(-1), as_tuple=True)
         corner_edges = _TRIANGLE_EDGES
     corners = gather_corners(xy_px.detach(), primitives, frame, index)
     item, pixel = candidate_pairs(corners, frame, frags, settings)

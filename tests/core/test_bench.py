@@ -8,7 +8,7 @@ import torch
 from app.cli import main
 from core.bench import render_bench
 from core.errors import InputError
-from core.bench.timing import median_ms, peak_rss_mb_of
+from core.bench.timing import median_ms, median_phases_ms, peak_rss_mb_of
 
 
 def allocate_job(megabytes: int):
@@ -23,6 +23,15 @@ def test_median_ms_takes_the_median():
     """The median of several runs of a fixed sleep is close to it."""
     import time
     assert 4.0 < median_ms(lambda: time.sleep(0.005), repeats=3) < 50.0
+
+
+def test_phases_are_timed_within_the_same_repeats():
+    """Each phase's median comes from the phase's own times; the total is the median of the
+    repeats' sums, so no phase can come out negative."""
+    samples = iter([(0.002, 0.001), (0.004, 0.003), (0.003, 0.010), (0.001, 0.002)])
+    phases, total = median_phases_ms(lambda: next(samples), repeats=3)   # the first: warm-up
+    assert phases == pytest.approx([3.0, 3.0])    # medians of (4, 3, 1) and (3, 10, 2) ms
+    assert total == pytest.approx(7.0)            # median of the sums 7, 13 and 3 ms
 
 
 def test_peak_memory_of_a_job_counts_what_it_allocates():
@@ -43,8 +52,12 @@ def test_bench_render_quick_reports_consistent_ratios(capsys):
     """`bench render --quick --json` gives positive figures and ratios that match them."""
     assert main(["bench", "render", "--quick", "--repeats", "1", "--json"]) == 0
     figures = json.loads(capsys.readouterr().out)
-    for key in ("paper_ms", "paper_floor_ms", "roi_ms", "dense_ms", "peak_memory_mb"):
+    for key in ("paper_ms", "paper_floor_ms", "roi_ms", "dense_ms", "peak_memory_mb",
+                "paper_forward_ms", "paper_backward_ms", "roi_forward_ms", "roi_backward_ms",
+                "roi_faces_ms"):
         assert figures[key] > 0
+    assert figures["roi_faces_ratio_vs_floor"] == pytest.approx(figures["roi_faces_ms"]
+                                                                / figures["roi_floor_ms"])
     assert figures["ratio_vs_floor"] == pytest.approx(figures["paper_ms"]
                                                       / figures["paper_floor_ms"])
     assert figures["speedup_vs_dense"] == pytest.approx(figures["dense_ms"]

@@ -42,7 +42,8 @@ def test_contour_of_closed_meshes_is_made_of_closed_loops():
     and the contour holds far fewer edges than the mesh."""
     xy, depth, faces = _projected()
     edges = mesh_edges(faces)
-    frame, index = contour_edges(xy, depth, faces, edges)
+    frags = rasterize(xy, depth, faces, HEIGHT, WIDTH, 10**6)
+    frame, index = contour_edges(frags.front, depth, edges)
     ends = edges.verts[index].reshape(-1)
     degree = torch.bincount(ends, minlength=xy.shape[1])
     assert len(index) >= 16
@@ -59,7 +60,7 @@ def test_nearest_contour_edge_is_the_nearest_point_of_the_mesh():
     rows, cols = torch.nonzero(~frags.covered[0], as_tuple=True)
     points = torch.stack([cols, rows], -1).to(xy.dtype)
     edges = mesh_edges(faces)
-    _, index = contour_edges(xy, depth, faces, edges)
+    _, index = contour_edges(frags.front, depth, edges)
 
     def nearest(corners, corner_edges):
         num_points, num = points.shape[0], corners.shape[0]
