@@ -3,7 +3,7 @@
 Outside a closed mesh's silhouette, the nearest point of the projected mesh always lies on a
 contour edge (the outline of the projection is made of them). The soft silhouette's
 "contour" mode (core/render/soft_mask.py) therefore pairs uncovered pixels with these few
-edges instead of every face within the margin: about 400 edges instead of 8000 faces for the
+edges instead of every face within the margin: about 300 edges instead of 8000 faces for the
 template, and a few candidates per outline pixel instead of a hundred.
 """
 

@@ -9,7 +9,8 @@ in index order. Two kinds of primitive (``RasterSettings.soft_primitives``):
 - "contour": the mesh's contour edges in that frame (core/render/contour.py), d_j the distance
   to the segment. Outside the silhouette the nearest point of the mesh lies on one of them, so
   the nearest term is the same; what differs is the crowd of faces seen edge-on along the
-  outline, each adding a term, which makes the "faces" edge wider and costs ~20× the pairs.
+  outline, each adding a term, which makes the "faces" edge wider and costs 14× the pairs
+  (140k against 10k a frame on a 232×200 crop of a 2.5 m animal at 20 m).
 
 Only uncovered pixels are ever paired with primitives: a summed-area table first drops those
 whose enlarged box holds no uncovered pixel; then, since in row-major order the uncovered
