@@ -12,8 +12,8 @@ against a forward-only OpenCV fill of the same triangles (ratio_vs_floor) and th
 brute-force reference on the same scene at the largest size it fits in memory
 (speedup_vs_dense), plus the peak memory of a 64-frame batch. Forward and backward are timed
 within the same repeats. The soft mask is the default "contour" one, and for the ROI batch
-also DIB-R's "faces" one side by side; the dense comparison uses "faces" on both sides. --quick shrinks everything for
-a smoke test; its figures are not the benchmark's.
+also DIB-R's "faces" one side by side; the dense comparison uses "faces" on both sides.
+--quick shrinks everything for a smoke test; its figures are not the benchmark's.
 
 fit --suite: the widened synthetic suite (12 1920×1080 clips: light-grey and dark animals over
 green, blue, sandy and murky water, pairs, splash, glitter, sharp turns; every unmodelled

@@ -161,12 +161,6 @@ def opencv_floor_ms(verts: torch.Tensor, faces: torch.Tensor, camera: NadirCamer
     return median_ms(fill, repeats) / len(polygons)
 
 
-def _phases(measured: tuple[list[float], float]) -> tuple[float, float, float]:
-    """(forward, backward, total) ms of a median_phases_ms result."""
-    (forward, backward), total = measured
-    return forward, backward, total
-
-
 def dense_size(num_faces: int) -> tuple[int, int]:
     """The largest candidate size whose dense pair tensors fit the memory budget."""
     budget = DENSE_MEMORY_FRACTION * os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES")
@@ -216,8 +210,9 @@ def bench_render(repeats: int = 5, quick: bool = False) -> RenderBench:
     roi_verts = swimming_verts(model, roi_batch)
     _, roi_cam = _camera(FOOTAGE_SIZE, roi_batch)
     roi_view = _roi_viewport(roi_cam, roi_verts)
-    roi_fwd, roi_bwd, roi_both = (ms / roi_batch for ms in _phases(median_phases_ms(
-        _forward_backward(roi_verts, faces, appearance, roi_cam, roi_view), repeats)))
+    (roi_fwd, roi_bwd), roi_both = median_phases_ms(
+        _forward_backward(roi_verts, faces, appearance, roi_cam, roi_view), repeats)
+    roi_fwd, roi_bwd, roi_both = roi_fwd / roi_batch, roi_bwd / roi_batch, roi_both / roi_batch
     _, roi_faces = median_phases_ms(_forward_backward(
         roi_verts, faces, appearance, roi_cam, roi_view,
         renderer=_sparse_renderer(FACES_SETTINGS)), repeats)

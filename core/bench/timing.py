@@ -9,15 +9,12 @@ from collections.abc import Callable, Sequence
 
 def median_ms(run: Callable[[], object], repeats: int, warmup: int = 1) -> float:
     """Median wall time of ``run`` in milliseconds after ``warmup`` untimed calls."""
-    for _ in range(warmup):
-        run()
-    times = []
-    for _ in range(repeats):
+    def timed() -> tuple[float]:
         start = time.perf_counter()
         run()
-        times.append(time.perf_counter() - start)
-    times.sort()
-    return 1e3 * times[len(times) // 2]
+        return (time.perf_counter() - start,)
+
+    return median_phases_ms(timed, repeats, warmup)[1]
 
 
 def median_phases_ms(run: Callable[[], Sequence[float]], repeats: int,

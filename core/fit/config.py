@@ -14,7 +14,8 @@ from core.render import SOFT_PRIMITIVES
 
 COUNT_MINIMUMS = {"heading_trial_steps": 0, "steps_global": 0, "steps_body": 0,
                   "steps_shape": 0, "heading_max_frames": 0, "shape_max_frames": 0,
-                  "shape_full_steps": 0, "coarse_factor": 1, "coarse_steps": 0, "roi_margin_px": 0, "frames_per_chunk": 1,
+                  "shape_full_steps": 0, "coarse_factor": 1, "coarse_steps": 0,
+                  "roi_margin_px": 0, "frames_per_chunk": 1,
                   "paper_width_px": 1, "max_faces_per_pixel": 1}  # whole-number fields
 
 
@@ -69,13 +70,13 @@ class FitConfig:
     # heading trials only compare two headings; the shape stage fits shared shape, and its
     # last shape_full_steps steps render all its frames so each pose catches up with it.
     heading_max_frames: int = 8
+    shape_max_frames: int = 16
+    shape_full_steps: int = 10
     # The heading trials and the first coarse_steps steps of the pose stages (global, then
     # body) render at 1/coarse_factor of the crops' resolution (1: native throughout); the
     # rest, and the shape stage, see native pixels.
     coarse_factor: int = 2
     coarse_steps: int = 40
-    shape_max_frames: int = 16
-    shape_full_steps: int = 10
     # Both switches beyond the paper were measured by `dolphinfit bench fit --suite` (8 clips):
     # crops halve the length error (median 0.70 % vs 1.18 %, worst 1.44 % vs 2.79 %) and fit
     # 2.1× faster, so they are on; refraction did not help yet (median volume error 4.98 % on

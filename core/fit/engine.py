@@ -370,7 +370,6 @@ def _choose_heading(problem: _Problem, candidates: list[SceneParams], history: l
         stop.params = min(trials, key=lambda item: item[0])[1]
         raise
     timings[HEADING_STAGE] = time.perf_counter() - trial_started
-    problem.use_all_frames()
     return min(trials, key=lambda item: item[0])[1]
 
 

@@ -7,7 +7,8 @@ Same semantics as core/render (front-most front face by screen-space depth, ties
 face index; DIB-R soft mask over the first k faces, or contour edges, in index order whose
 margin-enlarged box holds the pixel; foreground interpolated at the winner), but no boxes,
 pair lists, chunks, summed-area tables or sorting: only dense (pixels × faces) tensors, so
-memory grows with pixels × faces (and the contour's search with faces²). The barycentric formula and the pointwise shading functions are shared.
+memory grows with pixels × faces (and the contour's search with faces²). The barycentric
+formula and the pointwise shading functions are shared.
 """
 
 import torch

@@ -17,7 +17,7 @@ from core.model.template import load_template
 from core.render.render import project_to_viewport
 from core.render.settings import Viewport
 
-from .test_fit import TINY, _data, clip_dir  # noqa: F401  (the module's clip fixture)
+from .test_fit import TINY, _data
 
 
 def test_evenly_spaced_keeps_the_ends_and_at_most_the_limit():
@@ -27,7 +27,7 @@ def test_evenly_spaced_keeps_the_ends_and_at_most_the_limit():
     assert evenly_spaced(frames, 12).tolist() == list(range(10, 20))
 
 
-def test_coarse_data_is_the_same_scene_at_half_resolution(clip_dir):  # noqa: F811
+def test_coarse_data_is_the_same_scene_at_half_resolution(clip_dir):
     """Half-resolution windows: each pixel the mean of its 2×2 block, and every world point
     projects to (native + 0.5) / 2 − 0.5, the same physical spot."""
     data = _data(clip_dir)
@@ -42,7 +42,7 @@ def test_coarse_data_is_the_same_scene_at_half_resolution(clip_dir):  # noqa: F8
     torch.testing.assert_close(half, (native + 0.5) / 2 - 0.5, rtol=0, atol=1e-3)
 
 
-def test_windows_off_the_coarse_grid_have_no_coarse_copy(clip_dir):  # noqa: F811
+def test_windows_off_the_coarse_grid_have_no_coarse_copy(clip_dir):
     data = _data(clip_dir)
     shifted = replace(data, viewport=Viewport(data.viewport.x0_px + 1, data.viewport.y0_px,
                                               data.viewport.width_px, data.viewport.height_px))
@@ -51,8 +51,8 @@ def test_windows_off_the_coarse_grid_have_no_coarse_copy(clip_dir):  # noqa: F81
 
 
 @pytest.mark.parametrize("coarse_factor", [1, 2])
-def test_heading_and_shape_render_subsets_and_the_shape_ends_on_all(clip_dir, monkeypatch,  # noqa: F811
-                                                                    coarse_factor):
+def test_heading_and_shape_render_subsets_and_the_shape_ends_on_all(
+        clip_dir, monkeypatch, coarse_factor):
     """Heading trials render heading_max_frames frames at the coarse resolution; the first
     coarse_steps pose steps (global, then body) render at 1/coarse_factor of the native
     window, the rest natively; the shape stage renders shape_max_frames of its frames until
@@ -90,7 +90,7 @@ def test_new_work_options_are_validated():
         FitConfig(soft_primitives="edges")
 
 
-def test_colour_loss_at_covered_pixels_equals_the_whole_image_formula(clip_dir):  # noqa: F811
+def test_colour_loss_at_covered_pixels_equals_the_whole_image_formula(clip_dir):
     """Reading the colour loss at covered pixels only gives Σ_t mean over (covered ∧ mask)
     of the squared error computed over whole images, on frames of a chunk out of order."""
     data = _data(clip_dir)
