@@ -92,7 +92,10 @@ class FitConfig:
     roi_margin_px: int = 24
     paper_width_px: int = 720       # whole-frame width when use_roi is off (the paper's)
     init_depth_m: float = 0.15      # root depth at the start (back at the surface)
-    frames_per_chunk: int = 16      # frames rendered per forward/backward (memory, cancel)
+    # At most this many frames (at native resolution; as many pixels at coarse ones) are
+    # rendered per forward/backward: bounds memory, and cancel is honoured between chunks,
+    # which run on the cores side by side (engine.equal_chunks).
+    frames_per_chunk: int = 16
     # The paper's k = 40 faces per pixel, taken in face-index order, binds at most outline
     # pixels of our crops (hundreds of candidates) and biases the silhouette gradient: on a
     # synthetic clip the overall scale drifted −11 % in 30 steps while the loss rose. With the

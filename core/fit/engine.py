@@ -11,8 +11,10 @@ in ``status`` and ``status_message``. Progress: core.fit.reporter.
 import math
 import threading
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
+from concurrent.futures import Executor, wait
 from dataclasses import dataclass, fields
+from functools import reduce
 
 import numpy as np
 import torch
@@ -38,6 +40,7 @@ from core.render.pyramid import pyramid_loss, silhouette_pyramid
 from core.render.render import Appearance, RenderOutput, render
 from core.render.settings import RasterSettings, Viewport
 from core.render.shade import SGLight
+from core.runtime import single_thread_workers
 
 STAGES = ("global", "body", "shape")   # what each optimises: see _stage_groups
 STAGE_WORDS = {HEADING_STAGE: "heading", "global": "global pose", "body": "body pose",
@@ -51,6 +54,7 @@ SMOOTH_REFERENCE_S = 1.0 / 25.0   # frame interval the smoothness weights refer 
 # 0.76–0.94 per clip, and masks of a seagrass patch or of glitter 0.56 (0.61 and 0.65 with
 # the exhaustive fit).
 POOR_FIT_IOU = 0.7
+WAIT_S = 0.2          # how often the fit's thread checks cancel while workers render
 
 
 class _Stop(Exception):
@@ -156,12 +160,15 @@ def _stage_groups(params: SceneParams, stage: str, config: FitConfig) -> list[di
 
 
 class _Problem:
-    """The data, model and fixed inputs one fit evaluates its parameters against."""
+    """The data, model and fixed inputs one fit evaluates its parameters against; chunks of
+    frames are rendered in ``pool``'s threads where there is one."""
 
     def __init__(self, data: FitData, model: DolphinModel, template: Template,
-                 config: FitConfig, reporter: FitReporter, cancel: threading.Event | None):
+                 config: FitConfig, reporter: FitReporter, cancel: threading.Event | None,
+                 pool: Executor | None = None, chunk_frames: int | None = None):
         self.data, self.model, self.config = data, model, config
-        self.reporter, self.cancel = reporter, cancel
+        self.reporter, self.cancel, self.pool = reporter, cancel, pool
+        self.chunk_frames = chunk_frames or config.frames_per_chunk
         self.template = template
         self.settings = RasterSettings(max_faces_per_pixel=config.max_faces_per_pixel,
                                        soft_primitives=config.soft_primitives)
@@ -185,20 +192,45 @@ class _Problem:
 
     def set_frames(self, frames: torch.Tensor) -> None:
         """Render only ``frames`` in each step, in chunks."""
-        size = self.config.frames_per_chunk
         self.frames = frames
-        self.chunks = [frames[s:s + size] for s in range(0, len(frames), size)]
+        self.chunks = equal_chunks(frames, self.chunk_frames)
         self.num_used = len(frames)
+
+    def map_chunks(self, work: Callable[[object], object], chunks: Sequence,
+                   cancellable: bool = True) -> list:
+        """``work(chunk)`` for each chunk, in order, in the pool's threads where there is
+        one; between chunks the heartbeat is kept and, if ``cancellable``, the cancel
+        request honoured."""
+        cancel = self.cancel if cancellable else None
+        if self.pool is None:
+            results = []
+            for chunk in chunks:
+                check_cancel(cancel)
+                self.reporter.heartbeat()
+                results.append(work(chunk))
+            return results
+        check_cancel(cancel)
+        futures = [self.pool.submit(work, chunk) for chunk in chunks]
+        try:
+            while wait(futures, timeout=WAIT_S).not_done:
+                check_cancel(cancel)
+                self.reporter.heartbeat()
+        except Cancelled:
+            for future in futures:
+                future.cancel()
+            wait(futures)
+            raise
+        return [future.result() for future in futures]
 
     def frame_ious(self, params: SceneParams) -> torch.Tensor:
         """(T,) hard IoU of every frame at ``params``."""
-        ious = []
-        with torch.no_grad():
-            for chunk in torch.arange(self.data.num_frames).split(self.config.frames_per_chunk):
-                ious.append(mask_iou(self.render_chunk(params, chunk).coverage,
-                                     self.data.masks[chunk] > 0.5))
-                self.reporter.heartbeat()
-        return torch.cat(ious)
+        def work(chunk: torch.Tensor) -> torch.Tensor:
+            with torch.no_grad():   # grad mode is per thread
+                return mask_iou(self.render_chunk(params, chunk).coverage,
+                                self.data.masks[chunk] > 0.5)
+
+        chunks = equal_chunks(torch.arange(self.data.num_frames), self.chunk_frames)
+        return torch.cat(self.map_chunks(work, chunks, cancellable=False))
 
     def restrict_to_explained_frames(self, params: SceneParams) -> list[str]:
         """Keep for the shape stage the frames the pose stages explain (config doc)."""
@@ -213,45 +245,77 @@ class _Problem:
                 f"{self.config.shape_iou_margin}): frames {', '.join(map(str, dropped[:8]))}"
                 + (" …" if len(dropped) > 8 else "")]
 
-    def render_chunk(self, params: SceneParams, chunk: torch.Tensor):
-        out = self.model(params.full_betas(), params.pose()[chunk], params.transl[chunk])
+    def render_chunk(self, params: SceneParams, chunk: torch.Tensor) -> RenderOutput:
+        """Render frames ``chunk`` at ``params``."""
+        posed = self.model(params.full_betas(), params.pose()[chunk], params.transl[chunk])
+        return self.render_verts(params, chunk, posed.verts)
+
+    def render_verts(self, params: SceneParams, chunk: torch.Tensor,
+                     verts: torch.Tensor) -> RenderOutput:
+        """Render the posed meshes ``verts`` (len(chunk), V, 3) of frames ``chunk``."""
         appearance = Appearance(params.albedo, self.face_uvs, params.light(), params.f_water)
         viewport = Viewport(self.data.viewport.x0_px[chunk], self.data.viewport.y0_px[chunk],
                             self.data.viewport.width_px, self.data.viewport.height_px)
-        return render(out.verts, self.model.faces, appearance,
-                      self.data.camera.select(chunk), viewport, self.settings, self.edges)
+        return render(verts, self.model.faces, appearance, self.data.camera.select(chunk),
+                      viewport, self.settings, self.edges)
 
-    def step_loss(self, params: SceneParams, pyramid_weight: float) -> tuple[dict, torch.Tensor]:
-        """Accumulate gradients of the total loss; returns term values and per-frame IoU."""
+    def step_loss(self, params: SceneParams, pyramid_weight: float,
+                  leaves: list[torch.Tensor]) -> tuple[dict, torch.Tensor]:
+        """Set the gradients of ``leaves`` (the parameters being optimised: autograd skips
+        what only the others need) to those of the total loss; returns term values and
+        per-frame IoU.
+
+        The model poses every frame of the step at once, here; the chunks render their
+        frames' meshes as their own leaves and return the gradients of the loss for them,
+        which go back through the model once. Gradients are summed in chunk order.
+        """
+        posed = self.model(params.full_betas(), params.pose()[self.frames],
+                           params.transl[self.frames]).verts
+        meshes = posed.detach().split([len(chunk) for chunk in self.chunks])
+        chunks = self.map_chunks(
+            lambda item: self.chunk_loss(params, *item, pyramid_weight, leaves),
+            list(zip(self.chunks, meshes)))
         weights = self.config.weights
-        num_frames = self.num_used
-        terms = {"mask": 0.0, "rgb": 0.0, "pyramid": 0.0, "total": 0.0}
-        ious = []
-        for chunk in self.chunks:
-            check_cancel(self.cancel)
-            self.reporter.heartbeat()
-            out = self.render_chunk(params, chunk)
-            target = self.targets[chunk]
-            mask_term = losses.soft_iou_loss(out.soft_mask, target) / num_frames
-            rgb_term = self.rgb_term(out, chunk) / num_frames
-            total = weights.mask * mask_term + weights.rgb * rgb_term
-            if pyramid_weight > 0:
-                pyramid_term = (pyramid_loss(out.soft_mask, [level[chunk] for level in
-                                                             self.target_pyramid])
-                                * len(chunk) / num_frames)
-                total = total + pyramid_weight * pyramid_term
-                terms["pyramid"] += float(pyramid_term.detach())
-            total.backward()
-            terms["mask"] += float(mask_term.detach())
-            terms["rgb"] += float(rgb_term.detach())
-            terms["total"] += float(total.detach())
-            ious.append(mask_iou(out.coverage, self.data.masks[chunk] > 0.5))
         prior_terms = self.prior_terms(params)
         prior_total = sum(getattr(weights, name) * value for name, value in prior_terms.items())
-        prior_total.backward()
+        grads = [*(grads for _, _, grads, _ in chunks),
+                 torch.autograd.grad(posed, leaves, torch.cat([g for _, g, _, _ in chunks]),
+                                     materialize_grads=True),
+                 torch.autograd.grad(prior_total, leaves, materialize_grads=True)]
+        for leaf, parts in zip(leaves, zip(*grads)):
+            leaf.grad = reduce(torch.add, parts)
+        terms = {name: sum(chunk_terms[name] for chunk_terms, _, _, _ in chunks)
+                 for name in ("mask", "rgb", "pyramid", "total")}
         terms.update({name: float(value.detach()) for name, value in prior_terms.items()})
         terms["total"] += float(prior_total.detach())
-        return terms, torch.cat(ious)
+        return terms, torch.cat([iou for _, _, _, iou in chunks])
+
+    def chunk_loss(self, params: SceneParams, chunk: torch.Tensor, verts: torch.Tensor,
+                   pyramid_weight: float, leaves: list[torch.Tensor]
+                   ) -> tuple[dict[str, float], torch.Tensor, tuple[torch.Tensor, ...],
+                              torch.Tensor]:
+        """One chunk's loss terms, the gradients of its total for its posed meshes ``verts``
+        (detached) and for ``leaves``, and its frames' IoU (thread-safe: it changes nothing
+        shared)."""
+        weights = self.config.weights
+        num_frames = self.num_used
+        verts = verts.requires_grad_()
+        out = self.render_verts(params, chunk, verts)
+        mask_term = losses.soft_iou_loss(out.soft_mask, self.targets[chunk]) / num_frames
+        rgb_term = self.rgb_term(out, chunk) / num_frames
+        total = weights.mask * mask_term + weights.rgb * rgb_term
+        terms = {"mask": float(mask_term.detach()), "rgb": float(rgb_term.detach()),
+                 "pyramid": 0.0}
+        if pyramid_weight > 0:
+            pyramid_term = (pyramid_loss(out.soft_mask, [level[chunk] for level in
+                                                         self.target_pyramid])
+                            * len(chunk) / num_frames)
+            total = total + pyramid_weight * pyramid_term
+            terms["pyramid"] = float(pyramid_term.detach())
+        terms["total"] = float(total.detach())
+        vert_grad, *grads = torch.autograd.grad(total, [verts, *leaves], materialize_grads=True)
+        return terms, vert_grad, tuple(grads), mask_iou(out.coverage,
+                                                       self.data.masks[chunk] > 0.5)
 
     def rgb_term(self, out: RenderOutput, chunk: torch.Tensor) -> torch.Tensor:
         """The colour loss of a chunk's render, read at its covered pixels only."""
@@ -286,17 +350,26 @@ class _Problem:
 def fit(data: FitData, config: FitConfig = FitConfig(), template: Template | None = None, *,
         progress: ProgressCallback | None = None,
         cancel: threading.Event | None = None) -> FitResult:
-    """Fit the model to ``data``; deterministic for the same inputs and configuration.
+    """Fit the model to ``data``; deterministic for the same inputs and configuration, to
+    the last bit whatever torch's thread count: chunks of frames run on as many worker
+    threads, one torch thread each (core.runtime.single_thread_workers).
 
     Once ``cancel`` is set the fit returns the best state reached with status "cancelled";
     before the first optimisation step there is nothing to keep and it raises Cancelled.
     """
+    with single_thread_workers(torch.get_num_threads()) as pool:
+        return _fit(data, config, template, progress, cancel, pool)
+
+
+def _fit(data: FitData, config: FitConfig, template: Template | None,
+         progress: ProgressCallback | None, cancel: threading.Event | None,
+         pool: Executor | None) -> FitResult:
     started = time.perf_counter()
     reporter = FitReporter(config.total_steps, progress)
     reporter.report(PREPARE_STAGE, "placing the model")
     template = template if template is not None else load_template()
     model = DolphinModel(template)
-    problem = _Problem(data, model, template, config, reporter, cancel)
+    problem = _Problem(data, model, template, config, reporter, cancel, pool)
     state = initial_state(data, model, config.init_depth_m)
     timings: dict[str, float] = {}
     history: list[dict] = []
@@ -346,8 +419,10 @@ def _coarse_problem(problem: _Problem, params: SceneParams) -> _Problem:
                    if problem.config.coarse_factor > 1 else None)
     if coarse_data is None:
         return problem
+    # as many pixels a chunk as at native resolution
     coarse = _Problem(coarse_data, problem.model, problem.template, problem.config,
-                      problem.reporter, problem.cancel)
+                      problem.reporter, problem.cancel, problem.pool,
+                      problem.chunk_frames * problem.config.coarse_factor ** 2)
     coarse.set_targets(_debiased_targets(coarse, params))
     return coarse
 
@@ -371,6 +446,16 @@ def _choose_heading(problem: _Problem, candidates: list[SceneParams], history: l
         raise
     timings[HEADING_STAGE] = time.perf_counter() - trial_started
     return min(trials, key=lambda item: item[0])[1]
+
+
+def equal_chunks(frames: torch.Tensor, max_size: int) -> list[torch.Tensor]:
+    """``frames`` in consecutive chunks of at most ``max_size`` frames, of sizes that differ
+    by one at most: the fewest such chunks, rounded up to an even number (where there are
+    frames enough), so that two workers share any step evenly. The rule does not depend on
+    the number of workers, so neither do the results."""
+    count = math.ceil(len(frames) / max_size)
+    count = max(1, min(len(frames), count + count % 2))
+    return list(torch.tensor_split(frames, count))
 
 
 def evenly_spaced(frames: torch.Tensor, limit: int) -> torch.Tensor:
@@ -432,12 +517,12 @@ def _run_stage(problem: _Problem, params: SceneParams, stage: str, steps: int,
     problem.reporter.preview_source = lambda: _preview(problem, params)
     best_total, best = math.inf, params.snapshot()
     total = math.inf
+    leaves = [leaf for group in optimiser.param_groups for leaf in group["params"]]
     for k in range(steps):
-        optimiser.zero_grad()
         weight = problem.config.weights.pyramid * pyramid_fade(k)
         problem.reporter.step_started()
         try:
-            terms, iou = problem.step_loss(params, weight)
+            terms, iou = problem.step_loss(params, weight, leaves)
         except Cancelled:
             params.restore(best)
             raise _Stop(STATUS_CANCELLED, "cancelled by the user", label, best_total,

@@ -56,7 +56,8 @@ class FitReporter:
         self.step += 1
         preview = None
         now = time.perf_counter()
-        if self.preview_source is not None and now - self._last_preview >= PREVIEW_INTERVAL_S:
+        if (self.callback is not None and self.preview_source is not None
+                and now - self._last_preview >= PREVIEW_INTERVAL_S):
             preview, self._last_preview = self.preview_source(), now
         self.report(stage, f"mean IoU {mean_iou:.3f}", {**terms, "mean_iou": mean_iou},
                     preview)

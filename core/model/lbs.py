@@ -104,7 +104,13 @@ def skin(verts: torch.Tensor, joints: torch.Tensor, global_rots: torch.Tensor,
     verts: (V, 3) and joints: (J, 3) in the scaled rest pose; global_rots: (T, J, 3, 3);
     posed_joints: (T, J, 3); weights: (V, J).
     """
+    num_frames, num_joints = global_rots.shape[:2]
     offsets = posed_joints - torch.einsum("tjab,jb->tja", global_rots, joints)   # (T, J, 3)
-    blended_rots = torch.einsum("vj,tjab->tvab", weights, global_rots)
-    blended_offsets = torch.einsum("vj,tja->tva", weights, offsets)
-    return torch.einsum("tvab,vb->tva", blended_rots, verts) + blended_offsets
+    transforms = torch.cat([global_rots, offsets[..., None]], dim=-1)            # (T, J, 3, 4)
+    # one matrix product blends every frame's transforms, (T·12, J) @ (J, V); the 3×4
+    # products with the vertices are written out over unbound columns (einsum's tiny batched
+    # products, or indexing, whose backward fills a whole tensor per column, are slower)
+    blended = transforms.permute(0, 2, 3, 1).reshape(-1, num_joints) @ weights.T
+    col_x, col_y, col_z, col_1 = blended.reshape(num_frames, 3, 4, -1).unbind(2)  # (T, 3, V)
+    x, y, z = verts.T
+    return (col_x * x + col_y * y + col_z * z + col_1).transpose(1, 2).contiguous()

@@ -21,11 +21,19 @@ def interpolate_vertex_values(values: torch.Tensor, faces: torch.Tensor, frags: 
     """(C, D) per-vertex ``values`` (T, V, D) interpolated at the covered pixels."""
     flat_idx = frags.frame[:, None] * values.shape[1] + faces[frags.face]
     corner = values.reshape(-1, values.shape[-1]).index_select(0, flat_idx.reshape(-1))
-    corner = corner.reshape(*flat_idx.shape, values.shape[-1])    # (C, 3, D)
-    return (weights[..., None] * corner).sum(-2)
+    return weighted_sum(weights, corner.reshape(*flat_idx.shape, values.shape[-1]))
 
 
 def interpolate_corner_values(corner_values: torch.Tensor, frags: Fragments,
                               weights: torch.Tensor) -> torch.Tensor:
     """(C, D) per-face-corner ``corner_values`` (F, 3, D) interpolated at covered pixels."""
-    return (weights[..., None] * corner_values.index_select(0, frags.face)).sum(-2)
+    return weighted_sum(weights, corner_values.index_select(0, frags.face))
+
+
+def weighted_sum(weights: torch.Tensor, values: torch.Tensor) -> torch.Tensor:
+    """(C, D) Σ_k weights[:, k] · values[:, k] for weights (C, K) and values (C, K, D),
+    written out over k: torch reduces a short middle axis several times slower."""
+    total = weights[:, :1] * values[:, 0]
+    for k in range(1, weights.shape[1]):
+        total = total + weights[:, k:k + 1] * values[:, k]
+    return total

@@ -1,6 +1,7 @@
 """The full render of posed meshes through a nadir camera into per-frame viewports."""
 
 from dataclasses import dataclass
+from functools import cached_property
 
 import torch
 
@@ -29,15 +30,30 @@ class Appearance:
 
 @dataclass(frozen=True, eq=False)
 class RenderOutput:
-    """Per-frame images of the viewport; shapes (T, H, W, …)."""
+    """Per-frame images of the viewport; shapes (T, H, W, …). Colour and height are kept at
+    the covered pixels; their whole images are built when first read (the fit never does)."""
 
-    rgb: torch.Tensor         # (T, H, W, 3) shaded, water-filtered colour; 0 where uncovered
-    soft_mask: torch.Tensor   # (T, H, W) DIB-R soft silhouette
-    coverage: torch.Tensor    # (T, H, W) bool hard coverage
-    face_idx: torch.Tensor    # (T, H, W) int64 front face, −1 where uncovered
-    height_m: torch.Tensor    # (T, H, W) world height of the surface (z), 0 where uncovered
-    pixel: torch.Tensor       # (C,) int64 flat index t·H·W + row·W + col of covered pixels
-    pixel_rgb: torch.Tensor   # (C, 3) their colour: rgb without the uncovered pixels
+    soft_mask: torch.Tensor     # (T, H, W) DIB-R soft silhouette
+    coverage: torch.Tensor      # (T, H, W) bool hard coverage
+    face_idx: torch.Tensor      # (T, H, W) int64 front face, −1 where uncovered
+    pixel: torch.Tensor         # (C,) int64 flat index t·H·W + row·W + col of covered pixels
+    pixel_rgb: torch.Tensor     # (C, 3) their shaded, water-filtered colour
+    pixel_height: torch.Tensor  # (C,) their world height of the surface (z), metres
+
+    @cached_property
+    def rgb(self) -> torch.Tensor:
+        """(T, H, W, 3) colour, 0 where uncovered."""
+        return self._image(self.pixel_rgb)
+
+    @cached_property
+    def height_m(self) -> torch.Tensor:
+        """(T, H, W) world height of the surface, 0 where uncovered."""
+        return self._image(self.pixel_height)
+
+    def _image(self, values: torch.Tensor) -> torch.Tensor:
+        shape = self.face_idx.shape
+        flat = torch.zeros(shape.numel(), *values.shape[1:], dtype=values.dtype)
+        return flat.index_put((self.pixel,), values).reshape(*shape, *values.shape[1:])
 
 
 def project_to_viewport(verts_world: torch.Tensor, camera: NadirCamera,
@@ -62,13 +78,8 @@ def render(verts_world: torch.Tensor, faces: torch.Tensor, appearance: Appearanc
                       settings.max_pairs_per_chunk)
     silhouette = soft_mask(xy_px, depth, faces, frags, settings, edges)
     colour, height = shade_fragments(verts_world, xy_px, faces, frags, appearance)
-    shape = frags.face_idx.shape
-    flat_rgb = torch.zeros(shape.numel(), 3, dtype=colour.dtype).index_put((frags.pixel,), colour)
-    flat_height = torch.zeros(shape.numel(), dtype=height.dtype).index_put((frags.pixel,), height)
-    return RenderOutput(rgb=flat_rgb.reshape(*shape, 3), soft_mask=silhouette,
-                        coverage=frags.covered, face_idx=frags.face_idx,
-                        height_m=flat_height.reshape(shape), pixel=frags.pixel,
-                        pixel_rgb=colour)
+    return RenderOutput(soft_mask=silhouette, coverage=frags.covered, face_idx=frags.face_idx,
+                        pixel=frags.pixel, pixel_rgb=colour, pixel_height=height)
 
 
 def shade_fragments(verts_world: torch.Tensor, xy_px: torch.Tensor, faces: torch.Tensor,

@@ -36,24 +36,21 @@ class SGLight:
                                            [0.12, 0.14, 0.15]], dtype=dtype))
 
 
-def sg_inner_product(axis_a: torch.Tensor, sharp_a: torch.Tensor, amp_a: torch.Tensor,
-                     axis_b: torch.Tensor, sharp_b: torch.Tensor,
-                     amp_b: torch.Tensor) -> torch.Tensor:
-    """∫ G_a G_b dω = 2π μa μb e^{dm − λa − λb} (1 − e^{−2dm}) / dm, dm = ‖λa ξa + λb ξb‖."""
-    dm = torch.linalg.vector_norm(sharp_a[..., None] * axis_a + sharp_b[..., None] * axis_b,
-                                  dim=-1).clamp(min=1e-12)
-    scalar = (2.0 * math.pi * torch.exp(dm - sharp_a - sharp_b) * (-torch.expm1(-2.0 * dm)) / dm)
-    return scalar[..., None] * amp_a * amp_b
-
-
 def sg_irradiance(normals: torch.Tensor, light: SGLight) -> torch.Tensor:
-    """(N, 3) diffuse irradiance E(n) = max(0, Σ_k ⟨cosine lobe about n, light lobe k⟩)."""
-    like = dict(dtype=normals.dtype, device=normals.device)
-    cos_sharp = torch.tensor(COSINE_LOBE_SHARPNESS, **like)
-    cos_amp = torch.tensor(COSINE_LOBE_AMPLITUDE, **like)
-    per_lobe = sg_inner_product(normals[:, None, :], cos_sharp, cos_amp,
-                                light.axes[None], light.sharpness[None], light.amplitude[None])
-    return per_lobe.sum(1).clamp(min=0.0)
+    """(N, 3) diffuse irradiance E(n) = max(0, Σ_k ⟨cosine lobe about n, light lobe k⟩) at
+    unit ``normals`` (N, 3).
+
+    The inner product of two lobes is ∫ G_a G_b dω = 2π μa μb e^{dm − λa − λb} (1 − e^{−2dm})
+    / dm with dm = ‖λa ξa + λb ξb‖ = √(λa² + λb² + 2 λa λb ξa·ξb) for unit axes, so every
+    lobe's dot product with every normal is one matrix product, and so is the sum over lobes.
+    """
+    sharp_a = COSINE_LOBE_SHARPNESS
+    sharp_b = light.sharpness                                              # (K,)
+    cosine = normals @ light.axes.T                                        # (N, K)
+    dm = (sharp_a ** 2 + sharp_b ** 2 + 2.0 * sharp_a * sharp_b * cosine).clamp(min=1e-24).sqrt()
+    scalar = (2.0 * math.pi * COSINE_LOBE_AMPLITUDE * torch.exp(dm - sharp_a - sharp_b)
+              * (-torch.expm1(-2.0 * dm)) / dm)
+    return (scalar @ light.amplitude).clamp(min=0.0)
 
 
 def sample_texture(texture: torch.Tensor, uv: torch.Tensor) -> torch.Tensor:
@@ -86,3 +83,4 @@ def vertex_normals(verts: torch.Tensor, faces: torch.Tensor) -> torch.Tensor:
     for k in range(3):
         normals = normals.index_add(1, faces[:, k], face_normals)
     return normals / torch.linalg.vector_norm(normals, dim=-1, keepdim=True).clamp(min=1e-20)
+

@@ -12,8 +12,9 @@ in index order. Two kinds of primitive (``RasterSettings.soft_primitives``):
   outline, each adding a term, which makes the "faces" edge wider and costs 14× the pairs
   (140k against 10k a frame on a 232×200 crop of a 2.5 m animal at 20 m).
 
-Only uncovered pixels are ever paired with primitives: a summed-area table first drops those
-whose enlarged box holds no uncovered pixel; then, since in row-major order the uncovered
+Only uncovered pixels are ever paired with primitives: with faces, a summed-area table first
+drops those whose enlarged box holds no uncovered pixel (most faces; contour edges lie on the
+outline, and the table would cost more than it saves); then, since in row-major order the uncovered
 pixels of one box row form a contiguous run of the list of all uncovered pixels, a prefix count
 over the uncovered map gives each (primitive, box row) segment its run directly.
 """
@@ -113,7 +114,12 @@ def candidate_pairs(corners: torch.Tensor, frame: torch.Tensor, frags: Fragments
     uncovered pixels of their enlarged boxes, sorted by pixel, k cap applied."""
     num_frames, height, width = frags.face_idx.shape
     boxes = face_boxes(corners, width, height, settings.margin_px)
-    near = torch.nonzero(_uncovered_count(~frags.covered, frame, *boxes) > 0, as_tuple=True)[0]
+    if settings.soft_primitives == "faces":
+        near = _uncovered_count(~frags.covered, frame, *boxes) > 0
+    else:   # contour edges lie on the outline: their boxes nearly always hold uncovered pixels
+        col_min, col_max, row_min, row_max = boxes
+        near = (col_max >= col_min) & (row_max >= row_min)
+    near = torch.nonzero(near, as_tuple=True)[0]
     frame = frame[near]
     col_min, col_max, row_min, row_max = (b[near] for b in boxes)
     rows = (row_max - row_min + 1).clamp(min=0)

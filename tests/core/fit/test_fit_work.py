@@ -64,9 +64,9 @@ def test_heading_and_shape_render_subsets_and_the_shape_ends_on_all(
     seen = []
     original = engine._Problem.step_loss
 
-    def record(problem, params, pyramid_weight):
+    def record(problem, params, pyramid_weight, leaves):
         seen.append((problem.num_used, problem.data.viewport.width_px))
-        return original(problem, params, pyramid_weight)
+        return original(problem, params, pyramid_weight, leaves)
 
     monkeypatch.setattr(engine._Problem, "step_loss", record)
     result = fit(data, config)

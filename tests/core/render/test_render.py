@@ -3,10 +3,14 @@
 import math
 
 import numpy as np
+import pytest
 import torch
+import torch.nn.functional as F
 
 from core.render.interpolate import barycentrics, interpolate_vertex_values
-from core.render.pyramid import pyramid_loss, silhouette_pyramid
+from core.render.pyramid import (
+    PYRAMID_LEVELS, gaussian_kernel, pyramid_loss, silhouette_pyramid,
+)
 from core.render.rasterize import rasterize
 from core.render.render import project_to_viewport, render
 from core.render.settings import RasterSettings, Viewport
@@ -136,6 +140,20 @@ def test_water_filter_attenuates_with_depth_only_below_the_surface():
     torch.testing.assert_close(out[0], colour[0])
     torch.testing.assert_close(out[2], torch.exp(torch.tensor([-1.0, -0.4, 0.0],
                                                               dtype=torch.float64)))
+
+
+@pytest.mark.parametrize("height, width", [(72, 96), (37, 29), (5, 3)])
+def test_pyramid_levels_are_average_pooling_then_a_zero_padded_gaussian_blur(height, width):
+    """Each level equals torch's average pooling (ceil mode: a partial last window averages
+    the pixels it holds) followed by the separable Gaussian as two convolutions."""
+    masks = torch.rand(2, height, width, dtype=torch.float64)
+    for (factor, sigma), level in zip(PYRAMID_LEVELS, silhouette_pyramid(masks)):
+        pooled = F.avg_pool2d(masks[:, None], factor, ceil_mode=True)
+        kernel = gaussian_kernel(sigma, torch.float64)
+        radius = (len(kernel) - 1) // 2
+        blurred = F.conv2d(pooled, kernel.reshape(1, 1, 1, -1), padding=(0, radius))
+        blurred = F.conv2d(blurred, kernel.reshape(1, 1, -1, 1), padding=(radius, 0))
+        torch.testing.assert_close(level, blurred[:, 0], rtol=1e-12, atol=1e-12)
 
 
 def test_pyramid_loss_pulls_a_non_overlapping_silhouette():
