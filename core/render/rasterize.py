@@ -45,9 +45,8 @@ def cross2(a: torch.Tensor, b: torch.Tensor) -> torch.Tensor:
 
 def edge_weights(tri: torch.Tensor, point: torch.Tensor) -> torch.Tensor:
     """(..., 3) normalised barycentric weights of ``point`` (..., 2) in ``tri`` (..., 3, 2)."""
-    a, b, c = tri.unbind(-2)
-    w = torch.stack([cross2(b - point, c - point), cross2(c - point, a - point),
-                     cross2(a - point, b - point)], dim=-1)
+    a, b, c = (corner - point for corner in tri.unbind(-2))
+    w = torch.stack([cross2(b, c), cross2(c, a), cross2(a, b)], dim=-1)
     total = w.sum(-1, keepdim=True)
     return w / (total + BARY_EPS * torch.sign(total))
 
@@ -113,10 +112,10 @@ def rasterize(xy_px: torch.Tensor, depth: torch.Tensor, faces: torch.Tensor, hei
         hits_pixel, hits_face, hits_depth = [], [], []
         for pairs in box_pair_chunks(col_min, col_max, row_min, row_max, max_pairs):
             point = torch.stack([pairs.col, pairs.row], dim=-1).to(xy_px.dtype)
-            weights = edge_weights(front_tri[pairs.owner], point)
+            weights = edge_weights(front_tri.index_select(0, pairs.owner), point)
             inside = (weights >= 0).all(-1)
             owner = pairs.owner[inside]
-            z = (weights[inside] * front_depth[owner]).sum(-1)
+            z = (weights[inside] * front_depth.index_select(0, owner)).sum(-1)
             pixel = frame[owner] * num_pixels + pairs.row[inside] * width_px + pairs.col[inside]
             zbuf.scatter_reduce_(0, pixel, z, reduce="amin")
             hits_pixel.append(pixel)

@@ -14,7 +14,9 @@ from core.render.pyramid import (
 from core.render.rasterize import rasterize
 from core.render.render import project_to_viewport, render
 from core.render.settings import RasterSettings, Viewport
-from core.render.shade import SGLight, sample_texture, sg_irradiance, water_filter
+from core.render.shade import (
+    SGLight, sample_texture, sg_irradiance, vertex_normals, water_filter,
+)
 from core.render.soft_mask import soft_mask
 
 from .scenes import appearance, camera, ellipsoid, moved, two_ellipsoids
@@ -173,3 +175,22 @@ def test_pyramid_loss_pulls_a_non_overlapping_silhouette():
     assert float((rendered.detach() * target).sum()) == 0.0
     (grad,) = torch.autograd.grad(pyramid_loss(rendered, silhouette_pyramid(target)), shift)
     assert float(grad[0]) < 0  # moving towards +x lowers the loss
+
+
+def test_vertex_normals_are_the_normalised_sum_of_the_adjacent_faces_area_normals():
+    """Against the formula written plainly (cross product per face, summed per vertex), and
+    outward: on an ellipsoid they point away from its centre."""
+    verts, faces, _ = (torch.as_tensor(a) for a in ellipsoid((0.5, 0.25, 0.15), (0, 0, 0)))
+    verts = moved(verts.double(), [(0.0, 0.0, 0.0), (0.1, -0.2, 0.3)], yaw_rad=0.4)
+    normals = vertex_normals(verts, faces)
+    corners = verts[:, faces]                                        # (T, F, 3, 3)
+    face_normals = torch.linalg.cross(corners[:, :, 1] - corners[:, :, 0],
+                                      corners[:, :, 2] - corners[:, :, 0], dim=-1)
+    expected = torch.zeros_like(verts)
+    for t in range(verts.shape[0]):
+        for k in range(3):
+            expected[t].index_add_(0, faces[:, k], face_normals[t])
+    expected = expected / expected.norm(dim=-1, keepdim=True)
+    torch.testing.assert_close(normals, expected, rtol=0, atol=1e-12)
+    outward = ((verts - verts.mean(1, keepdim=True)) * normals).sum(-1)
+    assert bool((outward > 0).all())
