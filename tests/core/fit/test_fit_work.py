@@ -9,7 +9,7 @@ import torch
 from core.fit import engine
 from core.fit.config import FitConfig
 from core.fit.data import downscaled
-from core.fit.engine import evenly_spaced, fit
+from core.fit.engine import equal_chunks, evenly_spaced, fit
 from core.fit.init import initial_state, silhouette_centroid_offset
 from core.fit.reporter import FitReporter
 from core.model.model import DolphinModel
@@ -109,3 +109,14 @@ def test_colour_loss_at_covered_pixels_equals_the_whole_image_formula(clip_dir):
         expected = (error.sum((1, 2)) / both.sum((1, 2)).clamp(min=1.0)).sum()
         assert float(both.sum()) > 1000
         assert float(problem.rgb_term(out, chunk)) == pytest.approx(float(expected), rel=1e-5)
+
+
+@pytest.mark.parametrize("frames, max_size, sizes", [
+    (50, 16, [13, 13, 12, 12]), (16, 16, [8, 8]), (8, 64, [4, 4]), (17, 8, [5, 4, 4, 4]),
+    (1, 16, [1]), (3, 1, [1, 1, 1])])
+def test_frames_split_into_an_even_number_of_near_equal_chunks(frames, max_size, sizes):
+    """The fewest chunks of at most max_size frames, rounded up to an even count where there
+    are frames enough, consecutive and in order, sizes differing by one at most."""
+    chunks = equal_chunks(torch.arange(frames), max_size)
+    assert [len(c) for c in chunks] == sizes
+    assert torch.equal(torch.cat(chunks), torch.arange(frames))
