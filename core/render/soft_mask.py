@@ -140,7 +140,7 @@ def candidate_pairs(corners: torch.Tensor, frame: torch.Tensor, frags: Fragments
             parts.append((owner, uncovered_pixels[start[run.owner] + run.local]))
     if not parts:
         empty = torch.zeros(0, dtype=torch.int64)
-        return empty, empty, empty
+        return empty, empty
     owner, pixel = (torch.cat(p) for p in zip(*parts))
     # a stable sort keeps each pixel's faces in index order; 32-bit keys sort twice as fast
     pixel32, order = torch.sort(pixel.to(torch.int32), stable=True)

@@ -194,3 +194,16 @@ def test_vertex_normals_are_the_normalised_sum_of_the_adjacent_faces_area_normal
     torch.testing.assert_close(normals, expected, rtol=0, atol=1e-12)
     outward = ((verts - verts.mean(1, keepdim=True)) * normals).sum(-1)
     assert bool((outward > 0).all())
+
+
+@pytest.mark.parametrize("primitives", ["contour", "faces"])
+def test_a_viewport_the_animal_covers_whole_renders_with_no_soft_edge(primitives):
+    """No uncovered pixel, so no (pixel, primitive) pair: the soft mask is the coverage."""
+    verts, faces, face_uvs = (torch.as_tensor(a) for a in ellipsoid((0.5, 0.25, 0.15),
+                                                                   (0.0, 0.0, 0.0), 0))
+    cam = camera(96, 72, [1.8])
+    out = render(verts.double()[None], faces, appearance(face_uvs.double()), cam,
+                 Viewport(torch.tensor([44]), torch.tensor([32]), 8, 8),
+                 RasterSettings(soft_primitives=primitives))
+    assert bool(out.coverage.all())
+    torch.testing.assert_close(out.soft_mask, torch.ones(1, 8, 8, dtype=torch.float64))
