@@ -245,10 +245,14 @@ class _Problem:
                 f"{self.config.shape_iou_margin}): frames {', '.join(map(str, dropped[:8]))}"
                 + (" …" if len(dropped) > 8 else "")]
 
+    def posed_verts(self, params: SceneParams, frames: torch.Tensor) -> torch.Tensor:
+        """(len(frames), V, 3) posed meshes of ``frames`` at ``params``."""
+        return self.model(params.full_betas(), params.pose()[frames],
+                          params.transl[frames]).verts
+
     def render_chunk(self, params: SceneParams, chunk: torch.Tensor) -> RenderOutput:
         """Render frames ``chunk`` at ``params``."""
-        posed = self.model(params.full_betas(), params.pose()[chunk], params.transl[chunk])
-        return self.render_verts(params, chunk, posed.verts)
+        return self.render_verts(params, chunk, self.posed_verts(params, chunk))
 
     def render_verts(self, params: SceneParams, chunk: torch.Tensor,
                      verts: torch.Tensor) -> RenderOutput:
@@ -269,8 +273,7 @@ class _Problem:
         frames' meshes as their own leaves and return the gradients of the loss for them,
         which go back through the model once. Gradients are summed in chunk order.
         """
-        posed = self.model(params.full_betas(), params.pose()[self.frames],
-                           params.transl[self.frames]).verts
+        posed = self.posed_verts(params, self.frames)
         meshes = posed.detach().split([len(chunk) for chunk in self.chunks])
         chunks = self.map_chunks(
             lambda item: self.chunk_loss(params, *item, pyramid_weight, leaves),

@@ -114,11 +114,12 @@ def candidate_pairs(corners: torch.Tensor, frame: torch.Tensor, frags: Fragments
     uncovered pixels of their enlarged boxes, sorted by pixel, k cap applied."""
     num_frames, height, width = frags.face_idx.shape
     boxes = face_boxes(corners, width, height, settings.margin_px)
+    col_min, col_max, row_min, row_max = boxes
+    near = (col_max >= col_min) & (row_max >= row_min)    # boxes not clamped away
     if settings.soft_primitives == "faces":
-        near = _uncovered_count(~frags.covered, frame, *boxes) > 0
-    else:   # contour edges lie on the outline: their boxes nearly always hold uncovered pixels
-        col_min, col_max, row_min, row_max = boxes
-        near = (col_max >= col_min) & (row_max >= row_min)
+        # most faces lie inside the silhouette; contour edges lie on the outline, where nearly
+        # every box holds uncovered pixels and the table would cost more than it saves
+        near &= _uncovered_count(~frags.covered, frame, *boxes) > 0
     near = torch.nonzero(near, as_tuple=True)[0]
     frame = frame[near]
     col_min, col_max, row_min, row_max = (b[near] for b in boxes)
@@ -151,16 +152,16 @@ def candidate_pairs(corners: torch.Tensor, frame: torch.Tensor, frags: Fragments
 def _uncovered_count(uncovered: torch.Tensor, frame: torch.Tensor, col_min: torch.Tensor,
                      col_max: torch.Tensor, row_min: torch.Tensor,
                      row_max: torch.Tensor) -> torch.Tensor:
-    """Uncovered pixels inside each clamped, inclusive box, from a summed-area table."""
+    """Uncovered pixels inside each clamped, inclusive, non-empty box, from a summed-area
+    table (an empty box gets a meaningless count)."""
     height, width = uncovered.shape[1:]
     table = torch.nn.functional.pad(uncovered.to(torch.int32).cumsum(1).cumsum(2), (1, 0, 1, 0))
     flat = table.reshape(-1)
     base = frame * ((height + 1) * (width + 1))
     top, bottom = row_min.clamp(max=height), row_max.clamp(min=-1) + 1
     left, right = col_min.clamp(max=width), col_max.clamp(min=-1) + 1
-    count = (flat[base + bottom * (width + 1) + right] - flat[base + top * (width + 1) + right]
-             - flat[base + bottom * (width + 1) + left] + flat[base + top * (width + 1) + left])
-    return torch.where((col_max >= col_min) & (row_max >= row_min), count, 0)
+    return (flat[base + bottom * (width + 1) + right] - flat[base + top * (width + 1) + right]
+            - flat[base + bottom * (width + 1) + left] + flat[base + top * (width + 1) + left])
 
 
 def _rank_within_runs(values: torch.Tensor) -> torch.Tensor:
