@@ -42,6 +42,8 @@ VARIANTS: dict[str, tuple[str | None, dict]] = {
     "product_masks_exhaustive": (DEFAULT_BACKEND, EXHAUSTIVE),
     "true_masks_refraction": (None, {"use_refraction": True}),
     "true_masks_no_roi": (None, {"use_roi": False, "use_refraction": True}),
+    "true_masks_colour_all_stages": (None, {"colour_geometry": "all_stages"}),
+    "true_masks_colour_none": (None, {"colour_geometry": "none"}),
 }
 DEFAULT_VARIANTS = ("true_masks", "product_masks")
 SUITE_FIT_FPS = 2.5

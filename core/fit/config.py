@@ -12,6 +12,7 @@ from core.io.json_file import dataclass_from_json
 from core.limits import FPS, check_fields, count, time_window
 from core.render import SOFT_PRIMITIVES
 
+COLOUR_GEOMETRY = ("all_stages", "pose_stages", "none")
 COUNT_MINIMUMS = {"heading_trial_steps": 0, "steps_global": 0, "steps_body": 0,
                   "steps_shape": 0, "heading_max_frames": 0, "shape_max_frames": 0,
                   "shape_full_steps": 0, "coarse_factor": 1, "coarse_steps": 0,
@@ -114,6 +115,14 @@ class FitConfig:
     # wide); 0.78 put mid-body widths within +0.5…1.3 %. An empirical calibration on synthetic
     # clips: `dolphinfit bench fit` measures its effect.
     target_edge_scale: float = 0.78
+    # Which stages the colour term's gradient moves the geometry in (pose, position, shape):
+    # the lit model's shading and water-depth cue. "all_stages" is the paper's; with
+    # "pose_stages" the shape stage's colour term fits albedo, water and light only, "none"
+    # everywhere. Measured by `dolphinfit bench fit --suite` (true masks, 12 clips): in the
+    # shape stage the cue traded silhouette for colour in a flat valley whose end float order
+    # picked (grey_green_high: −15.9 % or −7.7 % volume by chunk size; "pose_stages": −8.0 %
+    # for every chunk size).
+    colour_geometry: str = "pose_stages"
 
     def __post_init__(self) -> None:
         for name, minimum in COUNT_MINIMUMS.items():
@@ -124,6 +133,9 @@ class FitConfig:
         if self.soft_primitives not in SOFT_PRIMITIVES:
             raise InputError(f"fit option soft_primitives: one of {', '.join(SOFT_PRIMITIVES)}, "
                              f"got {self.soft_primitives!r}")
+        if self.colour_geometry not in COLOUR_GEOMETRY:
+            raise InputError(f"fit option colour_geometry: one of {', '.join(COLOUR_GEOMETRY)}"
+                             f", got {self.colour_geometry!r}")
         if self.smooth_order not in (1, 2):
             raise InputError(f"fit option smooth_order: 1 or 2, got {self.smooth_order}")
 
@@ -132,6 +144,11 @@ class FitConfig:
         """Optimisation steps over all stages, both heading trials included."""
         return (2 * self.heading_trial_steps + self.steps_global + self.steps_body
                 + self.steps_shape)
+
+    def colour_moves_geometry(self, stage: str) -> bool:
+        """Whether the colour term's gradient reaches the geometry in ``stage``."""
+        return (self.colour_geometry == "all_stages"
+                or (self.colour_geometry == "pose_stages" and stage != "shape"))
 
     def to_json(self) -> dict:
         """JSON-ready dict."""

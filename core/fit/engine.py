@@ -264,10 +264,11 @@ class _Problem:
                       viewport, self.settings, self.edges)
 
     def step_loss(self, params: SceneParams, pyramid_weight: float,
-                  leaves: list[torch.Tensor]) -> tuple[dict, torch.Tensor]:
+                  leaves: list[torch.Tensor], colour_geometry: bool = True
+                  ) -> tuple[dict, torch.Tensor]:
         """Set the gradients of ``leaves`` (the parameters being optimised: autograd skips
-        what only the others need) to those of the total loss; returns term values and
-        per-frame IoU.
+        what only the others need) to those of the total loss, the colour term's on the
+        geometry only with ``colour_geometry``; returns term values and per-frame IoU.
 
         The model poses every frame of the step at once, here; the chunks render their
         frames' meshes as their own leaves and return the gradients of the loss for them,
@@ -276,7 +277,8 @@ class _Problem:
         posed = self.posed_verts(params, self.frames)
         meshes = posed.detach().split([len(chunk) for chunk in self.chunks])
         chunks = self.map_chunks(
-            lambda item: self.chunk_loss(params, *item, pyramid_weight, leaves),
+            lambda item: self.chunk_loss(params, *item, pyramid_weight, leaves,
+                                         colour_geometry),
             list(zip(self.chunks, meshes)))
         weights = self.config.weights
         prior_terms = self.prior_terms(params)
@@ -294,12 +296,13 @@ class _Problem:
         return terms, torch.cat([iou for _, _, _, iou in chunks])
 
     def chunk_loss(self, params: SceneParams, chunk: torch.Tensor, verts: torch.Tensor,
-                   pyramid_weight: float, leaves: list[torch.Tensor]
+                   pyramid_weight: float, leaves: list[torch.Tensor],
+                   colour_geometry: bool = True
                    ) -> tuple[dict[str, float], torch.Tensor, tuple[torch.Tensor, ...],
                               torch.Tensor]:
         """One chunk's loss terms, the gradients of its total for its posed meshes ``verts``
-        (detached) and for ``leaves``, and its frames' IoU (thread-safe: it changes nothing
-        shared)."""
+        (detached; without the colour term's unless ``colour_geometry``) and for ``leaves``,
+        and its frames' IoU (thread-safe: it changes nothing shared)."""
         weights = self.config.weights
         num_frames = self.num_used
         verts = verts.requires_grad_()
@@ -316,7 +319,15 @@ class _Problem:
             total = total + pyramid_weight * pyramid_term
             terms["pyramid"] = float(pyramid_term.detach())
         terms["total"] = float(total.detach())
-        vert_grad, *grads = torch.autograd.grad(total, [verts, *leaves], materialize_grads=True)
+        if colour_geometry:
+            vert_grad, *grads = torch.autograd.grad(total, [verts, *leaves],
+                                                    materialize_grads=True)
+        else:   # the meshes are the only way to the geometry: the colour term skips them
+            colour = weights.rgb * rgb_term
+            vert_grad, *grads = torch.autograd.grad(total - colour, [verts, *leaves],
+                                                    retain_graph=True, materialize_grads=True)
+            grads = map(torch.add, grads,
+                        torch.autograd.grad(colour, leaves, materialize_grads=True))
         return terms, vert_grad, tuple(grads), mask_iou(out.coverage,
                                                        self.data.masks[chunk] > 0.5)
 
@@ -521,11 +532,12 @@ def _run_stage(problem: _Problem, params: SceneParams, stage: str, steps: int,
     best_total, best = math.inf, params.snapshot()
     total = math.inf
     leaves = [leaf for group in optimiser.param_groups for leaf in group["params"]]
+    colour_geometry = problem.config.colour_moves_geometry(stage)
     for k in range(steps):
         weight = problem.config.weights.pyramid * pyramid_fade(k)
         problem.reporter.step_started()
         try:
-            terms, iou = problem.step_loss(params, weight, leaves)
+            terms, iou = problem.step_loss(params, weight, leaves, colour_geometry)
         except Cancelled:
             params.restore(best)
             raise _Stop(STATUS_CANCELLED, "cancelled by the user", label, best_total,

@@ -7,7 +7,7 @@ import pytest
 import torch
 
 from core.fit import engine
-from core.fit.config import FitConfig
+from core.fit.config import FitConfig, LossWeights
 from core.fit.data import downscaled
 from core.fit.engine import equal_chunks, evenly_spaced, fit
 from core.fit.init import initial_state, silhouette_centroid_offset
@@ -64,18 +64,19 @@ def test_heading_and_shape_render_subsets_and_the_shape_ends_on_all(
     seen = []
     original = engine._Problem.step_loss
 
-    def record(problem, params, pyramid_weight, leaves):
-        seen.append((problem.num_used, problem.data.viewport.width_px))
-        return original(problem, params, pyramid_weight, leaves)
+    def record(problem, params, pyramid_weight, leaves, colour_geometry):
+        seen.append((problem.num_used, problem.data.viewport.width_px, colour_geometry))
+        return original(problem, params, pyramid_weight, leaves, colour_geometry)
 
     monkeypatch.setattr(engine._Problem, "step_loss", record)
     result = fit(data, config)
     stages = [h["stage"] for h in result.loss_history]
     native, coarse = data.viewport.width_px, data.viewport.width_px // coarse_factor
     assert stages == ["heading"] * 4 + ["global"] * 2 + ["body"] * 2 + ["shape"] * 5
-    assert [n for n, _ in seen] == [3] * 4 + [data.num_frames] * 4 + [2, 2, 2] + [
+    assert [n for n, _, _ in seen] == [3] * 4 + [data.num_frames] * 4 + [2, 2, 2] + [
         data.num_frames] * 2
-    assert [w for _, w in seen] == [coarse] * 7 + [native] * 6
+    assert [w for _, w, _ in seen] == [coarse] * 7 + [native] * 6
+    assert [c for _, _, c in seen] == [True] * 8 + [False] * 5   # colour_geometry default
     assert [h["step"] for h in result.loss_history] == [0, 1] * 2 + [0, 1] * 2 + list(range(5))
     assert np.isfinite(result.volume_m3) and result.iou.shape == (data.num_frames,)
 
@@ -88,6 +89,48 @@ def test_new_work_options_are_validated():
         FitConfig(coarse_factor=0)
     with pytest.raises(Exception, match="soft_primitives"):
         FitConfig(soft_primitives="edges")
+    with pytest.raises(Exception, match="colour_geometry"):
+        FitConfig(colour_geometry="shape")
+
+
+@pytest.mark.parametrize("choice, moves", [
+    ("all_stages", (True, True, True)), ("pose_stages", (True, True, False)),
+    ("none", (False, False, False))])
+def test_colour_geometry_names_the_stages_where_colour_moves_the_geometry(choice, moves):
+    config = FitConfig(colour_geometry=choice)
+    assert tuple(config.colour_moves_geometry(s) for s in engine.STAGES) == moves
+
+
+def test_colour_term_kept_off_the_geometry_fits_only_the_appearance(clip_dir):
+    """Without colour_geometry the meshes get the gradient of the other terms alone (that of
+    a fit whose colour weight is 0) and albedo, water and light that of the colour term, the
+    same as with it."""
+    data = _data(clip_dir)
+    template = load_template()
+    model = DolphinModel(template)
+    state = initial_state(data, model, 0.15)
+    params = engine._initial_params(data, model, template, FitConfig(), state.heading_rad,
+                                    state, silhouette_centroid_offset(model))
+    leaves = [params.betas, params.albedo, params.f_water, params.light_amplitude]
+    chunk = torch.tensor([0, 2, 4])
+
+    def gradients(config, colour_geometry):
+        problem = engine._Problem(data, model, template, config, FitReporter(1, None), None)
+        verts = problem.posed_verts(params, chunk).detach()
+        _, vert_grad, grads, _ = problem.chunk_loss(params, chunk, verts, 2.0, leaves,
+                                                    colour_geometry)
+        return vert_grad, grads
+
+    with_colour, with_colour_grads = gradients(FitConfig(), True)
+    kept_off, kept_off_grads = gradients(FitConfig(), False)
+    no_colour, _ = gradients(FitConfig(weights=LossWeights(rgb=0.0)), True)
+    assert float(with_colour.abs().max()) > 0
+    torch.testing.assert_close(kept_off, no_colour, rtol=1e-5, atol=1e-9)
+    assert not torch.allclose(kept_off, with_colour, rtol=1e-3, atol=1e-9)
+    for off, on in zip(kept_off_grads[1:], with_colour_grads[1:]):
+        assert float(on.abs().max()) > 0
+        torch.testing.assert_close(off, on, rtol=1e-5, atol=1e-9)
+    assert float(kept_off_grads[0].abs().max()) == 0.0   # shape moves only through meshes
 
 
 def test_colour_loss_at_covered_pixels_equals_the_whole_image_formula(clip_dir):
