@@ -21,7 +21,7 @@ from core.bench.mask_bench import click_seed
 from core.bench.suites import SUITE, SUITE_NAME, ensure_scenario
 from core.bench.timing import run_with_peak_rss_mb
 from core.errors import InputError
-from core.fit.config import FitConfig
+from core.fit.config import FitConfig, LossWeights
 from core.fit.pipeline import CameraChoice, run_fit
 from core.io.json_file import read_json
 from core.segment.backends import DEFAULT_BACKEND
@@ -43,7 +43,8 @@ VARIANTS: dict[str, tuple[str | None, dict]] = {
     "true_masks_refraction": (None, {"use_refraction": True}),
     "true_masks_no_roi": (None, {"use_roi": False, "use_refraction": True}),
     "true_masks_colour_all_stages": (None, {"colour_geometry": "all_stages"}),
-    "true_masks_colour_none": (None, {"colour_geometry": "none"}),
+    "true_masks_colour_pose_stages": (None, {"colour_geometry": "pose_stages"}),
+    "true_masks_paper_pose_prior": (None, {"weights": LossWeights(pose=2.0)}),
 }
 DEFAULT_VARIANTS = ("true_masks", "product_masks")
 SUITE_FIT_FPS = 2.5

@@ -76,7 +76,7 @@ def test_heading_and_shape_render_subsets_and_the_shape_ends_on_all(
     assert [n for n, _, _ in seen] == [3] * 4 + [data.num_frames] * 4 + [2, 2, 2] + [
         data.num_frames] * 2
     assert [w for _, w, _ in seen] == [coarse] * 7 + [native] * 6
-    assert [c for _, _, c in seen] == [True] * 8 + [False] * 5   # colour_geometry default
+    assert [c for _, _, c in seen] == [False] * 13   # colour_geometry "none", the default
     assert [h["step"] for h in result.loss_history] == [0, 1] * 2 + [0, 1] * 2 + list(range(5))
     assert np.isfinite(result.volume_m3) and result.iou.shape == (data.num_frames,)
 
