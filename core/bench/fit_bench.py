@@ -45,6 +45,11 @@ VARIANTS: dict[str, tuple[str | None, dict]] = {
     "true_masks_colour_all_stages": (None, {"colour_geometry": "all_stages"}),
     "true_masks_colour_pose_stages": (None, {"colour_geometry": "pose_stages"}),
     "true_masks_paper_pose_prior": (None, {"weights": LossWeights(pose=2.0)}),
+    # the shape stage on every frame, pitched and rolled ones included (none set aside)
+    "true_masks_all_shape_frames": (None, {"shape_iou_margin": 1.0}),
+    # the axes prior (each part's axes scale together) off, and ten times the default
+    "true_masks_no_axes_prior": (None, {"weights": LossWeights(scale_axes=0.0)}),
+    "true_masks_strong_axes_prior": (None, {"weights": LossWeights(scale_axes=1.0)}),
 }
 DEFAULT_VARIANTS = ("true_masks", "product_masks")
 SUITE_FIT_FPS = 2.5
