@@ -86,6 +86,12 @@ def positive(value: object, where: str) -> float:
     return checked
 
 
+def one_of(value: object, choices: tuple[str, ...], where: str) -> None:
+    """InputError unless ``value`` is one of ``choices``."""
+    if value not in choices:
+        raise InputError(f"{where}: one of {', '.join(choices)}, got {value!r}")
+
+
 def count(value: object, minimum: int, where: str) -> int:
     """``value`` as an int if it is a whole number (no bool) ≥ ``minimum``; InputError
     otherwise."""

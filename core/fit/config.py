@@ -9,7 +9,7 @@ from dataclasses import asdict, dataclass, field, fields
 
 from core.errors import InputError
 from core.io.json_file import dataclass_from_json
-from core.limits import FPS, check_fields, count, time_window
+from core.limits import FPS, check_fields, count, one_of, time_window
 from core.render import SOFT_PRIMITIVES
 
 COLOUR_GEOMETRY = ("all_stages", "pose_stages", "none")
@@ -132,12 +132,8 @@ class FitConfig:
         check_fields(self, "fit option ", ranges={"fps": FPS},
                      minimum={"shape_iou_margin": 0.0, "target_edge_scale": 0.0})
         time_window(self.start_s, self.end_s, "fit option start_s", "fit option end_s")
-        if self.soft_primitives not in SOFT_PRIMITIVES:
-            raise InputError(f"fit option soft_primitives: one of {', '.join(SOFT_PRIMITIVES)}, "
-                             f"got {self.soft_primitives!r}")
-        if self.colour_geometry not in COLOUR_GEOMETRY:
-            raise InputError(f"fit option colour_geometry: one of {', '.join(COLOUR_GEOMETRY)}"
-                             f", got {self.colour_geometry!r}")
+        one_of(self.soft_primitives, SOFT_PRIMITIVES, "fit option soft_primitives")
+        one_of(self.colour_geometry, COLOUR_GEOMETRY, "fit option colour_geometry")
         if self.smooth_order not in (1, 2):
             raise InputError(f"fit option smooth_order: 1 or 2, got {self.smooth_order}")
 

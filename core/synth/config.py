@@ -13,7 +13,7 @@ from core.errors import InputError
 from core.io.json_file import dataclass_from_json
 from core.limits import (
     ALTITUDE_M, BODY_LENGTH_M, FOCAL_MM, FPS, IMAGE_SIZE_PX, LAUNCH_HEIGHT_M, SENSOR_WIDTH_MM,
-    check_fields,
+    check_fields, one_of,
 )
 
 RANGES = {"altitude_m": ALTITUDE_M, "length_m": BODY_LENGTH_M, "focal_mm": FOCAL_MM,
@@ -98,9 +98,7 @@ class SynthConfig:
             if not 0.0 <= getattr(self, name) <= 1.0:
                 raise InputError(f"synth option {name}: must lie in [0, 1], "
                                  f"got {getattr(self, name)}")
-        if self.colouration not in COLOURATIONS:
-            raise InputError(f"synth option colouration: one of {', '.join(COLOURATIONS)}, "
-                             f"got {self.colouration!r}")
+        one_of(self.colouration, COLOURATIONS, "synth option colouration")
         for name in ("seabed_depth_m", "companion_length_m"):
             value = getattr(self, name)
             if value is not None and not value > 0:
