@@ -264,7 +264,7 @@ class _Problem:
                       viewport, self.settings, self.edges)
 
     def step_loss(self, params: SceneParams, pyramid_weight: float,
-                  leaves: list[torch.Tensor], colour_geometry: bool = True
+                  leaves: list[torch.Tensor], colour_geometry: bool
                   ) -> tuple[dict, torch.Tensor]:
         """Set the gradients of ``leaves`` (the parameters being optimised: autograd skips
         what only the others need) to those of the total loss, the colour term's on the
@@ -297,7 +297,7 @@ class _Problem:
 
     def chunk_loss(self, params: SceneParams, chunk: torch.Tensor, verts: torch.Tensor,
                    pyramid_weight: float, leaves: list[torch.Tensor],
-                   colour_geometry: bool = True
+                   colour_geometry: bool
                    ) -> tuple[dict[str, float], torch.Tensor, tuple[torch.Tensor, ...],
                               torch.Tensor]:
         """One chunk's loss terms, the gradients of its total for its posed meshes ``verts``
