@@ -4,7 +4,8 @@
                    [--altitude-m M] [--length-m M] [--sea-state 0..1] [--dive-depth-m M] …
                    [--water green|blue|sandy|murky] [--colouration dark|light_grey]
                    [--glitter 0..1] [--wet-specular X] [--splash 0..1] [--turn-flex X]
-                   [--companion-offset-m M] [--seabed-depth-m M] …
+                   [--companion-offset-m M] [--seabed-depth-m M] [--hw-table PRESET]
+                   [--section-exponent N] …
                    [--no-profile-warp] [--finer-mesh] [--no-scattering] [--no-refraction]
                    [--no-ripples] [--no-glints] [--no-compression] [--config FILE.json]
 
@@ -86,6 +87,8 @@ def _parser_for(annotation):
     text = str(annotation)
     if "tuple" in text:
         return _triple
+    if "str" in text:
+        return str
     if "int" in text and "float" not in text:
         return int
     return float
@@ -93,6 +96,8 @@ def _parser_for(annotation):
 
 def _metavar(annotation) -> str:
     text = str(annotation)
+    if "str" in text:
+        return "NAME"
     return "R,G,B" if "tuple" in text else ("N" if text == "int" else "X")
 
 

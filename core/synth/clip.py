@@ -12,12 +12,14 @@ from core.errors import InputError
 from core.intrinsics import CameraIntrinsics
 from core.io.json_file import write_json
 from core.measure.condition import body_condition
+from core.measure.hw_ratios import load_hw_preset
 from core.measure.mesh import body_length, mesh_volume
 from core.model.model import DolphinModel
-from core.model.template import load_template
+from core.model.template import Template, load_template
 from core.progress import Progress, ProgressCallback, check_cancel
 from core.render.render import Appearance
 from core.render.shade import SGLight
+from core.model.sections import reshape_sections
 from core.synth.colouration import albedo
 from core.synth.compose import (
     VISIBLE_CONTRAST, DolphinLayer, Highlight, composite, finish, layer_mask, occlude,
@@ -30,7 +32,7 @@ from core.synth.files import (
 from core.synth.motion import Motion, companion, swim
 from core.synth.parts import PART_NAMES, part_faces
 from core.synth.sea import Sea
-from core.synth.shape import random_betas, subdivide, warp_profiles
+from core.synth.shape import draw_hw, random_betas, subdivide, warp_profiles
 from core.synth.telemetry import write_altitude, write_dji_srt
 from core.synth.whitewater import Whitewater
 
@@ -47,7 +49,7 @@ def make_clip(config: SynthConfig, out_dir: Path, progress: ProgressCallback | N
     """
     out_dir = Path(out_dir)
     rng = np.random.default_rng(config.seed)
-    template = load_template()
+    template = _body(config)
     if config.effects.profile_warp:
         template = warp_profiles(template, rng)
     if config.effects.finer_mesh:
@@ -128,6 +130,18 @@ def make_clip(config: SynthConfig, out_dir: Path, progress: ProgressCallback | N
     _write_truth(files.truth_json, config, model, betas, motion, altitude, visible, seeds,
                  mate_motion)
     return files
+
+
+def _body(config: SynthConfig) -> Template:
+    """The template, with the configured heights and section shape (body_shape.py)."""
+    template = load_template()
+    if config.hw_table is None and config.section_exponent == 2.0:
+        return template
+    station_hw = None
+    if config.hw_table is not None:
+        station_hw = draw_hw(load_hw_preset(config.hw_table),
+                             np.random.default_rng([config.seed, 4]))
+    return reshape_sections(template, station_hw, config.section_exponent)
 
 
 def _companion(config: SynthConfig, model: DolphinModel, target: Motion,

@@ -11,6 +11,7 @@ import numpy as np
 
 from core.errors import InputError
 from core.io.json_file import dataclass_from_json
+from core.measure.hw_ratios import preset_names
 from core.limits import (
     ALTITUDE_M, BODY_LENGTH_M, FOCAL_MM, FPS, IMAGE_SIZE_PX, LAUNCH_HEIGHT_M, SENSOR_WIDTH_MM,
     check_fields, one_of,
@@ -24,6 +25,7 @@ MINIMUMS = {name: 0.0 for name in ("seed", "altitude_drift_m", "shape_sd", "spee
                                    "dive_depth_m", "noise_sd", "blur_px")}
 
 COLOURATIONS = ("dark", "light_grey")
+SECTION_EXPONENT = (1.5, 3.0)   # cross-sections from lean lozenges to near-rectangles
 
 
 @dataclass(frozen=True)
@@ -81,6 +83,11 @@ class SynthConfig:
     companion_ahead_m: float = 0.0          # … and this far ahead of the target
     companion_length_m: float = 2.4
     splash: float = 0.0                     # white water and wake at the surface, 0 off … 1
+    # The animal's cross-sections (body_shape.py): heights drawn from this HW preset's
+    # ratios and SDs (None: the template's heights), sections superellipses of this exponent
+    # (2: ellipses, as the template's; larger fuller, smaller leaner).
+    hw_table: str | None = None
+    section_exponent: float = 2.0
     effects: Effects = field(default_factory=Effects)
 
     def __post_init__(self) -> None:
@@ -99,6 +106,12 @@ class SynthConfig:
                 raise InputError(f"synth option {name}: must lie in [0, 1], "
                                  f"got {getattr(self, name)}")
         one_of(self.colouration, COLOURATIONS, "synth option colouration")
+        if self.hw_table is not None:
+            one_of(self.hw_table, tuple(preset_names()), "synth option hw_table")
+        if not SECTION_EXPONENT[0] <= self.section_exponent <= SECTION_EXPONENT[1]:
+            raise InputError(f"synth option section_exponent: must lie in "
+                             f"[{SECTION_EXPONENT[0]}, {SECTION_EXPONENT[1]}], "
+                             f"got {self.section_exponent}")
         for name in ("seabed_depth_m", "companion_length_m"):
             value = getattr(self, name)
             if value is not None and not value > 0:

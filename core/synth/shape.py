@@ -2,7 +2,8 @@
 
 ``random_betas`` draws per-part log scales and rescales uniformly to the requested length.
 ``warp_profiles`` changes the template's width and height profiles by smooth random factors
-along the body (outside the span of per-part scaling). ``subdivide`` gives a finer, smoother
+along the body (outside the span of per-part scaling). ``draw_hw`` draws an animal's
+height/width ratios from an HW table (for ``core.model.sections.reshape_sections``). ``subdivide`` gives a finer, smoother
 (Loop-subdivided) template with skinning weights and UVs carried over.
 """
 
@@ -13,8 +14,11 @@ import numpy as np
 import torch
 import trimesh
 
+from core.measure.hw_ratios import HWRatios
 from core.measure.mesh import body_length
+from core.measure.stations import STATION_FRACTIONS
 from core.model.model import NUM_SHAPE_PARAMS, DolphinModel
+from core.model.sections import NUM_TABLE_STATIONS
 from core.model.template import Template
 
 WARP_COMPONENTS = 3        # sine components along the body
@@ -54,6 +58,22 @@ def warp_profiles(template: Template, rng: np.random.Generator) -> Template:
     verts[:, 1] *= factor()
     verts[:, 2] *= factor()
     return replace(template, verts=verts)
+
+
+def draw_hw(table: HWRatios, rng: np.random.Generator) -> np.ndarray:
+    """(17,) HW ratios at the 5–85 % stations for one animal.
+
+    Each ratio lies off the table's mean by its SD times a smooth standard-normal field along
+    the body (half the variance shared by every station, half in two slow waves), so
+    neighbouring stations move together as a real animal's would.
+    """
+    ratios, sd = table.completed()
+    t = STATION_FRACTIONS[:NUM_TABLE_STATIONS]
+    common = rng.normal()
+    waves = sum(rng.normal() * np.sin(math.pi * (k + 1) * t + rng.uniform(0, 2 * math.pi))
+                for k in range(2))
+    field = math.sqrt(0.5) * (common + waves)   # waves: variance 1 on average over phases
+    return np.maximum(ratios[:NUM_TABLE_STATIONS] + sd[:NUM_TABLE_STATIONS] * field, 0.5)
 
 
 def subdivide(template: Template) -> Template:
