@@ -10,6 +10,7 @@ from dataclasses import asdict, dataclass, field, fields
 from core.errors import InputError
 from core.io.json_file import dataclass_from_json
 from core.limits import FPS, check_fields, count, one_of, time_window
+from core.measure.hw_ratios import FROM_MODEL
 from core.render import SOFT_PRIMITIVES
 
 COLOUR_GEOMETRY = ("all_stages", "pose_stages", "none")
@@ -38,6 +39,10 @@ class LossWeights:
     direction: float = 0.1          # used only when use_direction_loss is on
     pyramid: float = 20.0           # wide-basin silhouette term, faded out (ours; rendering.md §8)
     vertical: float = 1.0           # the paper's vertical-motion nudge, when enabled
+    # ours: the profile field's coefficients (core/model/profile_field.py) stay small and
+    # vary smoothly from knot to knot
+    profile: float = 0.001
+    profile_smooth: float = 1.0
 
     def __post_init__(self) -> None:
         check_fields(self, "fit option weights.", minimum={f.name: 0.0 for f in fields(self)})
@@ -125,6 +130,16 @@ class FitConfig:
     # order picked (grey_green_high −15.9 % or −7.7 % volume by chunk size), and in the pose
     # stages it made the animals about 2 % short.
     colour_geometry: str = "none"
+    # A smooth field of width and height factors along the body (core/model/profile_field.py)
+    # beside the per-part scales, fitted in the shape stage: a width profile that bends within
+    # a part (the root part alone spans 25–55 % of the body) is out of the parts' reach.
+    profile_field: bool = True
+    # The heights a top view cannot see: the fitted animal keeps its template's height/width
+    # ratio at each station (the axes prior ties a part's height to its width). None: the
+    # built template's; an HW table (a preset name of core.measure.hw_ratios or a CSV path,
+    # as `dolphinfit measure --hw`): the template reshaped to the table's ratios at the 5–85 %
+    # stations first (core/model/sections.py), as the elliptical baseline takes them.
+    hw_table: str | None = None
 
     def __post_init__(self) -> None:
         for name, minimum in COUNT_MINIMUMS.items():
@@ -134,6 +149,9 @@ class FitConfig:
         time_window(self.start_s, self.end_s, "fit option start_s", "fit option end_s")
         one_of(self.soft_primitives, SOFT_PRIMITIVES, "fit option soft_primitives")
         one_of(self.colour_geometry, COLOUR_GEOMETRY, "fit option colour_geometry")
+        if self.hw_table == FROM_MODEL:
+            raise InputError(f"fit option hw_table: {FROM_MODEL!r} would take the fit's "
+                             f"heights from the fit itself; give an HW table")
         if self.smooth_order not in (1, 2):
             raise InputError(f"fit option smooth_order: 1 or 2, got {self.smooth_order}")
 

@@ -30,9 +30,12 @@ from core.fit.result import STATUS_CANCELLED, STATUS_COMPLETE, STATUS_DIVERGED, 
 from core.fit.target import edge_profile, soft_targets
 from core.iou import mask_iou
 from core.measure.condition import body_condition
+from core.measure.hw_ratios import resolve_hw
 from core.measure.mesh import body_length, mesh_volume
 from core.model.lbs import axis_angle_to_matrix
 from core.model.model import DolphinModel
+from core.model.profile_field import NUM_KNOTS
+from core.model.sections import NUM_TABLE_STATIONS, reshape_sections
 from core.model.template import Template, load_template
 from core.progress import Cancelled, ProgressCallback, check_cancel
 from core.render.contour import mesh_edges
@@ -77,6 +80,7 @@ class SceneParams:
     transl: torch.Tensor        # (T, 3)
     log_scale: torch.Tensor     # () overall size, added to every part's uniform scale
     betas: torch.Tensor         # (M, 4) part shape around the overall size
+    profile: torch.Tensor       # (2, K) profile field along the body (core.model.profile_field)
     albedo: torch.Tensor        # (Ht, Wt)
     f_water: torch.Tensor       # (3,)
     light_axes: torch.Tensor    # (K, 3)
@@ -134,6 +138,7 @@ def _initial_params(data: FitData, model: DolphinModel, template: Template, conf
         transl=torch.tensor(transl, dtype=torch.float32),
         log_scale=torch.tensor(state.log_scale, dtype=torch.float32),
         betas=torch.zeros(num_groups, 4),
+        profile=torch.zeros(2, NUM_KNOTS),
         albedo=torch.tensor(template.albedo / 255.0, dtype=torch.float32),
         f_water=torch.full((3,), INITIAL_F_WATER),
         light_axes=light.axes.clone(), light_sharpness=light.sharpness.clone(),
@@ -151,7 +156,9 @@ def _stage_groups(params: SceneParams, stage: str, config: FitConfig) -> list[di
     if stage == "shape":
         # the overall size stays at its robust estimate from the masks until the frames the
         # pose stages cannot explain are set aside (dives would otherwise shrink it)
-        groups += [{"params": [params.log_scale, params.betas], "lr": lr.shape},
+        shape = [params.log_scale, params.betas] + ([params.profile] if config.profile_field
+                                                     else [])
+        groups += [{"params": shape, "lr": lr.shape},
                    {"params": [params.albedo], "lr": lr.albedo},
                    {"params": [params.f_water], "lr": lr.water},
                    {"params": [params.light_axes, params.light_sharpness,
@@ -245,10 +252,14 @@ class _Problem:
                 f"{self.config.shape_iou_margin}): frames {', '.join(map(str, dropped[:8]))}"
                 + (" …" if len(dropped) > 8 else "")]
 
+    def profile(self, params: SceneParams) -> torch.Tensor | None:
+        """The profile field's coefficients, None when the configuration has no field."""
+        return params.profile if self.config.profile_field else None
+
     def posed_verts(self, params: SceneParams, frames: torch.Tensor) -> torch.Tensor:
         """(len(frames), V, 3) posed meshes of ``frames`` at ``params``."""
         return self.model(params.full_betas(), params.pose()[frames],
-                          params.transl[frames]).verts
+                          params.transl[frames], self.profile(params)).verts
 
     def render_chunk(self, params: SceneParams, chunk: torch.Tensor) -> RenderOutput:
         """Render frames ``chunk`` at ``params``."""
@@ -353,12 +364,24 @@ class _Problem:
             "smooth_rot": losses.rotation_smoothness(rotations, order, ratio),
             "smooth_pose": losses.smoothness(params.body_pose, order, ratio),
         }
+        if self.config.profile_field:
+            terms["profile"] = losses.profile_prior(params.profile)
+            terms["profile_smooth"] = losses.profile_smoothness(params.profile)
         if self.config.use_vertical_prior:
             terms["vertical"] = losses.vertical_motion(params.transl, rotations[:, 2, 0],
                                                        self.time_s, V_SURF_M_S, V_DIVE_M_S)
         if self.config.use_direction_loss:
             terms["direction"] = losses.direction_loss(rotations[:, :2, 0], params.transl)
         return terms
+
+
+def fitted_template(template: Template, config: FitConfig) -> Template:
+    """The template the fit shapes: with its hidden heights from ``config.hw_table`` (an
+    InputError names a table that cannot be read)."""
+    if config.hw_table is None:
+        return template
+    ratios = resolve_hw(config.hw_table).ratios[:NUM_TABLE_STATIONS]
+    return reshape_sections(template, ratios)
 
 
 def fit(data: FitData, config: FitConfig = FitConfig(), template: Template | None = None, *,
@@ -381,7 +404,7 @@ def _fit(data: FitData, config: FitConfig, template: Template | None,
     started = time.perf_counter()
     reporter = FitReporter(config.total_steps, progress)
     reporter.report(PREPARE_STAGE, "placing the model")
-    template = template if template is not None else load_template()
+    template = fitted_template(template if template is not None else load_template(), config)
     model = DolphinModel(template)
     problem = _Problem(data, model, template, config, reporter, cancel, pool)
     state = initial_state(data, model, config.init_depth_m)
@@ -562,7 +585,8 @@ def _run_stage(problem: _Problem, params: SceneParams, stage: str, steps: int,
 def _preview(problem: _Problem, params: SceneParams) -> FitPreview:
     """The posed meshes of the current state, for display while the fit runs."""
     with torch.no_grad():
-        posed = problem.model(params.full_betas(), params.pose(), params.transl).verts
+        posed = problem.model(params.full_betas(), params.pose(), params.transl,
+                              problem.profile(params)).verts
     return FitPreview(frame_idx=problem.data.frame_idx, posed_verts=posed.numpy().copy())
 
 
@@ -591,17 +615,20 @@ def _result(problem: _Problem, params: SceneParams, history: list[dict],
             timings: dict[str, float], warnings: tuple[str, ...], status: str,
             status_message: str) -> FitResult:
     model = DolphinModel(problem.template, dtype=torch.float64)
+    profile = problem.profile(params)
+    profile = None if profile is None else profile.detach().double()
     with torch.no_grad():
         betas = params.full_betas().double()
-        rest, _ = model.forward_rest(betas)
-        posed = model(betas, params.pose().double(), params.transl.double()).verts
+        rest, _ = model.forward_rest(betas, profile)
+        posed = model(betas, params.pose().double(), params.transl.double(), profile).verts
         volume = float(mesh_volume(rest, model.faces))
         length = float(body_length(rest, model.rostrum_idx, model.notch_idx))
     ious = problem.frame_ious(params)
     warnings = warnings + quality_warnings(ious.double().numpy())
     condition = body_condition(np.float64(length), np.float64(volume))
     return FitResult(
-        betas=betas.numpy(), pose_aa=params.pose().detach().double().numpy(),
+        betas=betas.numpy(), profile=None if profile is None else profile.numpy(),
+        pose_aa=params.pose().detach().double().numpy(),
         transl=params.transl.detach().double().numpy(), frame_idx=problem.data.frame_idx,
         time_s=problem.data.time_s, iou=ious.double().numpy(), rest_verts=rest.numpy(),
         posed_verts=posed.numpy(), faces=model.faces.numpy(),

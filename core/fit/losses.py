@@ -44,6 +44,17 @@ def scale_axes_prior(betas: torch.Tensor) -> torch.Tensor:
     return ((betas[:, 1] - betas[:, 2]) ** 2 + (betas[:, 2] - betas[:, 3]) ** 2).sum()
 
 
+def profile_prior(coefficients: torch.Tensor) -> torch.Tensor:
+    """Squared norm of the profile field's coefficients (2, K)."""
+    return (coefficients ** 2).sum()
+
+
+def profile_smoothness(coefficients: torch.Tensor) -> torch.Tensor:
+    """Σ of squared second differences of each row of the profile field (2, K) from knot to
+    knot: bends, not steps, cost."""
+    return ((coefficients[:, 2:] - 2 * coefficients[:, 1:-1] + coefficients[:, :-2]) ** 2).sum()
+
+
 def scale_smooth_prior(betas: torch.Tensor, group_parents: torch.Tensor) -> torch.Tensor:
     """Σ_k ‖β_k − β_parent(k)‖² over parts with a parent."""
     child = group_parents >= 0

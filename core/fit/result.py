@@ -40,6 +40,7 @@ class FitResult:
     warnings: tuple[str, ...]
     status: str = STATUS_COMPLETE    # one of STATUSES
     status_message: str = ""         # why a fit ended early and what it lacks, in words
+    profile: np.ndarray | None = None  # (2, K) profile field (None: fitted without one)
 
     def to_json(self) -> dict:
         """The result file's content (arrays and meshes are written beside it: result_io)."""
@@ -54,6 +55,7 @@ class FitResult:
             "density_kg_m3": self.density_kg_m3,
             "mean_iou": float(self.iou.mean()),
             "betas": self.betas.tolist(),
+            "profile": None if self.profile is None else self.profile.tolist(),
             "f_water": self.f_water.tolist(),
             "frames": [{"frame": int(f), "time_s": float(t), "iou": float(i),
                         "transl_m": p.tolist(), "pose_aa": q.tolist()}

@@ -22,6 +22,7 @@ ARRAYS = ("betas", "pose_aa", "transl", "frame_idx", "time_s", "iou", "rest_vert
           "posed_verts", "faces", "albedo", "f_water")
 PER_FRAME = ("pose_aa", "transl", "time_s", "iou", "posed_verts")   # leading axis T
 LIGHT_PREFIX = "light_"
+PROFILE = "profile"   # only in fits with a profile field
 SCALARS = ("volume_m3", "length_m", "bci", "mass_kg", "density_kg_m3")
 
 
@@ -29,6 +30,8 @@ def write_fit_result(result: FitResult, out_dir: Path) -> list[Path]:
     """Write result.npz and result.json into ``out_dir``; returns their paths."""
     npz, json_path = Path(out_dir) / RESULT_NPZ, Path(out_dir) / RESULT_JSON
     arrays = {name: getattr(result, name) for name in ARRAYS}
+    if result.profile is not None:
+        arrays[PROFILE] = result.profile
     arrays.update({LIGHT_PREFIX + key: value for key, value in result.light.items()})
     with atomic_path(npz) as tmp:
         np.savez_compressed(tmp, **arrays)
@@ -57,7 +60,8 @@ def read_fit_result(out_dir: Path) -> FitResult:
         raise InputError(f"{json_path}: not a complete fit result ({exc!r})") from None
     light = {name[len(LIGHT_PREFIX):]: value for name, value in arrays.items()
              if name.startswith(LIGHT_PREFIX)}
-    result = FitResult(**{name: arrays[name] for name in ARRAYS}, light=light, **fields)
+    result = FitResult(**{name: arrays[name] for name in ARRAYS}, light=light,
+                       profile=arrays.get(PROFILE), **fields)
     lengths = {len(result.frame_idx), num_frames, *(len(getattr(result, n)) for n in PER_FRAME)}
     if len(lengths) != 1:
         raise InputError(f"{npz}: its per-frame arrays do not match the {num_frames} frames "

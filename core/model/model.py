@@ -10,6 +10,7 @@ import torch
 from torch import nn
 
 from core.model import lbs
+from core.model.profile_field import ProfileField
 from core.model.template import Template, load_template
 
 NUM_SHAPE_PARAMS = 4  # log uniform scale + log scales along the part's x, y, z axes
@@ -47,6 +48,7 @@ class DolphinModel(nn.Module):
                              torch.tensor(template.group_parents, dtype=torch.int64))
         self.register_buffer("station_rings",
                              torch.tensor(template.station_rings, dtype=torch.int64))
+        self.profile_field = ProfileField(template, dtype)
 
     @property
     def num_groups(self) -> int:
@@ -60,22 +62,27 @@ class DolphinModel(nn.Module):
                 torch.zeros(num_frames, self.num_groups, 3, **like),
                 torch.zeros(num_frames, 3, **like))
 
-    def forward_rest(self, betas: torch.Tensor) -> tuple[torch.Tensor, torch.Tensor]:
-        """Shaped rest vertices (V, 3) and joints (J, 3) for β (M, 4)."""
+    def forward_rest(self, betas: torch.Tensor, profile: torch.Tensor | None = None
+                     ) -> tuple[torch.Tensor, torch.Tensor]:
+        """Shaped rest vertices (V, 3) and joints (J, 3) for β (M, 4) and, optionally, the
+        profile field's (2, K) coefficients (profile_field.py; None: the template's)."""
         self._check_betas(betas)
+        template_verts = (self.rest_verts if profile is None
+                          else self.profile_field(self.rest_verts, profile))
         scales = lbs.part_scale_matrices(betas, self.joint_group, self.joint_axes)
         joints = lbs.scale_rest_joints(self.rest_joints, self.joint_parents, scales)
-        verts = lbs.scale_rest_vertices(self.rest_verts, self.rest_joints, joints, scales,
+        verts = lbs.scale_rest_vertices(template_verts, self.rest_joints, joints, scales,
                                         self.skin_weights)
         return verts, joints
 
-    def forward(self, betas: torch.Tensor, pose_aa: torch.Tensor,
-                transl: torch.Tensor) -> ModelOutput:
-        """Posed meshes for β (M, 4), θ (T, M, 3) axis-angle per part and P (T, 3) metres."""
+    def forward(self, betas: torch.Tensor, pose_aa: torch.Tensor, transl: torch.Tensor,
+                profile: torch.Tensor | None = None) -> ModelOutput:
+        """Posed meshes for β (M, 4), θ (T, M, 3) axis-angle per part, P (T, 3) metres and
+        the optional profile field (2, K)."""
         if pose_aa.shape[1:] != (self.num_groups, 3) or transl.shape != (pose_aa.shape[0], 3):
             raise ValueError(f"pose_aa must be (T, {self.num_groups}, 3) and transl (T, 3); "
                              f"got {tuple(pose_aa.shape)} and {tuple(transl.shape)}")
-        rest_verts, rest_joints = self.forward_rest(betas)
+        rest_verts, rest_joints = self.forward_rest(betas, profile)
         rotations = lbs.joint_rotations(pose_aa, self.joint_group, self.joint_mirror)
         global_rots, posed_joints = lbs.chain_transforms(rotations, rest_joints,
                                                          self.joint_parents, transl)
