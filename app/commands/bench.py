@@ -1,8 +1,8 @@
 """Measure speed (and later accuracy) side by side in one run.
 
   dolphinfit bench render [--json] [--repeats N] [--quick]
-  dolphinfit bench fit (--suite [--clips N] [--variants V,…] | --speed) [--json]
-  dolphinfit bench masks [--clips N] [--backends B,…] [--stride K] [--json]
+  dolphinfit bench fit (--suite [--clips N] [--shapes S] [--variants V,…] | --speed) [--json]
+  dolphinfit bench masks [--clips N] [--shapes S] [--backends B,…] [--stride K] [--json]
   dolphinfit bench app [--repeats N] [--json]
   dolphinfit bench batch [--clips N] [--quick] [--json]
 
@@ -19,7 +19,10 @@ fit --suite: the widened synthetic suite (12 1920×1080 clips: light-grey and da
 green, blue, sandy and murky water, pairs, splash, glitter, sharp turns; every unmodelled
 effect on), each fitted in the chosen variants side by side (default: the true masks and the
 product's own masks from a click on the target): relative errors of volume, length and mass
-per clip, their median and worst, and the fit's IoU per frame. fit --speed: a 10 s, 25 fps,
+per clip, their median and worst, and the fit's IoU per frame. --shapes varied (default)
+gives the animals heights drawn from the default HW table and cross-sections from lean to
+full (the animals someone else built); --shapes template keeps the template's heights and
+elliptical sections (the suite before). fit --speed: a 10 s, 25 fps,
 1920×1080 clip fitted with the defaults and exhaustively (every face in the soft mask, every
 frame in every step, native resolution: the fit before its speed work), side by side: wall
 time, seconds of fit per second of video, time by stage, peak memory, errors against the
@@ -49,7 +52,7 @@ from core.bench.batch_bench import bench_batch
 from core.bench.fit_bench import DEFAULT_VARIANTS, VARIANTS, bench_speed, bench_suite
 from core.bench.mask_bench import DEFAULT_STRIDE, bench_masks
 from core.bench.render_bench import RenderBench, bench_render, bench_to_json
-from core.bench.suites import SUITE, ensure_scenario
+from core.bench.suites import DEFAULT_SHAPES, SHAPES, SUITE, ensure_scenario, scenarios
 from core.bench.timing import command_seconds
 from core.errors import InputError
 from core.limits import count
@@ -75,6 +78,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     which.add_argument("--speed", action="store_true", help="speed on a 10 s clip")
     fit.add_argument("--clips", type=int, default=len(SUITE),
                      help=f"suite clips to use (1–{len(SUITE)})")
+    fit.add_argument("--shapes", choices=SHAPES, default=DEFAULT_SHAPES,
+                     help=f"the suite's animals (default {DEFAULT_SHAPES}; see above)")
     fit.add_argument("--variants", default=",".join(DEFAULT_VARIANTS),
                      help=f"comma-separated, of {', '.join(VARIANTS)} "
                           f"(default {','.join(DEFAULT_VARIANTS)})")
@@ -82,6 +87,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     masks = suites.add_parser("masks", help="mask back-ends against the truth on the suite")
     masks.add_argument("--clips", type=int, default=len(SUITE),
                        help=f"suite clips to use (1–{len(SUITE)})")
+    masks.add_argument("--shapes", choices=SHAPES, default=DEFAULT_SHAPES,
+                       help=f"the suite's animals (default {DEFAULT_SHAPES})")
     masks.add_argument("--backends", default=",".join(BACKENDS),
                        help=f"comma-separated, of {', '.join(BACKENDS)}")
     masks.add_argument("--stride", type=int, default=DEFAULT_STRIDE,
@@ -110,14 +117,15 @@ def run(args: argparse.Namespace) -> int:
         backends = tuple(args.backends.split(","))
         for backend in backends:
             make_segmenter(backend)  # an unknown name is refused before any work
-        chosen = SUITE[:count(args.clips, 1, "--clips")]
+        chosen = scenarios(args.shapes)[:count(args.clips, 1, "--clips")]
         figures = bench_masks({sc.name: ensure_scenario(sc) for sc in chosen}, backends,
                               count(args.stride, 1, "--stride"), progress=_print_mask_score)
         print(json.dumps(figures, indent=2) if args.json else format_masks(figures))
         return 0
     if args.suite_name == "fit":
-        figures = (bench_suite(num_clips=count(args.clips, 1, "--clips"),
-                               variants=tuple(args.variants.split(",")), progress=_print_score)
+        chosen = scenarios(args.shapes)[:count(args.clips, 1, "--clips")]
+        figures = (bench_suite(chosen, variants=tuple(args.variants.split(",")),
+                               progress=_print_score)
                    if args.suite else bench_speed())
         print(json.dumps(figures, indent=2) if args.json
               else (format_suite(figures) if args.suite else format_speed(figures)))

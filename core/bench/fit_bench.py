@@ -13,12 +13,13 @@ video) and, side by side in the same run, exhaustively (``EXHAUSTIVE``): wall ti
 fit per second of video, time by stage, peak memory and the errors against the clip's truth.
 """
 
+from collections.abc import Sequence
 from dataclasses import asdict, dataclass, replace
 
 import numpy as np
 
 from core.bench.mask_bench import click_seed
-from core.bench.suites import SUITE, SUITE_NAME, ensure_scenario
+from core.bench.suites import Scenario, ensure_scenario
 from core.bench.timing import run_with_peak_rss_mb
 from core.errors import InputError
 from core.fit.config import FitConfig, LossWeights
@@ -135,9 +136,10 @@ def summarize(scores: list[ClipScore]) -> dict[str, dict[str, float]]:
     return summary
 
 
-def bench_suite(num_clips: int = len(SUITE), variants: tuple[str, ...] = DEFAULT_VARIANTS,
+def bench_suite(chosen: Sequence[Scenario], variants: tuple[str, ...] = DEFAULT_VARIANTS,
                 progress=None, base: FitConfig | None = None) -> dict:
-    """Fit every clip in every variant; per-clip scores and the summary.
+    """Fit every clip of the ``chosen`` scenarios in every variant; per-clip scores and the
+    summary.
 
     ``base``: the fit configuration the variants modify (default: the defaults at the
     suite's fitting rate).
@@ -148,7 +150,7 @@ def bench_suite(num_clips: int = len(SUITE), variants: tuple[str, ...] = DEFAULT
                          f"{', '.join(VARIANTS)}")
     base = base if base is not None else replace(FitConfig(), fps=SUITE_FIT_FPS)
     scores = []
-    for scenario in SUITE[:num_clips]:
+    for scenario in chosen:
         files = ensure_scenario(scenario)
         for variant in variants:
             scores.append(_score(files, scenario.config,
@@ -157,10 +159,12 @@ def bench_suite(num_clips: int = len(SUITE), variants: tuple[str, ...] = DEFAULT
             if progress is not None:
                 progress(scores[-1])
     return {"clips": [asdict(s) for s in scores], "summary": summarize(scores),
-            "fit_fps": base.fps, "suite": SUITE_NAME,
+            "fit_fps": base.fps, "suite": sorted({sc.suite for sc in chosen}),
             "scenarios": [{"clip": sc.name, "shows": sc.shows,
-                           "length_m": sc.config.length_m, "altitude_m": sc.config.altitude_m}
-                          for sc in SUITE[:num_clips]]}
+                           "length_m": sc.config.length_m, "altitude_m": sc.config.altitude_m,
+                           "hw_table": sc.config.hw_table,
+                           "section_exponent": sc.config.section_exponent}
+                          for sc in chosen]}
 
 
 def bench_speed(clip: SynthConfig = SPEED_CLIP, exhaustive: bool = True) -> dict:

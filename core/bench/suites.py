@@ -4,31 +4,43 @@ Twelve named scenarios at 1920×1080, 3 s, 10 fps (shape SD 0.05, lengths 2.0–
 altitudes 15–25 m), each with every effect the fit does not model on (finer mesh, profile
 warp, scattering, refraction, ripples, glints, mp4v compression) plus the look of real
 footage: light-grey or dark *Tursiops* over green, blue or sandy water, sun glitter, wet
-highlights, white water, a second animal, deep murky passes and sharp turns. Clips are
-rendered once into the cache (``cache_dir()/SUITE_NAME/NAME``) and reused while their
-recorded configuration matches.
+highlights, white water, a second animal, deep murky passes and sharp turns.
+
+Two sets of animals (``SHAPES``): "varied" (the default) gives each animal heights drawn from
+the default HW table (its ratios and SDs) and cross-sections from lean to full superellipses
+(exponents 1.8–2.2, mean 2: up to ±3.5 % of volume at the same widths and heights), the
+animals a fit meets when someone else built them; "template" keeps the template's heights
+and elliptical sections (the suite before, clip for clip). Clips are rendered once into the
+cache (``cache_dir()/<suite>/NAME``) and reused while their recorded configuration matches.
 """
 
 import json
 from dataclasses import dataclass, replace
-from pathlib import Path
 
+from core.limits import one_of
+from core.measure.hw_ratios import DEFAULT_PRESET
 from core.progress import ProgressCallback
 from core.synth.config import Effects, SynthConfig
 from core.synth.files import ClipFiles, clip_files
 from core.synth.sample import cache_dir
 from core.synth.water import with_water
 
-SUITE_NAME = "bench-suite-v2"
+SUITE_NAME = "bench-suite-v2"          # the template's shapes
+VARIED_SUITE_NAME = "bench-suite-v3-shapes"
+SHAPES = ("varied", "template")
+DEFAULT_SHAPES = "varied"
+# one per scenario, in order; mean 2 (the ellipse), so no net bias in volume
+SECTION_EXPONENTS = (2.0, 2.15, 1.9, 2.2, 1.95, 2.1, 1.85, 2.05, 2.0, 1.9, 2.1, 1.8)
 
 
 @dataclass(frozen=True)
 class Scenario:
-    """A named clip of the suite and what it shows."""
+    """A named clip of the suite, what it shows, and the cache folder of its suite."""
 
     name: str
     config: SynthConfig
     shows: str
+    suite: str = SUITE_NAME
 
 
 _BASE = SynthConfig(width_px=1920, height_px=1080, fps=10.0, duration_s=3.0, shape_sd=0.05,
@@ -80,16 +92,22 @@ SUITE: tuple[Scenario, ...] = (
 )
 
 
-def suite_dir() -> Path:
-    """Where the suite's clips are cached."""
-    return cache_dir() / SUITE_NAME
+def scenarios(shapes: str = DEFAULT_SHAPES) -> tuple[Scenario, ...]:
+    """The suite's scenarios with the animals of ``shapes`` (module doc)."""
+    one_of(shapes, SHAPES, "suite shapes")
+    if shapes == "template":
+        return SUITE
+    return tuple(replace(scenario, suite=VARIED_SUITE_NAME,
+                         config=replace(scenario.config, hw_table=DEFAULT_PRESET,
+                                        section_exponent=exponent))
+                 for scenario, exponent in zip(SUITE, SECTION_EXPONENTS, strict=True))
 
 
 def ensure_scenario(scenario: Scenario,
                     progress: ProgressCallback | None = None) -> ClipFiles:
     """One scenario's clip, rendered first if it is missing or was made from another
     configuration (only rendering loads the model stack)."""
-    out = suite_dir() / scenario.name
+    out = cache_dir() / scenario.suite / scenario.name
     files = clip_files(out, scenario.config)
     if _is_current(files, scenario.config):
         return files
@@ -97,9 +115,11 @@ def ensure_scenario(scenario: Scenario,
     return make_clip(scenario.config, out, progress=progress)
 
 
-def ensure_suite(progress: ProgressCallback | None = None) -> dict[str, ClipFiles]:
+def ensure_suite(shapes: str = DEFAULT_SHAPES,
+                 progress: ProgressCallback | None = None) -> dict[str, ClipFiles]:
     """The suite's clips by name (``ensure_scenario`` of each)."""
-    return {scenario.name: ensure_scenario(scenario, progress) for scenario in SUITE}
+    return {scenario.name: ensure_scenario(scenario, progress)
+            for scenario in scenarios(shapes)}
 
 
 def _is_current(files: ClipFiles, config: SynthConfig) -> bool:

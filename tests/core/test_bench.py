@@ -85,15 +85,14 @@ def tiny_scenario(tmp_path_factory):
         yield scenario
 
 
-def test_fit_suite_scores_clips_against_their_truth(tiny_scenario, monkeypatch):
+def test_fit_suite_scores_clips_against_their_truth(tiny_scenario):
     """A one-clip suite with true masks and with the product's own masks reports per-clip
     errors, per-frame IoU and a summary per variant."""
     from core.bench import fit_bench
     from core.fit.config import FitConfig
 
-    monkeypatch.setattr(fit_bench, "SUITE", (tiny_scenario,))
     quick = FitConfig(heading_trial_steps=2, steps_global=3, steps_body=2, steps_shape=4)
-    figures = fit_bench.bench_suite(num_clips=1, base=quick)
+    figures = fit_bench.bench_suite((tiny_scenario,), base=quick)
     assert [c["variant"] for c in figures["clips"]] == ["true_masks", "product_masks"]
     for clip in figures["clips"]:
         assert abs(clip["volume_error"]) < 0.5 and clip["frames"] >= 3
@@ -102,7 +101,7 @@ def test_fit_suite_scores_clips_against_their_truth(tiny_scenario, monkeypatch):
     summary = figures["summary"]["true_masks"]
     assert summary["median_abs_volume_error"] == abs(figures["clips"][0]["volume_error"])
     with pytest.raises(InputError, match="variants nope: unknown"):
-        fit_bench.bench_suite(num_clips=1, variants=("nope",), base=quick)
+        fit_bench.bench_suite((tiny_scenario,), variants=("nope",), base=quick)
 
 
 def test_mask_bench_scores_each_back_end_from_the_click(tiny_scenario):
