@@ -76,9 +76,14 @@ def config_for(checkpoint: Path | str) -> str:
     return f"configs/{version}/{version}_hiera_{SIZES[size]}.yaml"
 
 
+def installed() -> bool:
+    """Whether the ``sam2`` package can be found (it is not imported)."""
+    return importlib.util.find_spec(PACKAGE) is not None
+
+
 def check_installed() -> None:
-    """InputError with the install hint when the ``sam2`` package is absent (not imported)."""
-    if importlib.util.find_spec(PACKAGE) is None:
+    """InputError with the install hint when the ``sam2`` package is absent."""
+    if not installed():
         raise InputError(f"the mask back-end SAM-2 needs the '{PACKAGE}' package, which is not "
                          f"installed; {INSTALL_HINT}")
 
