@@ -163,13 +163,12 @@ class FitController(QObject):
         return frame_range(media, settings.start_s, settings.end_s,
                            step_for_fps(media, settings.fps))
 
-    def fit_frames(self) -> np.ndarray:
+    def fit_frames(self) -> list[int]:
         """The open clip's frames that the current animal's fit uses (default settings when
         no animal of this clip is selected); a session must be open."""
         current = self._animal()
-        if current is None or current[0] != self.window.session.clip_idx:
-            return self._frames(FitSettings())
-        return self._frames(current[2].fit_settings)
+        own = current is not None and current[0] == self.window.session.clip_idx
+        return self._frames(current[2].fit_settings if own else FitSettings()).tolist()
 
     def _read(self, folder: Path, result: FitResult) -> None:
         self._fits.setdefault(folder, result)  # a fit made meanwhile is newer than the file

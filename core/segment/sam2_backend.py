@@ -93,7 +93,7 @@ def chosen_frames(num_frames: int, seed_frame: int,
     """The clip frames SAM-2 sees, in time order (local frame i is clip frame ``[i]``): those
     of ``only_frames`` inside the clip (every frame when None) and the seed frame."""
     wanted = range(num_frames) if only_frames is None else only_frames
-    return sorted({t for t in wanted if 0 <= t < num_frames} | {seed_frame})
+    return sorted({int(t) for t in wanted if 0 <= t < num_frames} | {seed_frame})
 
 
 def write_jpeg_folder(frames: Frames, chosen: Sequence[int], folder: Path) -> tuple[int, int]:

@@ -119,6 +119,7 @@ def test_chosen_frames_map_local_frames_to_the_clip_in_time_order():
     assert chosen.index(5) == 2    # the seed's local frame
     assert chosen_frames(4, 2, None) == [0, 1, 2, 3]
     assert chosen_frames(10, 3, range(0, 10, 4)) == [0, 3, 4, 8]
+    assert chosen_frames(10, 3, np.arange(0, 10, 4)) == [0, 3, 4, 8]  # as the fit's frames
 
 
 def test_the_frame_folder_holds_the_chosen_frames_in_order(tmp_path):
