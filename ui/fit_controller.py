@@ -155,9 +155,20 @@ class FitController(QObject):
         session = self.window.session
         if session is None or session.clip_idx != self.window.model.clip_idx:
             return
-        media = session.source.clip
-        self.window.timeline.set_fit_frames(frame_range(
-            media, settings.start_s, settings.end_s, step_for_fps(media, settings.fps)))
+        self.window.timeline.set_fit_frames(self._frames(settings))
+
+    def _frames(self, settings: FitSettings) -> np.ndarray:
+        """The open clip's frames that a fit with ``settings`` uses."""
+        media = self.window.session.source.clip
+        return frame_range(media, settings.start_s, settings.end_s,
+                           step_for_fps(media, settings.fps))
+
+    def fit_frames(self) -> list[int]:
+        """The open clip's frames that the current animal's fit uses (default settings when
+        no animal of this clip is selected); a session must be open."""
+        current = self._animal()
+        own = current is not None and current[0] == self.window.session.clip_idx
+        return self._frames(current[2].fit_settings if own else FitSettings()).tolist()
 
     def _read(self, folder: Path, result: FitResult) -> None:
         self._fits.setdefault(folder, result)  # a fit made meanwhile is newer than the file

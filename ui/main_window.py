@@ -63,7 +63,8 @@ from core.project.project_file import (
 )
 from core.project.recent import add_recent, recent_projects
 from core.project.results import frame_altitude, image_id
-from core.segment.backends import BACKENDS, COLOUR, DEFAULT_BACKEND, NETWORK
+from core.segment.backends import BACKENDS, COLOUR, DEFAULT_BACKEND, NETWORK, SAM2
+from core.segment.sam2_backend import INSTALL_HINT, PACKAGE, check_checkpoint, config_for, installed
 from ui.action_table import load_action_table
 from ui.background import BackgroundJobs
 from ui.canvas import FrameCanvas
@@ -97,7 +98,7 @@ STEP_ACTIONS = {"next_frame": 1, "previous_frame": -1, "next_10": 10, "previous_
                 "next_100": 100, "previous_100": -100}
 MIRROR_ACTIONS = {"mirror_none": None, "mirror_a": "A", "mirror_b": "B"}
 MASK_TOOL_ACTIONS = {"mask_tool_off": None, "mask_brush": "brush", "mask_eraser": "eraser"}
-BACKEND_ACTIONS = {"masks_network": NETWORK, "masks_colour": COLOUR}
+BACKEND_ACTIONS = {"masks_network": NETWORK, "masks_colour": COLOUR, "masks_sam2": SAM2}
 
 
 class MainWindow(QMainWindow):
@@ -218,6 +219,10 @@ class MainWindow(QMainWindow):
         for name in ("measure_frame", "length_mode", "widths_mode", "reverse", "skip_station",
                      "suggest_edges", "fit_view"):
             toolbar.addAction(actions[name])
+        if not installed():
+            actions["masks_sam2"].setEnabled(False)
+            actions["masks_sam2"].setToolTip(f"needs the '{PACKAGE}' package: {INSTALL_HINT}")
+        bar["Clip"].setToolTipsVisible(True)
         actions["mirror_none"].setChecked(True)
         actions["fit_silhouette"].setChecked(True)
         actions["show_masks"].setChecked(True)
@@ -236,7 +241,7 @@ class MainWindow(QMainWindow):
         if name in MASK_TOOL_ACTIONS:
             return lambda *_: self.masks.set_tool(MASK_TOOL_ACTIONS[name])
         if name in BACKEND_ACTIONS:
-            return lambda *_: self._set_mask_backend(BACKEND_ACTIONS[name])
+            return lambda *_: self._choose_mask_backend(BACKEND_ACTIONS[name])
         return getattr(self, f"on_{name}")
 
     def _connect(self) -> None:
@@ -270,8 +275,25 @@ class MainWindow(QMainWindow):
         auto_zoom = bool(prefs.get("auto_zoom", False))
         self.actions_by_name["auto_zoom"].setChecked(auto_zoom)
         self.overlay.auto_zoom = auto_zoom
+        checkpoint = prefs.get("sam2_checkpoint")
+        if isinstance(checkpoint, str) and Path(checkpoint).is_file():
+            self.masks.sam2_checkpoint = Path(checkpoint)
         backend = prefs.get("mask_backend", DEFAULT_BACKEND)
-        self._set_mask_backend(backend if backend in BACKENDS else DEFAULT_BACKEND, save=False)
+        usable = backend in BACKENDS and (backend != SAM2 or (
+            installed() and self.masks.sam2_checkpoint is not None))
+        self._set_mask_backend(backend if usable else DEFAULT_BACKEND, save=False)
+
+    def _choose_mask_backend(self, backend: str) -> None:
+        """The Clip menu's choice; SAM-2 asks for its checkpoint while it has none."""
+        checkpoint = self.masks.sam2_checkpoint
+        if backend == SAM2 and (checkpoint is None or not checkpoint.is_file()):
+            checkpoint = self._ask_sam2_checkpoint()
+            if checkpoint is None:
+                self._set_mask_backend(self.masks.backend, save=False)  # the old choice
+                return
+            self.masks.sam2_checkpoint = checkpoint
+            self._save_preference("sam2_checkpoint", str(checkpoint))
+        self._set_mask_backend(backend)
 
     def _set_mask_backend(self, backend: str, save: bool = True) -> None:
         """Who draws the masks of the next tracking run (core.segment.backends)."""
@@ -291,6 +313,18 @@ class MainWindow(QMainWindow):
             f"{autosave_path(path).name} holds changes to {path.name} that were never saved "
             "(the app closed without saving). Restore them?")
         return answer == QMessageBox.Yes
+
+    def _ask_sam2_checkpoint(self) -> Path | None:
+        name, _ = QFileDialog.getOpenFileName(self, "SAM-2 checkpoint (e.g. sam2.1_hiera_tiny.pt)",
+                                              "", "SAM-2 checkpoint (*.pt)")
+        if not name:
+            return None
+        try:
+            config_for(check_checkpoint(name))
+        except InputError as exc:
+            self._error("SAM-2 checkpoint", str(exc))
+            return None
+        return Path(name)
 
     def _ask_relink(self, stored: str, project_dir: Path) -> Path | None:
         dialog = RelinkDialog(stored, project_dir,

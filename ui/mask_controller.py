@@ -5,6 +5,7 @@ are kept losslessly in the project's folder (``PROJECT.masks/<clip>.npz``); poin
 at them is an undoable edit."""
 
 from dataclasses import replace
+from pathlib import Path
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -21,7 +22,7 @@ from core.project.mask_store import (
 )
 from core.project.model import with_clip
 from core.project.project_file import relative_media_path
-from core.segment.backends import DEFAULT_BACKEND
+from core.segment.backends import DEFAULT_BACKEND, SAM2
 from core.segment.segmenter import PointSeed
 from ui.commands import push_edit
 from ui.job_worker import JobWorker
@@ -48,6 +49,7 @@ class MaskController(QObject):
         self._target: tuple | None = None  # (project path, clip index) of the tracking job
         self._seeding = False
         self.backend = DEFAULT_BACKEND  # who draws the masks (the Clip menu; a preference)
+        self.sam2_checkpoint: Path | None = None  # asked for once (a preference)
         self.tracker.progress.connect(lambda p: window.statusBar().showMessage(
             f"tracking ({self.backend}): frame {p.step} of {p.total}"))
         self.tracker.finished.connect(self._on_tracked)
@@ -156,9 +158,11 @@ class MaskController(QObject):
         if clip is None or path is None:
             return
         media = (path.parent / clip.media_path).resolve()
+        # SAM-2 is slow: it sees only the frames to be fitted (and the seed frame)
+        only = self.window.fits.fit_frames() if self.backend == SAM2 else None
         try:
             job = track_job(media, seed, self.window.frame_idx, direction, self.track,
-                            self.backend)
+                            self.backend, self.sam2_checkpoint, only)
         except (InputError, ValueError) as exc:  # e.g. an empty mask to re-track from
             self.window._error("Tracking", str(exc))
             return

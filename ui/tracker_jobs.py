@@ -9,6 +9,7 @@ one of its passes. Frames outside the tracked range keep their existing masks.
 """
 
 import threading
+from collections.abc import Sequence
 from dataclasses import replace
 from pathlib import Path
 from typing import Literal
@@ -98,9 +99,11 @@ def _merged(tracked: MaskTrack, order: range, num_frames: int, existing: MaskTra
 
 def track_job(media_path: Path | str, seed: PointSeed | BoxSeed | np.ndarray,
               start_frame: int, direction: Direction,
-              existing: MaskTrack | None = None, backend: str = DEFAULT_BACKEND) -> Job:
+              existing: MaskTrack | None = None, backend: str = DEFAULT_BACKEND,
+              checkpoint: Path | None = None, only_frames: Sequence[int] | None = None) -> Job:
     """A job tracking the animal from frame ``start_frame`` in ``direction`` and returning the
     clip's whole MaskTrack (frames outside the tracked range as in ``existing``).
+    ``checkpoint`` and ``only_frames`` (clip frames) go to the back-end (make_segmenter).
 
     ``seed``: a click or a box on that frame (its own ``frame_idx`` is ignored), or that
     frame's corrected (H, W) bool mask ("re-track from here"): the tracker starts from a box
@@ -123,8 +126,10 @@ def track_job(media_path: Path | str, seed: PointSeed | BoxSeed | np.ndarray,
                 raise ValueError(f"start frame {start_frame} is outside the clip "
                                  f"(0…{len(source) - 1})")
             view_seed = replace(seed, frame_idx=order.index(start_frame))
-            tracked = make_segmenter(backend).segment(_FrameView(source, order), view_seed,
-                                                      progress, cancel)
+            view_only = (None if only_frames is None
+                         else [order.index(t) for t in only_frames if t in order])
+            tracked = make_segmenter(backend, view_only, checkpoint).segment(
+                _FrameView(source, order), view_seed, progress, cancel)
             num_frames = len(source)
         return _merged(tracked, order, num_frames, existing, kept, start_frame)
 

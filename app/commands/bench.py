@@ -2,7 +2,8 @@
 
   dolphinfit bench render [--json] [--repeats N] [--quick]
   dolphinfit bench fit (--suite [--clips N] [--shapes S] [--variants V,…] | --speed) [--json]
-  dolphinfit bench masks [--clips N] [--shapes S] [--backends B,…] [--stride K] [--json]
+  dolphinfit bench masks [--clips N] [--shapes S] [--backends B,…] [--sam2-checkpoint PATH]
+                         [--stride K] [--json]
   dolphinfit bench app [--repeats N] [--json]
   dolphinfit bench batch [--clips N] [--quick] [--json]
 
@@ -30,7 +31,9 @@ truth. Clips are rendered once into the cache.
 
 masks: each mask back-end from the same click on the target, on the frames a suite fit uses
 (every 4th): IoU against the true masks, IoU around the flukes and around the rostrum (the
-parts that decide the length) and seconds per frame.
+parts that decide the length) and seconds per frame. The default back-ends are those that
+need nothing beyond dolphinfit (network, colour); SAM-2 joins them with --backends
+network,colour,sam2 --sam2-checkpoint PATH where its package is installed.
 
 app: how long the desktop app takes from the command to the sample project's first frame on
 screen (``dolphinfit gui --sample --quit-when-shown``), beside the floor of an empty PySide6
@@ -48,6 +51,7 @@ import os
 import statistics
 import sys
 
+from app.commands.masks import add_sam2_argument, sam2_checkpoint
 from core.bench.batch_bench import bench_batch
 from core.bench.fit_bench import DEFAULT_VARIANTS, VARIANTS, bench_speed, bench_suite
 from core.bench.mask_bench import DEFAULT_STRIDE, bench_masks
@@ -56,7 +60,7 @@ from core.bench.suites import DEFAULT_SHAPES, SHAPES, SUITE, ensure_scenario, sc
 from core.bench.timing import command_seconds
 from core.errors import InputError
 from core.limits import count
-from core.segment.backends import BACKENDS, make_segmenter
+from core.segment.backends import ALWAYS_AVAILABLE, BACKENDS, make_segmenter
 
 # The floor of the app's start-up: Python, PySide6 and one empty window shown, then quit
 EMPTY_WINDOW = ("from PySide6.QtCore import QTimer\n"
@@ -89,8 +93,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                        help=f"suite clips to use (1–{len(SUITE)})")
     masks.add_argument("--shapes", choices=SHAPES, default=DEFAULT_SHAPES,
                        help=f"the suite's animals (default {DEFAULT_SHAPES})")
-    masks.add_argument("--backends", default=",".join(BACKENDS),
-                       help=f"comma-separated, of {', '.join(BACKENDS)}")
+    masks.add_argument("--backends", default=",".join(ALWAYS_AVAILABLE),
+                       help=f"comma-separated, of {', '.join(BACKENDS)} "
+                            f"(default {','.join(ALWAYS_AVAILABLE)})")
+    add_sam2_argument(masks)
     masks.add_argument("--stride", type=int, default=DEFAULT_STRIDE,
                        help=f"score every K-th frame (default {DEFAULT_STRIDE})")
     masks.add_argument("--json", action="store_true", help="one JSON object on stdout")
@@ -115,11 +121,13 @@ def run(args: argparse.Namespace) -> int:
         return 0
     if args.suite_name == "masks":
         backends = tuple(args.backends.split(","))
-        for backend in backends:
-            make_segmenter(backend)  # an unknown name is refused before any work
+        checkpoint = sam2_checkpoint(args, backends)
+        for backend in backends:  # an unknown or unavailable one is refused before any work
+            make_segmenter(backend, checkpoint=checkpoint)
         chosen = scenarios(args.shapes)[:count(args.clips, 1, "--clips")]
         figures = bench_masks({sc.name: ensure_scenario(sc) for sc in chosen}, backends,
-                              count(args.stride, 1, "--stride"), progress=_print_mask_score)
+                              count(args.stride, 1, "--stride"), progress=_print_mask_score,
+                              checkpoint=checkpoint)
         print(json.dumps(figures, indent=2) if args.json else format_masks(figures))
         return 0
     if args.suite_name == "fit":

@@ -1,12 +1,15 @@
 """Track the dolphin through a clip with the built-in tracker and write its masks.
 
   dolphinfit masks CLIP (--seed X,Y | --box X,Y,W,H | --auto) --out DIR [--frame N]
-                   [--backend network|colour] [--every K]
+                   [--backend network|colour|sam2 [--sam2-checkpoint PATH]] [--every K]
 
 --backend picks who draws the masks: the salient-object network on a crop around the animal
-(default; keeps light-grey flukes over green water; about 0.3–0.9 s per frame on two cores)
-or the colour tracker (fast, for dark animals over clear water). --every K runs the network
-on every K-th frame only (the others are written empty), e.g. the frames a fit will use.
+(default; keeps light-grey flukes over green water; about 0.3–0.9 s per frame on two cores),
+the colour tracker (fast, for dark animals over clear water) or SAM-2, the paper's segmenter,
+for users who installed its `sam2` package themselves: --sam2-checkpoint names the checkpoint
+file downloaded for it (e.g. sam2.1_hiera_tiny.pt); it needs --seed or --box. --every K runs
+the network or SAM-2 on every K-th frame only (the others are written empty), e.g. the frames
+a fit will use.
 
 --seed is a click on the animal and --box a box around it (top-left x, y, width, height), in
 pixels of frame N (--frame, default 0); --auto finds the most dolphin-like blob (dark and
@@ -19,6 +22,7 @@ are used by writing them in one of these formats.
 
 import argparse
 import sys
+from collections.abc import Collection
 from pathlib import Path
 
 from core.errors import InputError
@@ -27,7 +31,8 @@ from core.io.report import format_runs
 from core.io.video import VideoReader, open_clip
 from core.limits import count, number, positive
 from core.progress import Progress
-from core.segment.backends import BACKENDS, DEFAULT_BACKEND, NETWORK, make_segmenter
+from core.segment.backends import BACKENDS, DEFAULT_BACKEND, SAM2, make_segmenter
+from core.segment.sam2_backend import check_checkpoint
 from core.segment.segmenter import AutoSeed, BoxSeed, PointSeed, Seed
 
 PROGRESS_STEPS = 10  # progress lines per run
@@ -46,8 +51,32 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="folder for %%06d.png masks, or a .npz file")
     parser.add_argument("--backend", choices=tuple(BACKENDS), default=DEFAULT_BACKEND,
                         help=f"who draws the masks (default {DEFAULT_BACKEND})")
+    add_sam2_argument(parser)
     parser.add_argument("--every", type=int, default=1, metavar="K",
-                        help="network back-end: segment every K-th frame only (default 1)")
+                        help="network and SAM-2: segment every K-th frame only (default 1)")
+
+
+def add_sam2_argument(parser: argparse.ArgumentParser) -> None:
+    """--sam2-checkpoint, for the sam2 back-end."""
+    parser.add_argument("--sam2-checkpoint", type=Path, metavar="PATH",
+                        help="the SAM-2 checkpoint (.pt) for --backend sam2, downloaded by you")
+
+
+def sam2_checkpoint(args: argparse.Namespace, backends: Collection[str]) -> Path | None:
+    """--sam2-checkpoint checked at the boundary: an existing .pt file when ``backends``
+    include sam2, absent otherwise; InputError naming the option."""
+    path = args.sam2_checkpoint
+    if SAM2 not in backends:
+        if path is not None:
+            raise InputError(f"--sam2-checkpoint {path}: only used by the {SAM2} back-end")
+        return None
+    if path is None:
+        raise InputError(f"the {SAM2} back-end needs --sam2-checkpoint PATH, a SAM-2 "
+                         "checkpoint (.pt) you downloaded")
+    try:
+        return check_checkpoint(path)
+    except InputError as exc:
+        raise InputError(f"--sam2-checkpoint {exc}") from None
 
 
 def _numbers(option: str, text: str, count: int) -> list[float]:
@@ -92,14 +121,15 @@ def run(args: argparse.Namespace) -> int:
     """Track from the seed and write the masks."""
     check_mask_output(args.out)
     seed = parse_seed(args)
+    checkpoint = sam2_checkpoint(args, (args.backend,))
+    every = count(args.every, 1, "--every")
     clip = open_clip(args.clip)
     if not 0 <= args.frame < clip.num_frames:
         raise InputError(f"--frame {args.frame}: {clip.path} has frames 0…{clip.num_frames - 1}")
+    segmenter = make_segmenter(args.backend, range(0, clip.num_frames, every), checkpoint)
     with VideoReader(clip) as frames:
         try:
-            only = (range(0, clip.num_frames, count(args.every, 1, "--every"))
-                    if args.backend == NETWORK else None)
-            track = make_segmenter(args.backend, only).segment(frames, seed, progress=_progress)
+            track = segmenter.segment(frames, seed, progress=_progress)
         except InputError as exc:
             raise InputError(f"{clip.path}: {exc}") from None
     write_masks(track, args.out)

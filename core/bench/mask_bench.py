@@ -11,11 +11,13 @@ is scored on those frames:
 - **flukes** and **rostrum IoU**: the same within a zone around that part's true region
   (``parts.npz``; the zone is the region grown by ``PART_ZONE_PX``), over the frames where the
   part is visible: the parts that decide the body length;
-- **seconds per segmented frame**, wall time of the whole pass.
+- **seconds per segmented frame**, wall time of the whole pass (for SAM-2 including
+  building its model from the checkpoint, once per clip).
 """
 
 import time
 from dataclasses import asdict, dataclass
+from pathlib import Path
 
 import numpy as np
 
@@ -24,7 +26,7 @@ from core.io.json_file import read_json
 from core.io.masks import read_png_folder
 from core.io.video import VideoReader, open_clip
 from core.iou import mask_iou
-from core.segment.backends import BACKENDS, COLOUR, make_segmenter
+from core.segment.backends import ALWAYS_AVAILABLE, COLOUR, make_segmenter
 from core.segment.seed import dilate
 from core.segment.segmenter import PointSeed
 from core.synth.files import ClipFiles, read_part_masks
@@ -64,15 +66,16 @@ def part_iou(result: np.ndarray, truth: np.ndarray, region: np.ndarray) -> float
     return mask_iou(result & zone, truth & zone)
 
 
-def score_backend(name: str, files: ClipFiles, backend: str,
-                  stride: int = DEFAULT_STRIDE) -> MaskScore:
-    """Segment one clip with one back-end and score it (module doc)."""
+def score_backend(name: str, files: ClipFiles, backend: str, stride: int = DEFAULT_STRIDE,
+                  checkpoint: Path | None = None) -> MaskScore:
+    """Segment one clip with one back-end and score it (module doc); ``checkpoint``: SAM-2's,
+    for the sam2 back-end."""
     clip = open_clip(files.video)
     truth = read_png_folder(files.masks_dir, clip)
     parts = read_part_masks(files.parts)
     seed = click_seed(files)
     scored = sorted(set(range(seed.frame_idx % stride, clip.num_frames, stride)))
-    segmenter = make_segmenter(backend, only_frames=scored)
+    segmenter = make_segmenter(backend, only_frames=scored, checkpoint=checkpoint)
     error = ""
     with VideoReader(clip) as frames:
         start = time.perf_counter()
@@ -114,13 +117,15 @@ def summarize(scores: list[MaskScore]) -> dict[str, dict[str, float]]:
     return summary
 
 
-def bench_masks(clips: dict[str, ClipFiles], backends: tuple[str, ...] = tuple(BACKENDS),
-                stride: int = DEFAULT_STRIDE, progress=None) -> dict:
-    """Every back-end on every clip, side by side; ``progress(score)`` after each."""
+def bench_masks(clips: dict[str, ClipFiles], backends: tuple[str, ...] = ALWAYS_AVAILABLE,
+                stride: int = DEFAULT_STRIDE, progress=None,
+                checkpoint: Path | None = None) -> dict:
+    """Every back-end on every clip, side by side; ``progress(score)`` after each;
+    ``checkpoint``: SAM-2's, when ``backends`` include sam2."""
     scores = []
     for name, files in clips.items():
         for backend in backends:
-            scores.append(score_backend(name, files, backend, stride))
+            scores.append(score_backend(name, files, backend, stride, checkpoint))
             if progress is not None:
                 progress(scores[-1])
     return {"clips": [asdict(s) for s in scores], "summary": summarize(scores),

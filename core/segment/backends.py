@@ -1,35 +1,48 @@
-"""The mask back-ends by name: the network tracker (default) and the colour tracker (fast).
+"""The mask back-ends by name: the network tracker (default), the colour tracker (fast) and,
+for users who installed it, SAM-2 (the paper's segmenter; core/segment/sam2_backend.py).
 
 The name is what a user picks (CLI ``--backend``, the app's tracking menu) and what a mask
-file records as its source. The network needs its installed weights; when they are missing
-the error says how to install them rather than silently falling back to colour.
+file records as its source. The network needs its installed weights, SAM-2 its package and a
+checkpoint the user names; when they are missing the error says how to install them rather
+than silently falling back to another back-end.
 """
 
 from collections.abc import Sequence
+from pathlib import Path
 
 from core.errors import InputError
 from core.segment.segmenter import Segmenter
 
 NETWORK = "network"
 COLOUR = "colour"
+SAM2 = "sam2"
 BACKENDS: dict[str, str] = {
     NETWORK: "salient-object network (U²-Net small) on a crop around the animal, edges "
              "placed by colour; about 0.3–0.9 s per frame on two cores",
     COLOUR: "colour models of the animal and the water; fast (about 0.05 s per frame) but "
             "loses light-grey flukes over green water",
+    SAM2: "SAM-2's video predictor from a click or a box (the sam2 package and a checkpoint, "
+          "both installed by the user); slow on the CPU, so only on the frames to be fitted",
 }
 DEFAULT_BACKEND = NETWORK
+ALWAYS_AVAILABLE = (NETWORK, COLOUR)  # need nothing beyond dolphinfit's own installation
 
 
-def make_segmenter(backend: str = DEFAULT_BACKEND,
-                   only_frames: Sequence[int] | None = None) -> Segmenter:
-    """A segmenter of ``backend``; ``only_frames`` limits the network to those frames (the
-    colour tracker is cheap enough to run on every frame and ignores it)."""
+def make_segmenter(backend: str = DEFAULT_BACKEND, only_frames: Sequence[int] | None = None,
+                   checkpoint: Path | str | None = None) -> Segmenter:
+    """A segmenter of ``backend``; ``only_frames`` limits the network and SAM-2 to those
+    frames (the colour tracker is cheap enough to run on every frame and ignores it).
+    ``checkpoint``: SAM-2's checkpoint file, required for it (the others ignore it)."""
     if backend == NETWORK:
         from core.segment.net_tracker import NetTracker
         return NetTracker(only_frames=only_frames)
     if backend == COLOUR:
         from core.segment.tracker import MaskTracker
         return MaskTracker()
+    if backend == SAM2:
+        if checkpoint is None:
+            raise InputError(f"mask back-end {SAM2!r}: needs a SAM-2 checkpoint file (.pt)")
+        from core.segment.sam2_backend import Sam2Segmenter
+        return Sam2Segmenter(checkpoint, only_frames)
     raise InputError(f"mask back-end {backend!r}: unknown; choose one of "
                      f"{', '.join(BACKENDS)}")

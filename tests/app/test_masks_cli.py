@@ -1,5 +1,6 @@
 """`dolphinfit masks` driven through app.cli.main on a small clip of a dark moving ellipse."""
 
+import importlib.util
 from pathlib import Path
 
 import cv2
@@ -99,3 +100,37 @@ def test_not_a_video_exits_2(tmp_path, capsys):
     bogus.write_text("not a video")
     assert main(["masks", str(bogus), "--auto", "--out", str(tmp_path / "m")]) == 2
     assert f"{bogus}: not a video" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("args, problem", [
+    (["--backend", "sam2"], "the sam2 back-end needs --sam2-checkpoint PATH"),
+    (["--backend", "sam2", "--sam2-checkpoint", "{tmp}/gone.pt"],
+     "--sam2-checkpoint {tmp}/gone.pt: no such file"),
+    (["--backend", "sam2", "--sam2-checkpoint", "{tmp}/sam2.1_hiera_tiny.pth"],
+     "--sam2-checkpoint {tmp}/sam2.1_hiera_tiny.pth: not a SAM-2 checkpoint (expected a .pt"),
+    (["--backend", "sam2", "--sam2-checkpoint", "{tmp}"], "--sam2-checkpoint {tmp}: not a file"),
+    (["--backend", "colour", "--sam2-checkpoint", "{tmp}/sam2.1_hiera_tiny.pt"],
+     "--sam2-checkpoint {tmp}/sam2.1_hiera_tiny.pt: only used by the sam2 back-end"),
+], ids=["no-checkpoint", "missing", "not-pt", "folder", "other-backend"])
+def test_sam2_checkpoint_is_checked_before_any_work(clip, tmp_path, capsys, args, problem):
+    """--sam2-checkpoint is required by --backend sam2 (an existing .pt file) and refused
+    without it: exit 2 naming the option and the file."""
+    (tmp_path / "sam2.1_hiera_tiny.pth").write_bytes(b"")
+    (tmp_path / "sam2.1_hiera_tiny.pt").write_bytes(b"")
+    args = [a.format(tmp=tmp_path) for a in args]
+    out = tmp_path / "m"
+    assert main(["masks", str(clip), "--seed", "40,50", *args, "--out", str(out)]) == 2
+    assert problem.format(tmp=tmp_path) in capsys.readouterr().err
+    assert not out.exists()
+
+
+@pytest.mark.skipif(importlib.util.find_spec("sam2") is not None,
+                    reason="the sam2 package is installed here")
+def test_sam2_without_its_package_exits_2_saying_how_to_install(clip, tmp_path, capsys):
+    checkpoint = tmp_path / "sam2.1_hiera_tiny.pt"
+    checkpoint.write_bytes(b"")
+    assert main(["masks", str(clip), "--seed", "40,50", "--backend", "sam2",
+                 "--sam2-checkpoint", str(checkpoint), "--out", str(tmp_path / "m")]) == 2
+    err = capsys.readouterr().err
+    assert "needs the 'sam2' package, which is not installed; install it yourself" in err
+    assert "torchvision" in err

@@ -118,3 +118,25 @@ def test_mask_bench_scores_each_back_end_from_the_click(tiny_scenario):
     assert 0.0 <= network["rostrum_iou"] <= 1.0 and not network["error"]
     assert colour["mean_iou"] == 0.0 and "no dark, elongated animal" in colour["error"]
     assert figures["summary"]["network"]["mean_iou"] == network["mean_iou"]
+
+
+def test_bench_masks_defaults_to_the_back_ends_that_always_work():
+    """SAM-2 is never in the default list: the bench must not fail where it is not installed."""
+    from app.cli import build_parser
+
+    assert build_parser("bench").parse_args(["bench", "masks"]).backends == "network,colour"
+
+
+@pytest.mark.parametrize("args, problem", [
+    (["--backends", "network,sam2"], "the sam2 back-end needs --sam2-checkpoint PATH"),
+    (["--backends", "sam2", "--sam2-checkpoint", "{tmp}/sam2.1_hiera_tiny.txt"],
+     "--sam2-checkpoint {tmp}/sam2.1_hiera_tiny.txt: not a SAM-2 checkpoint"),
+    (["--sam2-checkpoint", "{tmp}/sam2.1_hiera_tiny.pt"],
+     "--sam2-checkpoint {tmp}/sam2.1_hiera_tiny.pt: only used by the sam2 back-end"),
+], ids=["no-checkpoint", "not-pt", "without-sam2"])
+def test_bench_masks_checks_the_sam2_checkpoint_before_any_work(tmp_path, capsys, args,
+                                                                problem):
+    (tmp_path / "sam2.1_hiera_tiny.txt").write_text("not a checkpoint")
+    (tmp_path / "sam2.1_hiera_tiny.pt").write_bytes(b"")
+    assert main(["bench", "masks", *[a.format(tmp=tmp_path) for a in args]]) == 2
+    assert problem.format(tmp=tmp_path) in capsys.readouterr().err
