@@ -76,10 +76,13 @@ def _order(start_frame: int, num_frames: int, direction: Direction) -> range:
 
 
 def _merged(tracked: MaskTrack, order: range, num_frames: int, existing: MaskTrack | None,
-            kept: np.ndarray | None, start_frame: int) -> MaskTrack:
-    """The clip's track of ``num_frames``: ``tracked`` (frames of the view ``order``) over
-    ``existing`` (empty if None); frame ``start_frame`` gets ``kept`` instead when given."""
-    view_of = {frame_idx: view_idx for view_idx, frame_idx in enumerate(order)}
+            kept: np.ndarray | None, start_frame: int,
+            segmented: set[int] | None = None) -> MaskTrack:
+    """The clip's track of ``num_frames``: ``tracked`` (frames of the view ``order``; of
+    those only ``segmented`` when given) over ``existing`` (empty if None); frame
+    ``start_frame`` gets ``kept`` instead when given."""
+    view_of = {frame_idx: view_idx for view_idx, frame_idx in enumerate(order)
+               if segmented is None or frame_idx in segmented}
     width, height = tracked.width_px, tracked.height_px
 
     def load(frame_idx: int) -> np.ndarray:
@@ -91,7 +94,7 @@ def _merged(tracked: MaskTrack, order: range, num_frames: int, existing: MaskTra
 
     is_visible = (np.zeros(num_frames, bool) if existing is None
                   else existing.is_visible.copy())
-    is_visible[list(order)] = tracked.is_visible
+    is_visible[list(view_of)] = tracked.is_visible[list(view_of.values())]
     if kept is not None:
         is_visible[start_frame] = kept.any()
     return MaskTrack(is_visible, width, height, tracked.source, load)
@@ -131,6 +134,8 @@ def track_job(media_path: Path | str, seed: PointSeed | BoxSeed | np.ndarray,
             tracked = make_segmenter(backend, view_only, checkpoint).segment(
                 _FrameView(source, order), view_seed, progress, cancel)
             num_frames = len(source)
-        return _merged(tracked, order, num_frames, existing, kept, start_frame)
+        # a back-end limited to some frames leaves the others' masks as they were
+        segmented = None if only_frames is None else {*map(int, only_frames), start_frame}
+        return _merged(tracked, order, num_frames, existing, kept, start_frame, segmented)
 
     return job

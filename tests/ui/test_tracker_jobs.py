@@ -94,3 +94,21 @@ def test_cancel_raises_cancelled(clip):
 def test_a_bad_direction_is_refused(clip):
     with pytest.raises(ValueError, match="direction"):
         track_job(clip[0], PointSeed(1, 1), 0, "sideways")
+
+
+def test_a_back_end_limited_to_some_frames_keeps_the_others_masks(clip):
+    """Tracking only the frames a fit uses (SAM-2 in the app) replaces those frames' masks
+    and the seed frame's, and leaves every other frame's mask as it was (a correction made
+    there is not blanked)."""
+    path, truth = clip
+    existing = MaskTrack.from_array(np.roll([truth.mask(t) for t in range(NUM_FRAMES)], 3,
+                                            axis=2), "old")
+    chosen = [2, 8, 10]
+    track = track_job(path, PointSeed(*_centre(SEED_FRAME)), SEED_FRAME, "both", existing,
+                      only_frames=np.array(chosen))(lambda _: None, threading.Event())
+    segmented = {*chosen, SEED_FRAME}
+    for t in range(NUM_FRAMES):
+        if t in segmented:
+            assert track_iou(track, truth)[t] > 0.8
+        else:
+            np.testing.assert_array_equal(track.mask(t), existing.mask(t))
