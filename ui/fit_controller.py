@@ -27,7 +27,7 @@ from core.measure.hw_ratios import write_hw_csv
 from core.project.fit_settings import FitSettings, fit_dir, hw_table_path
 from core.project.model import Animal, with_animal
 from core.project.project_file import media_path, relative_media_path
-from core.project.results import FrameResult, frame_altitude
+from core.project.results import FrameResult, frame_altitude, project_fit_config
 from ui.commands import push_edit
 from ui.comparison_job import ComparisonView, comparison_view
 from ui.fit_panel import FitPanel
@@ -356,8 +356,8 @@ class FitController(QObject):
         return FitJob(discard=self._closing, media=media_path(path, clip),
                       telemetry=session.telemetry,
                       masks=(path.parent / clip.masks_path).resolve(), camera=clip.camera,
-                      settings=settings,
-                      out_dir=fit_dir(path, clip.media_path, animal.animal_id))
+                      out_dir=fit_dir(path, clip.media_path, animal.animal_id),
+                      config=project_fit_config(settings, window.model.project, path.parent))
 
     def _on_progress(self, progress: Progress) -> None:
         self.panel.show_progress(progress)

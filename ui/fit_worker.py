@@ -1,5 +1,6 @@
 """The model-based fit of one animal in a worker (ui/job_worker.py): its own reader of the
-clip, the clip's masks and altitude, the animal's fit settings; the outputs are written into
+clip, the clip's masks and altitude, the engine configuration of the animal's fit settings and
+the project's HW table; the outputs are written into
 the animal's fit folder, replacing an older fit only once the new one is complete on disk.
 ``finished`` carries (FitResult, fit folder); a cancelled or diverged fit is a result too,
 with its status and the best state it reached."""
@@ -15,7 +16,7 @@ from core.io.masks import read_masks
 from core.io.media import open_media
 from core.io.telemetry import Telemetry
 from core.progress import Cancelled, ProgressCallback
-from core.project.fit_settings import FitSettings, fit_config
+from core.fit.config import FitConfig
 from ui.job_worker import JobWorker
 
 PARTIAL_SUFFIX = ".partial"  # the folder a fit is written into before it replaces the old one
@@ -31,8 +32,8 @@ class FitJob:
     telemetry: Telemetry
     masks: Path
     camera: CameraPreset
-    settings: FitSettings
     out_dir: Path
+    config: FitConfig    # the animal's fit settings and the project's HW table
 
 
 def run_fit_job(job: FitJob, progress: ProgressCallback, cancel: threading.Event) -> tuple:
@@ -50,7 +51,7 @@ def run_fit_job(job: FitJob, progress: ProgressCallback, cancel: threading.Event
             raise InputError(f"camera: {mismatch}; fix it in Clip → Camera… before fitting")
         masks = read_masks(job.masks, frames.clip)
         run = fit_clip(frames, job.telemetry, masks, job.camera.intrinsics(),
-                       fit_config(job.settings), progress=progress, cancel=cancel)
+                       job.config, progress=progress, cancel=cancel)
     if job.discard.is_set():
         raise Cancelled()  # closing: an older complete fit is not replaced by a partial one
     partial = job.out_dir.with_name(job.out_dir.name + PARTIAL_SUFFIX)

@@ -202,10 +202,11 @@ def format_masks(figures: dict) -> str:
 
 def format_suite(figures: dict) -> str:
     """Per-clip errors and the summary per variant."""
-    lines = ["clip             variant         volume    length    mass      IoU   min IoU "
-             "frames  s"]
+    lines = ["clip             variant         volume    (floor)    length    mass      IoU   "
+             "min IoU frames  s"]
     for c in figures["clips"]:
         lines.append(f"{c['clip']:16s} {c['variant']:14s} {100 * c['volume_error']:+6.2f} %  "
+                     f"({100 * c['hidden_height_floor']:+6.2f} %)  "
                      f"{100 * c['length_error']:+6.2f} %  {100 * c['mass_error']:+6.2f} %  "
                      f"{c['mean_iou']:.3f}  {c['min_iou']:.3f}  {c['frames']:6d}  "
                      f"{c['seconds']:.0f}" + (f"  ({c['error']})" if c["error"] else ""))
@@ -214,8 +215,11 @@ def format_suite(figures: dict) -> str:
         if "median_abs_volume_error" not in s:
             lines.append(f"{variant:14s} no clip fitted ({s['failed']} failed)")
             continue
-        lines.append(f"{variant:14s} ({s['failed']} failed) |volume| median {100 * s['median_abs_volume_error']:.2f} %, "
-                     f"worst {100 * s['worst_abs_volume_error']:.2f} %; |length| median "
+        lines.append(f"{variant:14s} ({s['failed']} failed) |volume| median "
+                     f"{100 * s['median_abs_volume_error']:.2f} %, "
+                     f"worst {100 * s['worst_abs_volume_error']:.2f} % (hidden-height floor "
+                     f"{100 * s['median_abs_hidden_height_floor']:.2f} %, "
+                     f"{100 * s['worst_abs_hidden_height_floor']:.2f} %); |length| median "
                      f"{100 * s['median_abs_length_error']:.2f} %, worst "
                      f"{100 * s['worst_abs_length_error']:.2f} %; |mass| median "
                      f"{100 * s['median_abs_mass_error']:.2f} %; mean IoU {s['mean_iou']:.3f}")

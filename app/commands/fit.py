@@ -3,13 +3,15 @@
   dolphinfit fit CLIP --altitude (METRES | FILE.csv | FILE.srt | LASER_LOG) [--launch-height M]
                  [--masks DIR|VIDEO|NPZ] [--camera PRESET | --sensor-width-mm X --focal-mm Y]
                  [--start S] [--end S] [--fps N] [--out DIR] [--no-roi] [--refraction]
-                 [--vertical-prior] [--config FILE.json]
+                 [--vertical-prior] [--hw PRESET|CSV|model] [--config FILE.json]
 
 Without --masks the built-in tracker finds the dolphin by itself (automatic seed). Writes
 DIR/result.json (volume_m3, length_m, mass_kg, bci, frames, timings, status, …), DIR/result.npz
 (every fitted array; core.fit.result_io reads both back), DIR/rest_mesh.ply, DIR/posed/%06d.ply
 (one per fitted frame) and DIR/overlays/%06d.png (frame | mask | render). --fps sets how many
-frames per second of video are fitted (default 5).
+frames per second of video are fitted (default 5). --hw names the HW table whose height/width
+ratios give the heights a camera above cannot see (as `dolphinfit measure --hw`; "model"
+keeps the template's own).
 
 Exit codes: 0 the fit completed; 2 bad input; 1 an internal error, or a fit that ended early
 (status "diverged": the loss turned non-finite; "cancelled" comes only from callers of
@@ -24,11 +26,12 @@ from pathlib import Path
 
 from app.progress import terminal_progress
 from core.errors import InputError
-from core.fit.config import FitConfig
+from core.fit.config import FitConfig, fit_hw_table
 from core.fit.outputs import check_fit_folder, write_outputs
 from core.fit.pipeline import CameraChoice, FitRun, run_fit
 from core.fit.result import STATUS_COMPLETE
 from core.io.json_file import read_json
+from core.measure.hw_ratios import resolve_hw
 from core.limits import (
     ALTITUDE_M, FOCAL_MM, FPS, LAUNCH_HEIGHT_M, SENSOR_WIDTH_MM, in_range, result_figures,
     time_window,
@@ -58,6 +61,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="model flat-water refraction of submerged parts (off by default)")
     parser.add_argument("--vertical-prior", action="store_true",
                         help="the paper's v_surf/v_dive depth nudge")
+    parser.add_argument("--hw", default=None, metavar="PRESET|CSV|model",
+                        help="HW table for the heights a top view cannot see (default: the "
+                             "configuration's, else the default preset); model: the "
+                             "template's own")
     parser.add_argument("--config", type=Path, default=None, help="a FitConfig JSON")
 
 
@@ -68,6 +75,8 @@ def fit_config(args: argparse.Namespace) -> FitConfig:
         data = read_json(args.config, "the fit configuration")
         try:
             config = FitConfig.from_json(data)
+            if config.hw_table is not None:
+                resolve_hw(config.hw_table)   # a table the fit could not read, named now
         except InputError as exc:
             raise InputError(f"{args.config}: {exc}") from None
     changes = {"use_roi": config.use_roi and not args.no_roi,
@@ -77,6 +86,12 @@ def fit_config(args: argparse.Namespace) -> FitConfig:
                "end_s": args.end if args.end is not None else config.end_s}
     if args.fps is not None:
         changes["fps"] = args.fps
+    if args.hw is not None:
+        try:
+            resolve_hw(args.hw)   # an unknown preset or unreadable file, named before any work
+        except InputError as exc:
+            raise InputError(f"--hw: {exc}") from None
+        changes["hw_table"] = fit_hw_table(args.hw)
     return replace(config, **changes)
 
 

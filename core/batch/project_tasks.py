@@ -6,12 +6,14 @@ from pathlib import Path
 from core.batch.task import BatchTask, FitInputs, ProjectMeasurement
 from core.fit.pipeline import CameraChoice
 from core.measure.uncertainty import DEFAULT_NUM_DRAWS
-from core.project.fit_settings import fit_config, fit_dir
-from core.project.model import Animal, ClipEntry
+from core.project.fit_settings import fit_dir
+from core.project.results import project_fit_config
+from core.project.model import Animal, ClipEntry, Project
 from core.project.project_file import media_path, read_project
 
 
-def _fit_inputs(project_path: Path, clip: ClipEntry, animal: Animal) -> FitInputs | None:
+def _fit_inputs(project_path: Path, project: Project, clip: ClipEntry,
+                animal: Animal) -> FitInputs | None:
     """The fit of a video clip's animal (None for stills and frame folders); without an
     altitude the clip's SRT sidecar is used, without masks the tracker finds the dolphin."""
     if clip.kind != "video":
@@ -25,7 +27,7 @@ def _fit_inputs(project_path: Path, clip: ClipEntry, animal: Animal) -> FitInput
         time_offset_s=0.0 if spec is None else spec.time_offset_s,
         camera=CameraChoice(None, clip.camera.sensor_width_mm, clip.camera.focal_mm),
         masks=None if clip.masks_path is None else (project_dir / clip.masks_path).resolve(),
-        config=fit_config(animal.fit_settings))
+        config=project_fit_config(animal.fit_settings, project, project_dir))
 
 
 def project_tasks(project_path: Path, num_draws: int = DEFAULT_NUM_DRAWS) -> list[BatchTask]:
@@ -35,6 +37,6 @@ def project_tasks(project_path: Path, num_draws: int = DEFAULT_NUM_DRAWS) -> lis
     return [BatchTask(name=fit_dir(project_path, clip.media_path, animal.animal_id).name,
                       clip=clip.media_path, animal_id=animal.animal_id,
                       where=f"{project_path}: clips[{c}] animals[{a}]",
-                      fit=_fit_inputs(project_path, clip, animal),
+                      fit=_fit_inputs(project_path, project, clip, animal),
                       measurement=ProjectMeasurement(project, project_path, c, a, num_draws))
             for c, clip in enumerate(project.clips) for a, animal in enumerate(clip.animals)]

@@ -2,7 +2,9 @@
 
 Suite: the scenarios of ``core.bench.suites`` (1920×1080 clips of light-grey and dark animals
 over green, blue, sandy and murky water, pairs, splash, glitter and sharp turns, with every
-effect the fit does not model on). Each clip is fitted side by side in the chosen variants:
+effect the fit does not model on). Beside each error stands the clip's hidden-height floor
+(``core.bench.hidden_heights``): what a top view must miss with the fit's assumed heights and
+sections. Each clip is fitted side by side in the chosen variants:
 by default with the clip's true masks (the fit alone) and with the product's own masks (the
 default mask back-end from a click on the target, as a user would start it), at 2.5 frames
 per second of video. Altitude comes from the DJI SRT sidecar. Clips are rendered once into
@@ -18,6 +20,7 @@ from dataclasses import asdict, dataclass, replace
 
 import numpy as np
 
+from core.bench.hidden_heights import hidden_height_floor
 from core.bench.mask_bench import click_seed
 from core.bench.suites import Scenario, ensure_scenario
 from core.bench.timing import run_with_peak_rss_mb
@@ -25,6 +28,7 @@ from core.errors import InputError
 from core.fit.config import FitConfig, LossWeights
 from core.fit.pipeline import CameraChoice, run_fit
 from core.io.json_file import read_json
+from core.measure.hw_ratios import DEFAULT_PRESET
 from core.segment.backends import DEFAULT_BACKEND
 from core.synth.clip import make_clip
 from core.synth.config import SynthConfig
@@ -51,6 +55,11 @@ VARIANTS: dict[str, tuple[str | None, dict]] = {
     # the axes prior (each part's axes scale together) off, and ten times the default
     "true_masks_no_axes_prior": (None, {"weights": LossWeights(scale_axes=0.0)}),
     "true_masks_strong_axes_prior": (None, {"weights": LossWeights(scale_axes=1.0)}),
+    # the parts' scales alone, without the profile field along the body
+    "true_masks_no_profile_field": (None, {"profile_field": False}),
+    # the hidden heights from the template's own height/width ratios, not the HW table's
+    "true_masks_template_heights": (None, {"hw_table": None}),
+    "true_masks_table_heights": (None, {"hw_table": DEFAULT_PRESET}),
 }
 DEFAULT_VARIANTS = ("true_masks", "product_masks")
 SUITE_FIT_FPS = 2.5
@@ -74,6 +83,9 @@ class ClipScore:
     frames: int
     seconds: float
     frame_iou: tuple[float, ...]   # per fitted frame, in time order
+    # the volume error a top view must make on this animal with this fit's assumed heights
+    # and sections (core.bench.hidden_heights): the floor under volume_error
+    hidden_height_floor: float = float("nan")
     error: str = ""                # why there is no fit (its errors are then NaN)
 
 
@@ -104,6 +116,7 @@ def _score(files: ClipFiles, config: SynthConfig, fit_config: FitConfig, name: s
                          frame_iou=(), error=str(exc))
     result = run.result
     return ClipScore(clip=name, variant=variant,
+                     hidden_height_floor=hidden_height_floor(files, fit_config),
                      volume_error=result.volume_m3 / truth["volume_m3"] - 1.0,
                      length_error=result.length_m / truth["length_m"] - 1.0,
                      mass_error=result.mass_kg / truth["mass_kg"] - 1.0,
@@ -125,11 +138,14 @@ def summarize(scores: list[ClipScore]) -> dict[str, dict[str, float]]:
         volume = np.abs([s.volume_error for s in chosen])
         length = np.abs([s.length_error for s in chosen])
         mass = np.abs([s.mass_error for s in chosen])
+        floor = np.abs([s.hidden_height_floor for s in chosen])
         summary[variant] = {"median_abs_volume_error": float(np.median(volume)),
                             "worst_abs_volume_error": float(volume.max()),
                             "median_abs_length_error": float(np.median(length)),
                             "worst_abs_length_error": float(length.max()),
                             "median_abs_mass_error": float(np.median(mass)),
+                            "median_abs_hidden_height_floor": float(np.median(floor)),
+                            "worst_abs_hidden_height_floor": float(floor.max()),
                             "mean_iou": float(np.mean([s.mean_iou for s in chosen])),
                             "mean_seconds": float(np.mean([s.seconds for s in chosen])),
                             "failed": failed}

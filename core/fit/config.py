@@ -21,6 +21,12 @@ COUNT_MINIMUMS = {"heading_trial_steps": 0, "steps_global": 0, "steps_body": 0,
                   "paper_width_px": 1, "max_faces_per_pixel": 1}  # whole-number fields
 
 
+def fit_hw_table(spec: str) -> str | None:
+    """A user's HW choice (``--hw``, the project's table) as ``FitConfig.hw_table``: "model"
+    (the template's own ratios, for the elliptical baseline) is None here."""
+    return None if spec == FROM_MODEL else spec
+
+
 @dataclass(frozen=True)
 class LossWeights:
     """Weights of the loss terms (the paper's, DESIGN.md §6)."""

@@ -6,7 +6,7 @@ annotation with the clip's camera and the frame's altitude, then ``estimate_base
 """
 
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 import numpy as np
@@ -17,10 +17,12 @@ from core.io.telemetry import Telemetry, load_telemetry
 from core.io.video import Clip
 from core.measure.annotation import Calibration
 from core.measure.baseline import BaselineEstimate, BaselineSettings, estimate_baseline
+from core.fit.config import FitConfig, fit_hw_table
 from core.measure.hw_ratios import HWRatios
 from core.measure.records import (
     MeasureInput, default_error_model, measured_image_from_annotation, result_record,
 )
+from core.project.fit_settings import FitSettings, fit_config
 from core.project.model import ClipEntry, MeasurementKey, Project, get_measurement
 
 # Per-animal summary: these result keys, over the animal's measured frames
@@ -34,6 +36,14 @@ def project_hw_spec(project: Project, project_dir: Path | None) -> str:
     if project_dir is not None and spec.lower().endswith(".csv") and not Path(spec).is_absolute():
         return str(project_dir / spec)
     return spec
+
+
+def project_fit_config(settings: FitSettings, project: Project,
+                       project_dir: Path) -> FitConfig:
+    """``fit_config`` with the project's HW table for the heights a top view cannot see, so
+    that both methods take them from the same table."""
+    return replace(fit_config(settings),
+                   hw_table=fit_hw_table(project_hw_spec(project, project_dir)))
 
 
 def clip_telemetry(project_dir: Path, clip: ClipEntry, media: Clip) -> Telemetry | None:

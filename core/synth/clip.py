@@ -49,13 +49,7 @@ def make_clip(config: SynthConfig, out_dir: Path, progress: ProgressCallback | N
     """
     out_dir = Path(out_dir)
     rng = np.random.default_rng(config.seed)
-    template = _body(config)
-    if config.effects.profile_warp:
-        template = warp_profiles(template, rng)
-    if config.effects.finer_mesh:
-        template = subdivide(template)
-    model = DolphinModel(template, dtype=torch.float64)
-    betas = random_betas(model, config.length_m, config.shape_sd, rng)
+    template, model, betas = synth_animal(config, rng)
     motion = swim(config, model.group_names, rng)
     altitude = (config.altitude_m + config.altitude_drift_m
                 * np.sin(2 * math.pi * motion.time_s / (1.3 * config.duration_s)
@@ -132,6 +126,21 @@ def make_clip(config: SynthConfig, out_dir: Path, progress: ProgressCallback | N
     return files
 
 
+def synth_animal(config: SynthConfig, rng: np.random.Generator
+                 ) -> tuple[Template, DolphinModel, torch.Tensor]:
+    """The clip's animal: its template (heights, sections, warp, finer mesh as configured),
+    the model of it and its part scales; draws from ``rng`` first, as ``make_clip`` does."""
+    template = _body(config)
+    if config.effects.profile_warp:
+        template = warp_profiles(template, rng, tie_heights=config.hw_table is not None)
+    if config.effects.finer_mesh:
+        template = subdivide(template)
+    model = DolphinModel(template, dtype=torch.float64)
+    betas = random_betas(model, config.length_m, config.shape_sd, rng,
+                         tie_heights=config.hw_table is not None)
+    return template, model, betas
+
+
 def _body(config: SynthConfig) -> Template:
     """The template, with the configured heights and section shape (body_shape.py)."""
     template = load_template()
@@ -149,7 +158,8 @@ def _companion(config: SynthConfig, model: DolphinModel, target: Motion,
     """The second animal's motion and posed vertices (T, V, 3), or None when alone."""
     if config.companion_offset_m is None:
         return None, None
-    betas = random_betas(model, config.companion_length_m, config.shape_sd, rng)
+    betas = random_betas(model, config.companion_length_m, config.shape_sd, rng,
+                         tie_heights=config.hw_table is not None)
     motion = companion(config, target, model.group_names, rng)
     with torch.no_grad():
         verts = model(betas, torch.as_tensor(motion.pose_aa),

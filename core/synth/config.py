@@ -83,9 +83,11 @@ class SynthConfig:
     companion_ahead_m: float = 0.0          # … and this far ahead of the target
     companion_length_m: float = 2.4
     splash: float = 0.0                     # white water and wake at the surface, 0 off … 1
-    # The animal's cross-sections (body_shape.py): heights drawn from this HW preset's
-    # ratios and SDs (None: the template's heights), sections superellipses of this exponent
-    # (2: ellipses, as the template's; larger fuller, smaller leaner).
+    # The animal's cross-sections (core/model/sections.py): its heights are its widths times
+    # ratios drawn from this HW preset's ratios and SDs (the random part scales and profile
+    # warp then change widths and heights together); None: the template's heights, with
+    # part scales and warp drawn for each axis apart. Sections are superellipses of
+    # section_exponent (2: ellipses, as the template's; larger fuller, smaller leaner).
     hw_table: str | None = None
     section_exponent: float = 2.0
     effects: Effects = field(default_factory=Effects)

@@ -2,8 +2,9 @@
 
 ``random_betas`` draws per-part log scales and rescales uniformly to the requested length.
 ``warp_profiles`` changes the template's width and height profiles by smooth random factors
-along the body (outside the span of per-part scaling). ``draw_hw`` draws an animal's
-height/width ratios from an HW table (for ``core.model.sections.reshape_sections``). ``subdivide`` gives a finer, smoother
+along the body (outside the span of per-part scaling; the profile field of the fit follows
+them). ``draw_hw`` draws an animal's height/width ratios from an HW table (for
+``core.model.sections.reshape_sections``). ``subdivide`` gives a finer, smoother
 (Loop-subdivided) template with skinning weights and UVs carried over.
 """
 
@@ -26,9 +27,12 @@ WARP_AMPLITUDE = 0.05      # each component's amplitude, relative width/height c
 
 
 def random_betas(model: DolphinModel, length_m: float, shape_sd: float,
-                 rng: np.random.Generator) -> torch.Tensor:
-    """(M, 4) log part scales with SD ``shape_sd``, rescaled to body length ``length_m``."""
+                 rng: np.random.Generator, tie_heights: bool = False) -> torch.Tensor:
+    """(M, 4) log part scales with SD ``shape_sd``, rescaled to body length ``length_m``;
+    with ``tie_heights`` each part's z scale is its y scale (its height/width ratio stays)."""
     draws = rng.normal(0.0, shape_sd, size=(model.num_groups, NUM_SHAPE_PARAMS))
+    if tie_heights:
+        draws[:, 3] = draws[:, 2]
     betas = torch.tensor(draws, dtype=model.rest_verts.dtype)
     rest = model.forward_rest(betas)[0]
     current = body_length(rest, model.rostrum_idx, model.notch_idx)
@@ -36,12 +40,14 @@ def random_betas(model: DolphinModel, length_m: float, shape_sd: float,
     return betas
 
 
-def warp_profiles(template: Template, rng: np.random.Generator) -> Template:
+def warp_profiles(template: Template, rng: np.random.Generator,
+                  tie_heights: bool = False) -> Template:
     """The template with widths and heights scaled by smooth random factors along the body.
 
     Each vertex moves away from (or towards) the body axis: its y by 1 + a_w(t) and its z by
-    1 + a_h(t), with t its position along the body; both factors are 1 at the rostrum tip and
-    the fluke notch, so length is kept.
+    1 + a_h(t) (by 1 + a_w(t) too with ``tie_heights``, so height/width ratios stay), with t
+    its position along the body; both factors are 1 at the rostrum tip and the fluke notch,
+    so length is kept.
     """
     x = template.verts[:, 0]
     t = np.clip((x[template.rostrum_idx] - x) / template.length_m, 0.0, 1.0)
@@ -55,8 +61,9 @@ def warp_profiles(template: Template, rng: np.random.Generator) -> Template:
         return 1.0 + envelope * waves
 
     verts = template.verts.copy()
-    verts[:, 1] *= factor()
-    verts[:, 2] *= factor()
+    width_factor, height_factor = factor(), factor()   # both drawn: the same stream either way
+    verts[:, 1] *= width_factor
+    verts[:, 2] *= width_factor if tie_heights else height_factor
     return replace(template, verts=verts)
 
 

@@ -98,6 +98,8 @@ def paths(tmp_path_factory) -> dict[str, Path]:
     p["fit_config_text"] = _write(root / "fit_text.json", {"fps": "five"})
     p["fit_config_negative"] = _write(root / "fit_negative.json", {"steps_global": -5})
     p["fit_config_nan"] = _write(root / "fit_nan.json", {"weights": {"mask": math.nan}})
+    p["fit_config_hw_model"] = _write(root / "fit_hw_model.json", {"hw_table": "model"})
+    p["fit_config_hw_nope"] = _write(root / "fit_hw_nope.json", {"hw_table": "nope"})
     p["synth_config_text"] = _write(root / "synth_text.json", {"altitude_m": "high"})
     p["synth_config_negative"] = _write(root / "synth_negative.json",
                                         {"config": {"width_px": -640}})
@@ -208,6 +210,10 @@ CASES = [
      "fit_negative.json: fit option steps_global: must be at least 0"),
     ("fit {clip} --masks {masks} --out {out_fit} --altitude 20 --config {fit_config_nan}",
      "fit_nan.json: fit option weights.mask: expected a finite number"),
+    ("fit {clip} --masks {masks} --out {out_fit} --altitude 20 --config {fit_config_hw_model}",
+     "fit_hw_model.json: fit option hw_table: 'model' would take the fit's heights from the"),
+    ("fit {clip} --masks {masks} --out {out_fit} --altitude 20 --config {fit_config_hw_nope}",
+     "fit_hw_nope.json: unknown HW ratio preset 'nope'"),
     ("fit {clip} --masks {masks} --out {out_fit} --altitude 20 --config {junk_json}",
      "junk.json: not valid JSON"),
     ("synth {out_synth} --config {synth_config_text}",
@@ -236,6 +242,10 @@ CASES = [
     ("fit {clip} --masks {masks} --out {out_fit} --altitude {junk_csv}", "junk.csv: "),
     ("measure {junk_csv} --out {out_measure}", "junk.csv"),
     ("measure {ann} --out {out_measure} --hw {junk_csv}", "junk.csv, line 1: expected the"),
+    ("fit {clip} --masks {masks} --out {out_fit} --altitude 20 --hw {junk_csv}",
+     "junk.csv, line 1: expected the"),
+    ("fit {clip} --masks {masks} --out {out_fit} --altitude 20 --hw tursiops-fat",
+     "--hw: unknown HW ratio preset 'tursiops-fat'"),
     ("telemetry {junk_csv} --out {out_csv}", "junk.csv: cannot be read as CSV"),
     ("masks {junk_csv} --auto --out {out_masks}", "junk.csv"),
     ("fit {junk_csv} --altitude 20 --out {out_fit}", "junk.csv"),

@@ -96,6 +96,8 @@ def test_fit_suite_scores_clips_against_their_truth(tiny_scenario):
     assert [c["variant"] for c in figures["clips"]] == ["true_masks", "product_masks"]
     for clip in figures["clips"]:
         assert abs(clip["volume_error"]) < 0.5 and clip["frames"] >= 3
+        # the template's own heights and sections, drawn with random part scales per axis
+        assert abs(clip["hidden_height_floor"]) < 0.15
         assert len(clip["frame_iou"]) == clip["frames"]
         assert min(clip["frame_iou"]) == clip["min_iou"] > 0.5
     summary = figures["summary"]["true_masks"]

@@ -244,17 +244,20 @@ def test_config_round_trips_and_rejects_nonsense():
 
 
 def test_cli_fit_writes_result_meshes_and_overlays(clip_dir, tmp_path, capsys):
-    """`dolphinfit fit` writes result.json, the rest mesh, posed meshes and overlays."""
+    """`dolphinfit fit` writes result.json, the rest mesh, posed meshes and overlays; --hw
+    picks the table of the hidden heights ("model": the template's own)."""
     config = tmp_path / "quick.json"
     config.write_text(json.dumps(TINY.to_json()))
     out = tmp_path / "out"
     argv = ["fit", str(clip_dir / "clip.mkv"), "--altitude", str(clip_dir / "altitude.csv"),
             "--masks", str(clip_dir / "masks"), "--sensor-width-mm", "17.27", "--focal-mm",
-            "12.29", "--config", str(config), "--out", str(out)]
+            "12.29", "--config", str(config), "--out", str(out), "--hw", "circular"]
     assert main(argv) == 0
     result = json.loads((out / "result.json").read_text())
     for key in ("volume_m3", "length_m", "mass_kg", "bci", "frames", "timings"):
         assert key in result
+    assert result["config"]["hw_table"] == "circular"
+    assert np.asarray(result["profile"]).shape == (2, 10)
     assert len(list((out / "posed").glob("*.ply"))) == len(result["frames"])
     assert (out / "rest_mesh.ply").exists() and list((out / "overlays").glob("*.png"))
     assert result["status"] == "complete"

@@ -91,3 +91,19 @@ def test_midline_from_mask_runs_rostrum_to_flukes():
     assert flipped[0][0] > 500
     with pytest.raises(ValueError):
         midline_from_mask(np.zeros((10, 10), bool))
+
+
+def test_the_fit_takes_its_hidden_heights_from_the_projects_hw_table(project, tmp_path):
+    """Both methods take the heights a top view cannot see from the project's table: a
+    preset by name, a project CSV made absolute, and "model" (the elliptical baseline's
+    ratios from the template) as the template's own heights (hw_table None)."""
+    from dataclasses import replace
+
+    from core.project.fit_settings import FitSettings
+    from core.project.results import project_fit_config
+
+    settings = FitSettings(fps=2.0)
+    for spec, expected in (("circular", "circular"), ("model", None),
+                           ("tables/hw.csv", str(tmp_path / "tables/hw.csv"))):
+        config = project_fit_config(settings, replace(project, hw_ratios=spec), tmp_path)
+        assert config.hw_table == expected and config.fps == 2.0
