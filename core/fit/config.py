@@ -10,7 +10,7 @@ from dataclasses import asdict, dataclass, field, fields
 from core.errors import InputError
 from core.io.json_file import dataclass_from_json
 from core.limits import FPS, check_fields, count, one_of, time_window
-from core.measure.hw_ratios import FROM_MODEL
+from core.measure.hw_ratios import DEFAULT_PRESET, FROM_MODEL
 from core.render import SOFT_PRIMITIVES
 
 COLOUR_GEOMETRY = ("all_stages", "pose_stages", "none")
@@ -144,8 +144,11 @@ class FitConfig:
     # ratio at each station (the axes prior ties a part's height to its width). None: the
     # built template's; an HW table (a preset name of core.measure.hw_ratios or a CSV path,
     # as `dolphinfit measure --hw`): the template reshaped to the table's ratios at the 5–85 %
-    # stations first (core/model/sections.py), as the elliptical baseline takes them.
-    hw_table: str | None = None
+    # stations first (core/model/sections.py), as the elliptical baseline takes them. The
+    # default is the elliptical baseline's default table: on the suite's animals with other
+    # heights than the template's the template's ratios made every volume low (mean −10.5 %,
+    # `dolphinfit bench fit --suite`, variant true_masks_template_heights).
+    hw_table: str | None = DEFAULT_PRESET
 
     def __post_init__(self) -> None:
         for name, minimum in COUNT_MINIMUMS.items():

@@ -10,15 +10,18 @@ import json
 import os
 from pathlib import Path
 
+from core.measure.hw_ratios import DEFAULT_PRESET
 from core.progress import ProgressCallback
 from core.synth.config import SynthConfig
 from core.synth.files import ClipFiles, clip_files
 
 CACHE_DIR_ENV = "DOLPHINFIT_CACHE_DIR"
-SAMPLE_NAME = "sample-v1"
+SAMPLE_NAME = "sample-v2"
+# the animal's heights follow the default HW table, as the fit assumes by default (v1 had the
+# template's heights)
 SAMPLE_CONFIG = SynthConfig(seed=7, width_px=1280, height_px=720, fps=10.0, duration_s=5.0,
                             altitude_m=18.0, length_m=2.45, heading_deg=20.0, sea_state=0.35,
-                            dive_depth_m=0.5)
+                            dive_depth_m=0.5, hw_table=DEFAULT_PRESET)
 
 
 def cache_dir() -> Path:

@@ -32,8 +32,10 @@ from core.io.video import VideoReader, open_clip
 from core.model.model import DolphinModel
 from core.progress import Cancelled
 
-# The clip (conftest.py): a 2.3 m animal in 1920×1080 footage at 20 m, 8 frames.
-QUICK = FitConfig(heading_trial_steps=8, steps_global=20, steps_body=20, steps_shape=40)
+# The clip (conftest.py): a 2.3 m animal in 1920×1080 footage at 20 m, 8 frames, with the
+# template's heights, which the fit then takes too.
+QUICK = FitConfig(heading_trial_steps=8, steps_global=20, steps_body=20, steps_shape=40,
+                  hw_table=None)
 TINY = replace(QUICK, heading_trial_steps=2, steps_global=3, steps_body=2, steps_shape=3)
 INTRINSICS = CameraIntrinsics.from_sensor(12.29, 17.27, 1920, 1080)
 
