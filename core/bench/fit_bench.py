@@ -60,6 +60,8 @@ VARIANTS: dict[str, tuple[str | None, dict]] = {
     # the hidden heights from the template's own height/width ratios, not the HW table's
     "true_masks_template_heights": (None, {"hw_table": None}),
     "true_masks_table_heights": (None, {"hw_table": DEFAULT_PRESET}),
+    # the fit before both: the parts' scales alone and the template's heights
+    "true_masks_before_field_and_table": (None, {"profile_field": False, "hw_table": None}),
 }
 DEFAULT_VARIANTS = ("true_masks", "product_masks")
 SUITE_FIT_FPS = 2.5
