@@ -2,7 +2,7 @@
 
   dolphinfit bench render [--json] [--repeats N] [--quick]
   dolphinfit bench fit (--suite [--clips N] [--variants V,…] | --speed) [--json]
-  dolphinfit bench masks [--clips N] [--backends B,…] [--stride K] [--json]
+  dolphinfit bench masks [--clips N | --only NAME,…] [--backends B,…] [--stride K] [--json]
   dolphinfit bench app [--repeats N] [--json]
   dolphinfit bench batch [--clips N] [--quick] [--json]
 
@@ -49,7 +49,7 @@ from core.bench.batch_bench import bench_batch
 from core.bench.fit_bench import DEFAULT_VARIANTS, VARIANTS, bench_speed, bench_suite
 from core.bench.mask_bench import DEFAULT_STRIDE, bench_masks
 from core.bench.render_bench import RenderBench, bench_render, bench_to_json
-from core.bench.suites import SUITE, ensure_scenario
+from core.bench.suites import SUITE, ensure_scenario, scenarios_named
 from core.bench.timing import command_seconds
 from core.errors import InputError
 from core.limits import count
@@ -82,6 +82,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     masks = suites.add_parser("masks", help="mask back-ends against the truth on the suite")
     masks.add_argument("--clips", type=int, default=len(SUITE),
                        help=f"suite clips to use (1–{len(SUITE)})")
+    masks.add_argument("--only", default="",
+                       help="comma-separated suite clip names to run instead (e.g. "
+                            "grey_green,dark_sandy)")
     masks.add_argument("--backends", default=",".join(BACKENDS),
                        help=f"comma-separated, of {', '.join(BACKENDS)}")
     masks.add_argument("--stride", type=int, default=DEFAULT_STRIDE,
@@ -110,7 +113,8 @@ def run(args: argparse.Namespace) -> int:
         backends = tuple(args.backends.split(","))
         for backend in backends:
             make_segmenter(backend)  # an unknown name is refused before any work
-        chosen = SUITE[:count(args.clips, 1, "--clips")]
+        chosen = (scenarios_named(args.only.split(",")) if args.only
+                  else SUITE[:count(args.clips, 1, "--clips")])
         figures = bench_masks({sc.name: ensure_scenario(sc) for sc in chosen}, backends,
                               count(args.stride, 1, "--stride"), progress=_print_mask_score)
         print(json.dumps(figures, indent=2) if args.json else format_masks(figures))

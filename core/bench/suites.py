@@ -13,6 +13,7 @@ import json
 from dataclasses import dataclass, replace
 from pathlib import Path
 
+from core.limits import one_of
 from core.progress import ProgressCallback
 from core.synth.config import Effects, SynthConfig
 from core.synth.files import ClipFiles, clip_files
@@ -83,6 +84,15 @@ SUITE: tuple[Scenario, ...] = (
 def suite_dir() -> Path:
     """Where the suite's clips are cached."""
     return cache_dir() / SUITE_NAME
+
+
+def scenarios_named(names: list[str]) -> tuple[Scenario, ...]:
+    """The suite's scenarios of these names, in the order given; InputError on an unknown
+    one."""
+    by_name = {scenario.name: scenario for scenario in SUITE}
+    for name in names:
+        one_of(name, tuple(by_name), "suite clip")
+    return tuple(by_name[name] for name in names)
 
 
 def ensure_scenario(scenario: Scenario,

@@ -119,3 +119,14 @@ def test_mask_bench_scores_each_back_end_from_the_click(tiny_scenario):
     assert 0.0 <= network["rostrum_iou"] <= 1.0 and not network["error"]
     assert colour["mean_iou"] == 0.0 and "no dark, elongated animal" in colour["error"]
     assert figures["summary"]["network"]["mean_iou"] == network["mean_iou"]
+
+
+def test_suite_clips_by_name_keep_the_order_given_and_refuse_unknown_names(capsys):
+    from core.bench.suites import scenarios_named
+
+    assert [s.name for s in scenarios_named(["turn_right", "grey_green"])] == \
+        ["turn_right", "grey_green"]
+    with pytest.raises(InputError, match="suite clip: one of grey_green, .*got 'nope'"):
+        scenarios_named(["grey_green", "nope"])
+    assert main(["bench", "masks", "--only", "nope"]) == 2
+    assert "got 'nope'" in capsys.readouterr().err
