@@ -2,7 +2,8 @@
 
   dolphinfit bench render [--json] [--repeats N] [--quick]
   dolphinfit bench fit (--suite [--clips N] [--variants V,…] | --speed) [--json]
-  dolphinfit bench masks [--clips N | --only NAME,…] [--backends B,…] [--stride K] [--json]
+  dolphinfit bench masks [--clips N | --only NAME,…] [--backends B,…] [--seeds S,…]
+                         [--stride K] [--json]
   dolphinfit bench app [--repeats N] [--json]
   dolphinfit bench batch [--clips N] [--quick] [--json]
 
@@ -27,7 +28,8 @@ truth. Clips are rendered once into the cache.
 
 masks: each mask back-end from the same click on the target, on the frames a suite fit uses
 (every 4th): IoU against the true masks, IoU around the flukes and around the rostrum (the
-parts that decide the length) and seconds per frame.
+parts that decide the length) and seconds per frame; the same from the automatic seed and
+from a box around the target (--seeds, default click,auto,box; the click always).
 
 app: how long the desktop app takes from the command to the sample project's first frame on
 screen (``dolphinfit gui --sample --quit-when-shown``), beside the floor of an empty PySide6
@@ -47,7 +49,7 @@ import sys
 
 from core.bench.batch_bench import bench_batch
 from core.bench.fit_bench import DEFAULT_VARIANTS, VARIANTS, bench_speed, bench_suite
-from core.bench.mask_bench import DEFAULT_STRIDE, bench_masks
+from core.bench.mask_bench import DEFAULT_STRIDE, SEED_KINDS, bench_masks
 from core.bench.render_bench import RenderBench, bench_render, bench_to_json
 from core.bench.suites import SUITE, ensure_scenario, scenarios_named
 from core.bench.timing import command_seconds
@@ -87,6 +89,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                             "grey_green,dark_sandy)")
     masks.add_argument("--backends", default=",".join(BACKENDS),
                        help=f"comma-separated, of {', '.join(BACKENDS)}")
+    masks.add_argument("--seeds", default=",".join(SEED_KINDS),
+                       help=f"comma-separated, of {', '.join(SEED_KINDS)} (the click always)")
     masks.add_argument("--stride", type=int, default=DEFAULT_STRIDE,
                        help=f"score every K-th frame (default {DEFAULT_STRIDE})")
     masks.add_argument("--json", action="store_true", help="one JSON object on stdout")
@@ -116,7 +120,8 @@ def run(args: argparse.Namespace) -> int:
         chosen = (scenarios_named(args.only.split(",")) if args.only
                   else SUITE[:count(args.clips, 1, "--clips")])
         figures = bench_masks({sc.name: ensure_scenario(sc) for sc in chosen}, backends,
-                              count(args.stride, 1, "--stride"), progress=_print_mask_score)
+                              count(args.stride, 1, "--stride"), tuple(args.seeds.split(",")),
+                              progress=_print_mask_score)
         print(json.dumps(figures, indent=2) if args.json else format_masks(figures))
         return 0
     if args.suite_name == "fit":
@@ -168,24 +173,38 @@ def _print_score(score) -> None:
 
 
 def _print_mask_score(score) -> None:
+    others = "".join(f"  {kind} IoU {s.mean_iou:.3f}" for kind, s in score.seeds.items())
     print(f"{score.clip:16s} {score.backend:8s} IoU {score.mean_iou:.3f}  flukes "
           f"{score.flukes_iou:.3f}  rostrum {score.rostrum_iou:.3f}  "
-          f"{score.seconds_per_frame:.2f} s/frame {score.error}", file=sys.stderr, flush=True)
+          f"{score.seconds_per_frame:.2f} s/frame{others} {score.error}", file=sys.stderr,
+          flush=True)
 
 
 def format_masks(figures: dict) -> str:
-    """Per-clip IoUs and the summary per back-end."""
-    lines = ["clip             back-end  IoU    min    flukes rostrum s/frame"]
+    """Per-clip IoUs and the summary per back-end, from the click and from the other seeds
+    (IoU, flukes, rostrum IoU of each)."""
+    kinds = list(figures["clips"][0]["seeds"])
+    lines = ["clip             back-end  IoU    min    flukes rostrum s/frame"
+             + "".join(f"  {kind:>5s}: IoU  fl    ro" for kind in kinds)]
     for c in figures["clips"]:
+        errors = [c["error"]] + [c["seeds"][kind]["error"] for kind in kinds]
         lines.append(f"{c['clip']:16s} {c['backend']:8s}  {c['mean_iou']:.3f}  "
                      f"{c['min_iou']:.3f}  {c['flukes_iou']:.3f}  {c['rostrum_iou']:.3f}   "
-                     f"{c['seconds_per_frame']:.2f}" + (f"  ({c['error']})" if c['error'] else ""))
+                     f"{c['seconds_per_frame']:.2f}"
+                     + "".join(f"        {_ious(c['seeds'][kind])}" for kind in kinds)
+                     + "".join(f"  ({e})" for e in errors if e))
     lines.append("")
     for backend, s in figures["summary"].items():
         lines.append(f"{backend:8s} mean IoU {s['mean_iou']:.3f} (worst clip "
                      f"{s['worst_clip_iou']:.3f}), flukes {s['flukes_iou']:.3f}, rostrum "
-                     f"{s['rostrum_iou']:.3f}, {s['seconds_per_frame']:.2f} s per frame")
+                     f"{s['rostrum_iou']:.3f}, {s['seconds_per_frame']:.2f} s per frame"
+                     + "".join(f"; {kind}: {t['mean_iou']:.3f} (worst clip "
+                               f"{t['worst_clip_iou']:.3f})" for kind, t in s["seeds"].items()))
     return "\n".join(lines)
+
+
+def _ious(score: dict) -> str:
+    return f"{score['mean_iou']:.3f} {score['flukes_iou']:.3f} {score['rostrum_iou']:.3f}"
 
 
 def format_suite(figures: dict) -> str:
