@@ -114,6 +114,9 @@ class NetSettings:
     search_growth: float = 1.6       # the window's growth per step while lost
     first_window_fraction: float = 0.3   # a click's first window, × the frame's shorter side
     seed_rounds: int = 3             # re-windowings around the clicked animal
+    # the automatic seed's tiles, × the frame's shorter side: in a whole-height tile a 2 m
+    # animal from 25 m (grey_green_high) was too small for the network to see
+    tile_fraction: float = 0.5
     focus_fraction: float = 0.25     # faded out beyond this × its length from its prediction
     fade_fraction: float = 0.15      # over this × its length
     follow_iou: float = 0.8          # below this overlap with its prediction, look again
@@ -390,7 +393,8 @@ class NetTracker:
         else:  # the tile shows the animal small: look again in a window around what it found
             mask = self._found(frame_rgb)
             rows, cols = self._around(frame_rgb, mask) if mask.any() else (slice(0), slice(0))
-            mask = self._masked(frame_rgb, rows, cols, mask, near=False)
+            again = self._masked(frame_rgb, rows, cols, mask, near=False)
+            mask = again if again.any() else mask
         growth = 1.0
         for _ in range(self.settings.seed_rounds):
             if not mask.any():
@@ -416,11 +420,31 @@ class NetTracker:
         return mask
 
     def _found(self, frame_rgb: np.ndarray) -> np.ndarray:
-        """An automatic seed: the most salient dolphin-like blob (the shape tests of
-        ``seed.find_blobs``) in overlapping square tiles that cover the frame."""
+        """An automatic seed: the most salient blob as elongated as a lone dolphin
+        (``_salient_blobs``); else the built-in detector's best blob (``seed.seed_mask``: a
+        dark animal over sand, which the network hardly sees); else the most salient of the
+        less elongated blobs (a part of an animal in glitter); else nothing. A seagrass patch
+        or a glitter field the network marks is wider than a dolphin."""
+        lone, others = [], []
+        for score, blob in self._salient_blobs(frame_rgb):
+            (lone if shape_of(blob)[1] >= PAIR_MAX_ELONGATION else others).append((score, blob))
+        if lone:
+            return max(lone, key=lambda scored: scored[0])[1]
+        try:
+            return seed_mask(frame_rgb, AutoSeed())
+        except InputError:
+            pass
+        if others:
+            return max(others, key=lambda scored: scored[0])[1]
+        return np.zeros(frame_rgb.shape[:2], bool)
+
+    def _salient_blobs(self, frame_rgb: np.ndarray) -> list[tuple[float, np.ndarray]]:
+        """(score, (H, W) mask) of the salient blobs that pass the shape tests of
+        ``seed.find_blobs`` in overlapping square tiles over the frame, each
+        ``tile_fraction`` of its shorter side; the score is the mean saliency × √area."""
         height, width = frame_rgb.shape[:2]
-        side = min(height, width)
-        best, best_score = np.zeros((height, width), bool), 0.0
+        side = round(self.settings.tile_fraction * min(height, width))
+        blobs = []
         for row0 in _tile_starts(height, side):
             for col0 in _tile_starts(width, side):
                 rows, cols = slice(row0, row0 + side), slice(col0, col0 + side)
@@ -430,17 +454,14 @@ class NetTracker:
                 for label in range(1, count):
                     blob = labels == label
                     area, elongation, fill = shape_of(blob)
-                    if not (MIN_AREA_FRACTION * height * width <= area
+                    if (MIN_AREA_FRACTION * height * width <= area
                             <= MAX_AREA_FRACTION * height * width
                             and MIN_ELONGATION <= elongation <= MAX_ELONGATION
                             and fill >= MIN_FILL):
-                        continue
-                    score = float(saliency[blob].mean() * np.sqrt(area))
-                    if score > best_score:
-                        best_score = score
-                        best = np.zeros((height, width), bool)
-                        best[rows, cols] = blob
-        return best
+                        mask = np.zeros((height, width), bool)
+                        mask[rows, cols] = blob
+                        blobs.append((float(saliency[blob].mean() * np.sqrt(area)), mask))
+        return blobs
 
     def _clicked(self, frame_rgb: np.ndarray, rows: slice, cols: slice,
                  seed: PointSeed) -> tuple[np.ndarray, tuple[slice, slice]]:

@@ -246,3 +246,25 @@ def test_a_dark_animal_over_a_sand_bed_from_a_click(tmp_path, net):
     with VideoReader(clip) as frames:
         track = NetTracker(only_frames=only, net=net).segment(frames, seed)
     assert _ious(track, truth, only).mean() >= 0.7
+
+
+class _Reddish:
+    """A stand-in network that marks reddish pixels as salient."""
+
+    def saliency(self, crop_rgb: np.ndarray) -> np.ndarray:
+        return (crop_rgb[..., 0] > crop_rgb[..., 1] + 60).astype(np.float32)
+
+
+def test_the_automatic_seed_prefers_a_lone_dolphins_shape_to_a_larger_wider_blob():
+    """A wide salient patch (elongation 2.7, five times the area: seagrass, a glitter field)
+    scores higher on saliency × √area; the blob as elongated as a lone dolphin is taken."""
+    frame, animal = _animal_frame((90, 120), water_rgb=(40, 110, 100), animal_rgb=(220, 90, 90))
+    cv2.ellipse(frame, (235, 120), (80, 30), 70, 0, 360, (220, 90, 90), -1)
+    mask = NetTracker(net=_Reddish())._seed_mask(frame, AutoSeed(0))
+    assert mask_iou(mask, animal) > 0.9
+
+
+def test_where_the_network_sees_nothing_the_automatic_seed_takes_the_dark_blob():
+    frame, animal = _animal_frame((160, 120))
+    mask = NetTracker(net=_Reddish())._seed_mask(frame, AutoSeed(0))
+    assert mask_iou(mask, animal) > 0.9
