@@ -374,9 +374,10 @@ class NetTracker:
         return square_window(centroid(mask), side, *frame_rgb.shape[:2])
 
     def _seed_mask(self, frame_rgb: np.ndarray, seed: Seed) -> np.ndarray:
-        """The animal in the seed frame: a click, a box or the automatic search looks in a
-        first window, wider ones while what the network finds there is cut by the window's
-        edge."""
+        """The animal in the seed frame: a click, a box or the automatic search finds it in
+        a first window; then it is looked at again around itself (wider while cut by the
+        window's edge), a new look kept where the mask was cut or where it is no less
+        elongated (module doc, **Seed**)."""
         height, width = frame_rgb.shape[:2]
         if isinstance(seed, PointSeed):
             if not (0 <= seed.x_px < width and 0 <= seed.y_px < height):
