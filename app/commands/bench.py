@@ -2,8 +2,8 @@
 
   dolphinfit bench render [--json] [--repeats N] [--quick]
   dolphinfit bench fit (--suite [--clips N] [--shapes S] [--variants V,…] | --speed) [--json]
-  dolphinfit bench masks [--clips N] [--shapes S] [--backends B,…] [--sam2-checkpoint PATH]
-                         [--stride K] [--json]
+  dolphinfit bench masks [--clips N | --only NAME,…] [--shapes S] [--backends B,…]
+                         [--seeds S,…] [--sam2-checkpoint PATH] [--stride K] [--json]
   dolphinfit bench app [--repeats N] [--json]
   dolphinfit bench batch [--clips N] [--quick] [--json]
 
@@ -31,9 +31,10 @@ truth. Clips are rendered once into the cache.
 
 masks: each mask back-end from the same click on the target, on the frames a suite fit uses
 (every 4th): IoU against the true masks, IoU around the flukes and around the rostrum (the
-parts that decide the length) and seconds per frame. The default back-ends are those that
-need nothing beyond dolphinfit (network, colour); SAM-2 joins them with --backends
-network,colour,sam2 --sam2-checkpoint PATH where its package is installed.
+parts that decide the length) and seconds per frame; the same from the automatic seed and
+from a box around the target (--seeds, default click,auto,box; the click always). The default
+back-ends are those that need nothing beyond dolphinfit (network, colour); SAM-2 joins them
+with --backends network,colour,sam2 --sam2-checkpoint PATH where its package is installed.
 
 app: how long the desktop app takes from the command to the sample project's first frame on
 screen (``dolphinfit gui --sample --quit-when-shown``), beside the floor of an empty PySide6
@@ -54,9 +55,11 @@ import sys
 from app.commands.masks import add_sam2_argument, sam2_checkpoint
 from core.bench.batch_bench import bench_batch
 from core.bench.fit_bench import DEFAULT_VARIANTS, VARIANTS, bench_speed, bench_suite
-from core.bench.mask_bench import DEFAULT_STRIDE, bench_masks
+from core.bench.mask_bench import DEFAULT_STRIDE, SEED_KINDS, bench_masks
 from core.bench.render_bench import RenderBench, bench_render, bench_to_json
-from core.bench.suites import DEFAULT_SHAPES, SHAPES, SUITE, ensure_scenario, scenarios
+from core.bench.suites import (
+    DEFAULT_SHAPES, SHAPES, SUITE, ensure_scenario, scenarios, scenarios_named,
+)
 from core.bench.timing import command_seconds
 from core.errors import InputError
 from core.limits import count
@@ -91,12 +94,17 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     masks = suites.add_parser("masks", help="mask back-ends against the truth on the suite")
     masks.add_argument("--clips", type=int, default=len(SUITE),
                        help=f"suite clips to use (1–{len(SUITE)})")
+    masks.add_argument("--only", default="",
+                       help="comma-separated suite clip names to run instead (e.g. "
+                            "grey_green,dark_sandy)")
     masks.add_argument("--shapes", choices=SHAPES, default=DEFAULT_SHAPES,
                        help=f"the suite's animals (default {DEFAULT_SHAPES})")
     masks.add_argument("--backends", default=",".join(ALWAYS_AVAILABLE),
                        help=f"comma-separated, of {', '.join(BACKENDS)} "
                             f"(default {','.join(ALWAYS_AVAILABLE)})")
     add_sam2_argument(masks)
+    masks.add_argument("--seeds", default=",".join(SEED_KINDS),
+                       help=f"comma-separated, of {', '.join(SEED_KINDS)} (the click always)")
     masks.add_argument("--stride", type=int, default=DEFAULT_STRIDE,
                        help=f"score every K-th frame (default {DEFAULT_STRIDE})")
     masks.add_argument("--json", action="store_true", help="one JSON object on stdout")
@@ -124,10 +132,11 @@ def run(args: argparse.Namespace) -> int:
         checkpoint = sam2_checkpoint(args, backends)
         for backend in backends:  # an unknown or unavailable one is refused before any work
             make_segmenter(backend, checkpoint=checkpoint)
-        chosen = scenarios(args.shapes)[:count(args.clips, 1, "--clips")]
+        chosen = (scenarios_named(args.only.split(","), args.shapes) if args.only
+                  else scenarios(args.shapes)[:count(args.clips, 1, "--clips")])
         figures = bench_masks({sc.name: ensure_scenario(sc) for sc in chosen}, backends,
-                              count(args.stride, 1, "--stride"), progress=_print_mask_score,
-                              checkpoint=checkpoint)
+                              count(args.stride, 1, "--stride"), tuple(args.seeds.split(",")),
+                              progress=_print_mask_score, checkpoint=checkpoint)
         print(json.dumps(figures, indent=2) if args.json else format_masks(figures))
         return 0
     if args.suite_name == "fit":
@@ -180,24 +189,38 @@ def _print_score(score) -> None:
 
 
 def _print_mask_score(score) -> None:
+    others = "".join(f"  {kind} IoU {s.mean_iou:.3f}" for kind, s in score.seeds.items())
     print(f"{score.clip:16s} {score.backend:8s} IoU {score.mean_iou:.3f}  flukes "
           f"{score.flukes_iou:.3f}  rostrum {score.rostrum_iou:.3f}  "
-          f"{score.seconds_per_frame:.2f} s/frame {score.error}", file=sys.stderr, flush=True)
+          f"{score.seconds_per_frame:.2f} s/frame{others} {score.error}", file=sys.stderr,
+          flush=True)
 
 
 def format_masks(figures: dict) -> str:
-    """Per-clip IoUs and the summary per back-end."""
-    lines = ["clip             back-end  IoU    min    flukes rostrum s/frame"]
+    """Per-clip IoUs and the summary per back-end, from the click and from the other seeds
+    (IoU, flukes, rostrum IoU of each)."""
+    kinds = list(figures["clips"][0]["seeds"])
+    lines = ["clip             back-end  IoU    min    flukes rostrum s/frame"
+             + "".join(f"  {kind:>5s}: IoU  fl    ro" for kind in kinds)]
     for c in figures["clips"]:
+        errors = [c["error"]] + [c["seeds"][kind]["error"] for kind in kinds]
         lines.append(f"{c['clip']:16s} {c['backend']:8s}  {c['mean_iou']:.3f}  "
                      f"{c['min_iou']:.3f}  {c['flukes_iou']:.3f}  {c['rostrum_iou']:.3f}   "
-                     f"{c['seconds_per_frame']:.2f}" + (f"  ({c['error']})" if c['error'] else ""))
+                     f"{c['seconds_per_frame']:.2f}"
+                     + "".join(f"        {_ious(c['seeds'][kind])}" for kind in kinds)
+                     + "".join(f"  ({e})" for e in errors if e))
     lines.append("")
     for backend, s in figures["summary"].items():
         lines.append(f"{backend:8s} mean IoU {s['mean_iou']:.3f} (worst clip "
                      f"{s['worst_clip_iou']:.3f}), flukes {s['flukes_iou']:.3f}, rostrum "
-                     f"{s['rostrum_iou']:.3f}, {s['seconds_per_frame']:.2f} s per frame")
+                     f"{s['rostrum_iou']:.3f}, {s['seconds_per_frame']:.2f} s per frame"
+                     + "".join(f"; {kind}: {t['mean_iou']:.3f} (worst clip "
+                               f"{t['worst_clip_iou']:.3f})" for kind, t in s["seeds"].items()))
     return "\n".join(lines)
+
+
+def _ious(score: dict) -> str:
+    return f"{score['mean_iou']:.3f} {score['flukes_iou']:.3f} {score['rostrum_iou']:.3f}"
 
 
 def format_suite(figures: dict) -> str:

@@ -13,31 +13,51 @@ is scored on those frames:
   part is visible: the parts that decide the body length;
 - **seconds per segmented frame**, wall time of the whole pass (for SAM-2 including
   building its model from the checkpoint, once per clip).
+
+The same scores from the other ways a user starts (``SEED_KINDS``): the automatic seed in
+that frame, and a box: the bounding box of the true mask there, as a user would draw it.
 """
 
 import time
-from dataclasses import asdict, dataclass
+from dataclasses import asdict, dataclass, field
 from pathlib import Path
 
 import numpy as np
 
 from core.errors import InputError
 from core.io.json_file import read_json
-from core.io.masks import read_png_folder
+from core.io.masks import MaskTrack, read_png_folder
 from core.io.video import VideoReader, open_clip
 from core.iou import mask_iou
+from core.limits import one_of
 from core.segment.backends import ALWAYS_AVAILABLE, COLOUR, make_segmenter
+from core.segment.evaluate import box_seed_from
 from core.segment.seed import dilate
-from core.segment.segmenter import PointSeed
+from core.segment.segmenter import AutoSeed, PointSeed, Seed
 from core.synth.files import ClipFiles, read_part_masks
 
 PART_ZONE_PX = 4
 DEFAULT_STRIDE = 4    # the suite's clips are 10 fps and fitted at 2.5 fps
+CLICK, AUTO, BOX = "click", "auto", "box"
+SEED_KINDS = (CLICK, AUTO, BOX)
+
+
+@dataclass(frozen=True)
+class SeedScore:
+    """One back-end on one clip from one kind of seed."""
+
+    mean_iou: float
+    min_iou: float
+    flukes_iou: float     # NaN when the flukes are never visible in the scored frames
+    rostrum_iou: float
+    seconds_per_frame: float
+    error: str = ""       # why the back-end gave no masks at all (scored as empty masks)
 
 
 @dataclass(frozen=True)
 class MaskScore:
-    """One back-end on one clip."""
+    """One back-end on one clip: from the click (the first fields) and, in ``seeds``, from
+    the other kinds of seed."""
 
     clip: str
     backend: str
@@ -48,6 +68,7 @@ class MaskScore:
     frames: int           # frames scored
     seconds_per_frame: float
     error: str = ""       # why the back-end gave no masks at all (scored as empty masks)
+    seeds: dict[str, SeedScore] = field(default_factory=dict)
 
 
 def click_seed(files: ClipFiles) -> PointSeed:
@@ -60,6 +81,15 @@ def click_seed(files: ClipFiles) -> PointSeed:
     raise ValueError(f"{files.truth_json}: the target is never visible")
 
 
+def seed_of(kind: str, click: PointSeed, truth: MaskTrack) -> Seed:
+    """The seed of ``kind`` (``SEED_KINDS``) in the click's frame."""
+    if kind == AUTO:
+        return AutoSeed(click.frame_idx)
+    if kind == BOX:
+        return box_seed_from(truth, click.frame_idx)
+    return click
+
+
 def part_iou(result: np.ndarray, truth: np.ndarray, region: np.ndarray) -> float:
     """IoU of the two masks within the zone around one part's true region."""
     zone = dilate(region, PART_ZONE_PX)
@@ -67,24 +97,39 @@ def part_iou(result: np.ndarray, truth: np.ndarray, region: np.ndarray) -> float
 
 
 def score_backend(name: str, files: ClipFiles, backend: str, stride: int = DEFAULT_STRIDE,
+                  seeds: tuple[str, ...] = (CLICK,),
                   checkpoint: Path | None = None) -> MaskScore:
-    """Segment one clip with one back-end and score it (module doc); ``checkpoint``: SAM-2's,
-    for the sam2 back-end."""
+    """Segment one clip with one back-end from each kind of seed in ``seeds`` (the click
+    always) and score it (module doc); ``checkpoint``: SAM-2's, for the sam2 back-end."""
     clip = open_clip(files.video)
     truth = read_png_folder(files.masks_dir, clip)
     parts = read_part_masks(files.parts)
-    seed = click_seed(files)
-    scored = sorted(set(range(seed.frame_idx % stride, clip.num_frames, stride)))
-    segmenter = make_segmenter(backend, only_frames=scored, checkpoint=checkpoint)
-    error = ""
-    with VideoReader(clip) as frames:
-        start = time.perf_counter()
-        try:
-            track = segmenter.segment(frames, seed)
-        except InputError as exc:  # the seed found nothing: every frame scores as empty
-            track, error = None, str(exc)
-        seconds = time.perf_counter() - start
+    click = click_seed(files)
+    scored = sorted(set(range(click.frame_idx % stride, clip.num_frames, stride)))
     segmented = clip.num_frames if backend == COLOUR else len(scored)
+    by_kind = {}
+    for kind in dict.fromkeys((CLICK, *seeds)):
+        segmenter = make_segmenter(backend, only_frames=scored, checkpoint=checkpoint)
+        error = ""
+        with VideoReader(clip) as frames:
+            start = time.perf_counter()
+            try:
+                track = segmenter.segment(frames, seed_of(kind, click, truth))
+            except InputError as exc:  # the seed found nothing: every frame scores as empty
+                track, error = None, str(exc)
+            seconds = time.perf_counter() - start
+        by_kind[kind] = _scores(track, truth, parts, scored, seconds / segmented, error)
+    first = by_kind.pop(CLICK)
+    return MaskScore(clip=name, backend=backend, mean_iou=first.mean_iou,
+                     min_iou=first.min_iou, flukes_iou=first.flukes_iou,
+                     rostrum_iou=first.rostrum_iou, frames=len(scored),
+                     seconds_per_frame=first.seconds_per_frame, error=first.error,
+                     seeds=by_kind)
+
+
+def _scores(track: MaskTrack | None, truth: MaskTrack, parts: dict[str, np.ndarray],
+            scored: list[int], seconds_per_frame: float, error: str) -> SeedScore:
+    """The IoUs of ``track`` (None: no masks) on the scored frames."""
     ious, part_ious = [], {part: [] for part in ("flukes", "rostrum")}
     for t in scored:
         target = truth.mask(t)
@@ -94,39 +139,47 @@ def score_backend(name: str, files: ClipFiles, backend: str, stride: int = DEFAU
             region = parts[part][t] & target
             if region.any():
                 values.append(part_iou(result, target, region))
-    return MaskScore(clip=name, backend=backend, mean_iou=float(np.mean(ious)),
-                     min_iou=float(np.min(ious)),
-                     flukes_iou=float(np.mean(part_ious["flukes"])) if part_ious["flukes"]
-                     else float("nan"),
-                     rostrum_iou=float(np.mean(part_ious["rostrum"])) if part_ious["rostrum"]
-                     else float("nan"),
-                     frames=len(scored), seconds_per_frame=seconds / segmented, error=error)
+    part_means = {part: float(np.mean(values)) if values else float("nan")
+                  for part, values in part_ious.items()}
+    return SeedScore(mean_iou=float(np.mean(ious)), min_iou=float(np.min(ious)),
+                     flukes_iou=part_means["flukes"], rostrum_iou=part_means["rostrum"],
+                     seconds_per_frame=seconds_per_frame, error=error)
 
 
-def summarize(scores: list[MaskScore]) -> dict[str, dict[str, float]]:
-    """Per back-end: the mean over clips of each figure, and the worst clip's mean IoU."""
+def _means(scores: list[SeedScore | MaskScore]) -> dict[str, float]:
+    """The mean over clips of each figure, and the worst clip's mean IoU."""
+    return {"mean_iou": float(np.mean([s.mean_iou for s in scores])),
+            "worst_clip_iou": float(np.min([s.mean_iou for s in scores])),
+            "flukes_iou": float(np.nanmean([s.flukes_iou for s in scores])),
+            "rostrum_iou": float(np.nanmean([s.rostrum_iou for s in scores])),
+            "seconds_per_frame": float(np.mean([s.seconds_per_frame for s in scores]))}
+
+
+def summarize(scores: list[MaskScore]) -> dict[str, dict]:
+    """Per back-end: ``_means`` from the click, and in ``seeds`` those of the other seeds."""
     summary = {}
     for backend in dict.fromkeys(s.backend for s in scores):
         chosen = [s for s in scores if s.backend == backend]
-        summary[backend] = {
-            "mean_iou": float(np.mean([s.mean_iou for s in chosen])),
-            "worst_clip_iou": float(np.min([s.mean_iou for s in chosen])),
-            "flukes_iou": float(np.nanmean([s.flukes_iou for s in chosen])),
-            "rostrum_iou": float(np.nanmean([s.rostrum_iou for s in chosen])),
-            "seconds_per_frame": float(np.mean([s.seconds_per_frame for s in chosen]))}
+        kinds = dict.fromkeys(kind for s in chosen for kind in s.seeds)
+        summary[backend] = {**_means(chosen),
+                            "seeds": {kind: _means([s.seeds[kind] for s in chosen])
+                                      for kind in kinds}}
     return summary
 
 
 def bench_masks(clips: dict[str, ClipFiles], backends: tuple[str, ...] = ALWAYS_AVAILABLE,
-                stride: int = DEFAULT_STRIDE, progress=None,
-                checkpoint: Path | None = None) -> dict:
-    """Every back-end on every clip, side by side; ``progress(score)`` after each;
-    ``checkpoint``: SAM-2's, when ``backends`` include sam2."""
+                stride: int = DEFAULT_STRIDE, seeds: tuple[str, ...] = SEED_KINDS,
+                progress=None, checkpoint: Path | None = None) -> dict:
+    """Every back-end on every clip from each kind of seed in ``seeds`` (the click always),
+    side by side; ``progress(score)`` after each; ``checkpoint``: SAM-2's, when
+    ``backends`` include sam2."""
+    for kind in seeds:
+        one_of(kind, SEED_KINDS, "seed kind")
     scores = []
     for name, files in clips.items():
         for backend in backends:
-            scores.append(score_backend(name, files, backend, stride, checkpoint))
+            scores.append(score_backend(name, files, backend, stride, seeds, checkpoint))
             if progress is not None:
                 progress(scores[-1])
     return {"clips": [asdict(s) for s in scores], "summary": summarize(scores),
-            "stride": stride, "part_zone_px": PART_ZONE_PX}
+            "stride": stride, "part_zone_px": PART_ZONE_PX, "seed_kinds": list(seeds)}

@@ -103,6 +103,15 @@ def scenarios(shapes: str = DEFAULT_SHAPES) -> tuple[Scenario, ...]:
                  for scenario, exponent in zip(SUITE, SECTION_EXPONENTS, strict=True))
 
 
+def scenarios_named(names: list[str], shapes: str = DEFAULT_SHAPES) -> tuple[Scenario, ...]:
+    """The suite's scenarios (with the animals of ``shapes``) of these names, in the order
+    given; InputError on an unknown one."""
+    by_name = {scenario.name: scenario for scenario in scenarios(shapes)}
+    for name in names:
+        one_of(name, tuple(by_name), "suite clip")
+    return tuple(by_name[name] for name in names)
+
+
 def ensure_scenario(scenario: Scenario,
                     progress: ProgressCallback | None = None) -> ClipFiles:
     """One scenario's clip, rendered first if it is missing or was made from another

@@ -22,9 +22,11 @@ def track_iou(result: MaskTrack, truth: MaskTrack) -> np.ndarray:
     return np.array([mask_iou(result.mask(t), truth.mask(t)) for t in range(truth.num_frames)])
 
 
-def box_seed_from(truth: MaskTrack) -> BoxSeed:
-    """A user's box around the animal in the first frame where it is visible."""
-    frame_idx = int(np.flatnonzero(truth.is_visible)[0])
+def box_seed_from(truth: MaskTrack, frame_idx: int | None = None) -> BoxSeed:
+    """A user's box around the animal (the bounding box of its true mask) in frame
+    ``frame_idx``, by default the first frame where it is visible."""
+    if frame_idx is None:
+        frame_idx = int(np.flatnonzero(truth.is_visible)[0])
     rows, cols = np.nonzero(truth.mask(frame_idx))
     return BoxSeed(int(cols.min()), int(rows.min()), int(np.ptp(cols)) + 1,
                    int(np.ptp(rows)) + 1, frame_idx)

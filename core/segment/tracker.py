@@ -70,6 +70,22 @@ class _TrackState:
     velocity_px: np.ndarray = field(default_factory=lambda: np.zeros(2))
 
 
+def colour_follow(frame_rgb: np.ndarray, prediction: np.ndarray, animal: ColourModel,
+                  water: ColourModel, settings: TrackerSettings) -> np.ndarray:
+    """Steps 2 and 3: the (H, W) mask of coverage ≥ 0.5 near a non-empty ``prediction``,
+    attached to it."""
+    rows, cols = window(prediction, 0)
+    longer_px = max(rows.stop - rows.start, cols.stop - cols.start)
+    margin_px = max(settings.min_margin_px, round(settings.margin_fraction * longer_px))
+    rows, cols = window(prediction, margin_px)
+    cover = cv2.GaussianBlur(coverage(to_lab(frame_rgb[rows, cols]), animal, water), (0, 0),
+                             settings.smoothing_sigma_px)
+    near = dilate(prediction[rows, cols], margin_px)
+    mask = np.zeros_like(prediction)
+    mask[rows, cols] = attached((cover >= 0.5) & near, prediction[rows, cols], settings.gap_px)
+    return mask
+
+
 class MaskTracker:
     """The built-in segmenter (implements ``Segmenter``)."""
 
@@ -133,20 +149,10 @@ class MaskTracker:
 
     def _follow(self, frame_rgb: np.ndarray, state: _TrackState) -> np.ndarray | None:
         """Classify near the predicted mask; None if the result says the animal is lost."""
-        settings = self.settings
         prediction = shifted(state.mask, state.velocity_px)
         if not prediction.any():
             return None
-        rows, cols = window(prediction, 0)
-        longer_px = max(rows.stop - rows.start, cols.stop - cols.start)
-        margin_px = max(settings.min_margin_px, round(settings.margin_fraction * longer_px))
-        rows, cols = window(prediction, margin_px)
-        cover = cv2.GaussianBlur(coverage(to_lab(frame_rgb[rows, cols]), state.animal,
-                                          state.water), (0, 0), settings.smoothing_sigma_px)
-        near = dilate(prediction[rows, cols], margin_px)
-        mask = np.zeros_like(state.mask)
-        mask[rows, cols] = attached((cover >= 0.5) & near, prediction[rows, cols],
-                                     settings.gap_px)
+        mask = colour_follow(frame_rgb, prediction, state.animal, state.water, self.settings)
         return mask if self._is_animal(frame_rgb, mask, state) else None
 
     def _is_animal(self, frame_rgb: np.ndarray, mask: np.ndarray, state: _TrackState) -> bool:

@@ -107,10 +107,12 @@ def test_fit_suite_scores_clips_against_their_truth(tiny_scenario):
         fit_bench.bench_suite((tiny_scenario,), variants=("nope",), base=quick)
 
 
-def test_mask_bench_scores_each_back_end_from_the_click(tiny_scenario):
+def test_mask_bench_scores_each_back_end_from_the_click_the_automatic_seed_and_a_box(
+        tiny_scenario):
     """Both back-ends on the same clip: the network keeps a light-grey animal over green
-    water; the colour tracker, which looks for a dark animal, finds none at the click and
-    scores 0 with the reason recorded."""
+    water from each seed; the colour tracker, which looks for a dark animal, finds none at
+    the click nor by itself and scores 0 with the reason recorded, but follows it from a box
+    (GrabCut finds it there)."""
     from core.bench.mask_bench import bench_masks
     from core.bench.suites import ensure_scenario
 
@@ -119,8 +121,47 @@ def test_mask_bench_scores_each_back_end_from_the_click(tiny_scenario):
     assert network["backend"] == "network" and network["frames"] == 2
     assert network["mean_iou"] > 0.85 and network["flukes_iou"] > 0.5
     assert 0.0 <= network["rostrum_iou"] <= 1.0 and not network["error"]
+    assert set(network["seeds"]) == {"auto", "box"}
+    for kind in ("auto", "box"):
+        assert network["seeds"][kind]["mean_iou"] > 0.85 and not network["seeds"][kind]["error"]
     assert colour["mean_iou"] == 0.0 and "no dark, elongated animal" in colour["error"]
-    assert figures["summary"]["network"]["mean_iou"] == network["mean_iou"]
+    assert colour["seeds"]["auto"]["mean_iou"] == 0.0 and colour["seeds"]["auto"]["error"]
+    assert colour["seeds"]["box"]["mean_iou"] > 0.8
+    summary = figures["summary"]["network"]
+    assert summary["mean_iou"] == network["mean_iou"]
+    assert summary["seeds"]["box"]["mean_iou"] == network["seeds"]["box"]["mean_iou"]
+    with pytest.raises(InputError, match="seed kind: one of click, auto, box, got 'lasso'"):
+        bench_masks({}, seeds=("lasso",))
+
+
+def test_suite_clips_by_name_keep_the_order_given_and_refuse_unknown_names(capsys):
+    from core.bench.suites import scenarios_named
+
+    assert [s.name for s in scenarios_named(["turn_right", "grey_green"])] == \
+        ["turn_right", "grey_green"]
+    with pytest.raises(InputError, match="suite clip: one of grey_green, .*got 'nope'"):
+        scenarios_named(["grey_green", "nope"])
+    assert main(["bench", "masks", "--only", "nope"]) == 2
+    assert "got 'nope'" in capsys.readouterr().err
+
+
+def test_masks_table_shows_each_seed_beside_the_click():
+    from app.commands.bench import format_masks
+
+    def scores(iou, error=""):
+        return {"mean_iou": iou, "min_iou": iou, "flukes_iou": 0.5, "rostrum_iou": 0.6,
+                "seconds_per_frame": 1.0, "error": error}
+
+    clip = {"clip": "grey_green", "backend": "network", "frames": 8, **scores(0.9),
+            "seeds": {"auto": scores(0.0, "no animal"), "box": scores(0.88)}}
+    summary = {**scores(0.9), "worst_clip_iou": 0.9,
+               "seeds": {"auto": {**scores(0.0), "worst_clip_iou": 0.0},
+                         "box": {**scores(0.88), "worst_clip_iou": 0.88}}}
+    table = format_masks({"clips": [clip], "summary": {"network": summary}})
+    header, row, _, total = table.splitlines()
+    assert "auto: IoU" in header and "box: IoU" in header
+    assert "0.000 0.500 0.600" in row and "0.880 0.500 0.600" in row and "(no animal)" in row
+    assert total.endswith("; auto: 0.000 (worst clip 0.000); box: 0.880 (worst clip 0.880)")
 
 
 def test_bench_masks_defaults_to_the_back_ends_that_always_work():
