@@ -14,14 +14,13 @@ and elliptical sections (the suite before, clip for clip). Clips are rendered on
 cache (``cache_dir()/<suite>/NAME``) and reused while their recorded configuration matches.
 """
 
-import json
 from dataclasses import dataclass, replace
 
 from core.limits import one_of
 from core.measure.hw_ratios import DEFAULT_PRESET
 from core.progress import ProgressCallback
 from core.synth.config import Effects, SynthConfig
-from core.synth.files import ClipFiles, clip_files
+from core.synth.files import ClipFiles, clip_files, made_from
 from core.synth.sample import cache_dir
 from core.synth.water import with_water
 
@@ -132,7 +131,4 @@ def ensure_suite(shapes: str = DEFAULT_SHAPES,
 
 
 def _is_current(files: ClipFiles, config: SynthConfig) -> bool:
-    if not (files.truth_json.exists() and files.video.exists() and files.parts.exists()):
-        return False
-    recorded = json.loads(files.truth_json.read_text(encoding="utf-8")).get("config")
-    return recorded == json.loads(json.dumps(config.to_json()))
+    return files.parts.exists() and made_from(files, config)

@@ -1,11 +1,13 @@
 """Where a synthetic clip's files go, and its part masks (no rendering here, so finding a
 cached clip loads no model stack)."""
 
+import json
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
+from core.errors import InputError
 from core.synth.config import SynthConfig
 
 LOSSY_CODEC = ("mp4v", ".mp4")       # OpenCV's writable lossy codec (reference/platform.md §5)
@@ -30,6 +32,19 @@ def clip_files(out_dir: Path, config: SynthConfig) -> ClipFiles:
     return ClipFiles(video=out_dir / f"clip{suffix}", masks_dir=out_dir / "masks",
                      altitude_csv=out_dir / "altitude.csv", srt=out_dir / "clip.SRT",
                      truth_json=out_dir / "truth.json", parts=out_dir / "parts.npz")
+
+
+def made_from(files: ClipFiles, config: SynthConfig) -> bool:
+    """Whether the clip in ``files`` is whole and was made from ``config``: its truth's
+    recorded configuration reads back equal to it (fields added since it was made take their
+    defaults, which render clips as before them)."""
+    if not (files.truth_json.exists() and files.video.exists()):
+        return False
+    try:
+        recorded = json.loads(files.truth_json.read_text(encoding="utf-8"))["config"]
+        return SynthConfig.from_json(recorded) == config
+    except (OSError, ValueError, KeyError, TypeError, InputError):
+        return False
 
 
 def write_part_masks(path: Path, masks: dict[str, list[np.ndarray]],

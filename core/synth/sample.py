@@ -6,14 +6,13 @@ It is not stored in the repository: ``ensure_sample`` renders it deterministical
 ``truth.json`` records the same configuration.
 """
 
-import json
 import os
 from pathlib import Path
 
 from core.measure.hw_ratios import DEFAULT_PRESET
 from core.progress import ProgressCallback
 from core.synth.config import SynthConfig
-from core.synth.files import ClipFiles, clip_files
+from core.synth.files import ClipFiles, clip_files, made_from
 
 CACHE_DIR_ENV = "DOLPHINFIT_CACHE_DIR"
 SAMPLE_NAME = "sample-v2"
@@ -37,9 +36,7 @@ def ensure_sample(progress: ProgressCallback | None = None) -> ClipFiles:
     rendering loads the model stack, torch)."""
     out_dir = cache_dir() / SAMPLE_NAME
     files = clip_files(out_dir, SAMPLE_CONFIG)
-    if files.truth_json.exists() and files.video.exists():
-        recorded = json.loads(files.truth_json.read_text(encoding="utf-8")).get("config")
-        if recorded == json.loads(json.dumps(SAMPLE_CONFIG.to_json())):
-            return files
+    if made_from(files, SAMPLE_CONFIG):
+        return files
     from core.synth.clip import make_clip
     return make_clip(SAMPLE_CONFIG, out_dir, progress=progress)

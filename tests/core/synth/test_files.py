@@ -1,0 +1,36 @@
+"""Whether a cached synthetic clip was made from a configuration."""
+
+import json
+from dataclasses import replace
+
+from core.synth.config import SynthConfig
+from core.synth.files import clip_files, made_from
+
+CONFIG = SynthConfig(seed=3, width_px=320, height_px=240)
+
+
+def _cached(tmp_path, recorded: dict):
+    files = clip_files(tmp_path, CONFIG)
+    files.video.write_bytes(b"video")
+    files.truth_json.write_text(json.dumps({"config": recorded}))
+    return files
+
+
+def test_a_clip_made_before_new_options_is_still_current(tmp_path):
+    """A truth written before hw_table and section_exponent existed (their defaults render
+    as before) matches today's configuration; another option value does not."""
+    recorded = CONFIG.to_json()
+    del recorded["hw_table"], recorded["section_exponent"]
+    files = _cached(tmp_path, recorded)
+    assert made_from(files, CONFIG)
+    assert not made_from(files, replace(CONFIG, seed=4))
+    assert not made_from(files, replace(CONFIG, hw_table="tursiops-provisional"))
+
+
+def test_unreadable_or_foreign_truths_are_stale(tmp_path):
+    files = _cached(tmp_path, {**CONFIG.to_json(), "from_the_future": 1})
+    assert not made_from(files, CONFIG)
+    files.truth_json.write_text("{not json")
+    assert not made_from(files, CONFIG)
+    files.truth_json.unlink()
+    assert not made_from(files, CONFIG)
