@@ -104,3 +104,25 @@ def test_inputs_digest_follows_content_and_options(batch, tmp_path):
     assert inputs_digest(task_inputs(other_fps)) != digest
     (moved / "masks" / "000000.png").unlink()
     assert inputs_digest(task_inputs(same_files)) != digest
+
+
+def test_inputs_digest_takes_the_hw_tables_values_not_its_place(batch, tmp_path):
+    """A fit's HW table enters the digest by its values: the same table in another folder is
+    the same input, the table edited in place is a new one."""
+    from core.measure.hw_ratios import load_hw_preset, write_hw_csv
+
+    _, tasks = batch
+    task = tasks[0]
+    table = load_hw_preset()
+    digests = []
+    for folder in ("a", "b"):
+        (tmp_path / folder).mkdir()
+        write_hw_csv(tmp_path / folder / "hw.csv", table)
+        config = replace(task.fit.config, hw_table=str(tmp_path / folder / "hw.csv"))
+        digests.append(inputs_digest(task_inputs(replace(task, fit=replace(task.fit,
+                                                                           config=config)))))
+    assert digests[0] == digests[1]
+    write_hw_csv(tmp_path / "b" / "hw.csv", replace(table, ratios=table.ratios * 1.1))
+    config = replace(task.fit.config, hw_table=str(tmp_path / "b" / "hw.csv"))
+    assert inputs_digest(task_inputs(replace(task, fit=replace(task.fit, config=config)))) \
+        != digests[0]
