@@ -23,6 +23,9 @@ ARRAYS = ("betas", "pose_aa", "transl", "frame_idx", "time_s", "iou", "rest_vert
 PER_FRAME = ("pose_aa", "transl", "time_s", "iou", "posed_verts")   # leading axis T
 LIGHT_PREFIX = "light_"
 PROFILE = "profile"   # only in fits with a profile field
+# What a fit made before a configuration field existed did, where the field's default now
+# says otherwise: such a result reads back with these, not with today's defaults.
+FIELDS_BEFORE = {"colour_geometry": "all_stages", "profile_field": False, "hw_table": None}
 SCALARS = ("volume_m3", "length_m", "bci", "mass_kg", "density_kg_m3")
 
 
@@ -53,7 +56,8 @@ def read_fit_result(out_dir: Path) -> FitResult:
         fields = dict(
             **{name: float(data[name]) for name in SCALARS},
             loss_history=tuple(data["loss_history"]), timings_s=dict(data["timings"]),
-            config=FitConfig.from_json(data["config"]), warnings=tuple(data["warnings"]),
+            config=FitConfig.from_json({**FIELDS_BEFORE, **data["config"]}),
+            warnings=tuple(data["warnings"]),
             status=status, status_message=str(data["status_message"]))
         num_frames = len(data["frames"])
     except (KeyError, TypeError, ValueError) as exc:

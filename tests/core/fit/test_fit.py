@@ -218,6 +218,22 @@ def test_saved_fit_reads_back_field_for_field(tiny_run, tmp_path):
             assert restored == value, field.name
 
 
+def test_a_fit_saved_before_new_fields_reads_back_as_it_was_made(tiny_run, tmp_path):
+    """A result.json written before colour_geometry, profile_field and hw_table existed
+    says what that fit did (the paper's colour term, no profile field, the template's
+    heights), not today's defaults."""
+    write_fit_result(tiny_run[0].result, tmp_path)
+    json_path = tmp_path / RESULT_JSON
+    data = json.loads(json_path.read_text())
+    for name in ("colour_geometry", "profile_field", "hw_table"):
+        del data["config"][name]
+    json_path.write_text(json.dumps(data))
+    config = read_fit_result(tmp_path).config
+    assert (config.colour_geometry, config.profile_field, config.hw_table) == (
+        "all_stages", False, None)
+    assert FitConfig().profile_field and FitConfig().hw_table == "tursiops-provisional"
+
+
 def test_broken_saved_fits_name_the_file(tiny_run, tmp_path):
     """A missing or truncated npz and a foreign schema version are input errors naming the
     file."""
