@@ -62,7 +62,7 @@ from core.bench.suites import (
 )
 from core.bench.timing import command_seconds
 from core.errors import InputError
-from core.limits import count
+from core.limits import count, one_of
 from core.segment.backends import ALWAYS_AVAILABLE, BACKENDS, make_segmenter
 
 # The floor of the app's start-up: Python, PySide6 and one empty window shown, then quit
@@ -132,10 +132,13 @@ def run(args: argparse.Namespace) -> int:
         checkpoint = sam2_checkpoint(args, backends)
         for backend in backends:  # an unknown or unavailable one is refused before any work
             make_segmenter(backend, checkpoint=checkpoint)
+        seeds = tuple(args.seeds.split(","))
+        for kind in seeds:
+            one_of(kind, SEED_KINDS, "--seeds")
         chosen = (scenarios_named(args.only.split(","), args.shapes) if args.only
                   else scenarios(args.shapes)[:count(args.clips, 1, "--clips")])
         figures = bench_masks({sc.name: ensure_scenario(sc) for sc in chosen}, backends,
-                              count(args.stride, 1, "--stride"), tuple(args.seeds.split(",")),
+                              count(args.stride, 1, "--stride"), seeds,
                               progress=_print_mask_score, checkpoint=checkpoint)
         print(json.dumps(figures, indent=2) if args.json else format_masks(figures))
         return 0

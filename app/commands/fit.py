@@ -75,8 +75,6 @@ def fit_config(args: argparse.Namespace) -> FitConfig:
         data = read_json(args.config, "the fit configuration")
         try:
             config = FitConfig.from_json(data)
-            if config.hw_table is not None:
-                resolve_hw(config.hw_table)   # a table the fit could not read, named now
         except InputError as exc:
             raise InputError(f"{args.config}: {exc}") from None
     changes = {"use_roi": config.use_roi and not args.no_roi,
@@ -87,12 +85,15 @@ def fit_config(args: argparse.Namespace) -> FitConfig:
     if args.fps is not None:
         changes["fps"] = args.fps
     if args.hw is not None:
-        try:
-            resolve_hw(args.hw)   # an unknown preset or unreadable file, named before any work
-        except InputError as exc:
-            raise InputError(f"--hw: {exc}") from None
         changes["hw_table"] = fit_hw_table(args.hw)
-    return replace(config, **changes)
+    config = replace(config, **changes)
+    if config.hw_table is not None:  # a table the fit could not read, named before any work
+        try:
+            resolve_hw(config.hw_table)
+        except InputError as exc:
+            where = "--hw" if args.hw is not None else args.config or "fit option hw_table"
+            raise InputError(f"{where}: {exc}") from None
+    return config
 
 
 def check_options(args: argparse.Namespace) -> None:

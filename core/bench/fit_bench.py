@@ -20,7 +20,7 @@ from dataclasses import asdict, dataclass, replace
 
 import numpy as np
 
-from core.bench.hidden_heights import hidden_height_floor
+from core.bench.hidden_heights import TruthSections, hidden_height_floor, truth_sections
 from core.bench.mask_bench import click_seed
 from core.bench.suites import Scenario, ensure_scenario
 from core.bench.timing import run_with_peak_rss_mb
@@ -28,7 +28,6 @@ from core.errors import InputError
 from core.fit.config import FitConfig, LossWeights
 from core.fit.pipeline import CameraChoice, run_fit
 from core.io.json_file import read_json
-from core.measure.hw_ratios import DEFAULT_PRESET
 from core.segment.backends import DEFAULT_BACKEND
 from core.synth.clip import make_clip
 from core.synth.config import SynthConfig
@@ -59,7 +58,6 @@ VARIANTS: dict[str, tuple[str | None, dict]] = {
     "true_masks_no_profile_field": (None, {"profile_field": False}),
     # the hidden heights from the template's own height/width ratios, not the HW table's
     "true_masks_template_heights": (None, {"hw_table": None}),
-    "true_masks_table_heights": (None, {"hw_table": DEFAULT_PRESET}),
     # the fit before both: the parts' scales alone and the template's heights
     "true_masks_before_field_and_table": (None, {"profile_field": False, "hw_table": None}),
 }
@@ -100,7 +98,7 @@ def _ensure(config: SynthConfig, name: str) -> ClipFiles:
 
 
 def _score(files: ClipFiles, config: SynthConfig, fit_config: FitConfig, name: str,
-           variant: str) -> ClipScore:
+           variant: str, sections: TruthSections) -> ClipScore:
     truth = read_json(files.truth_json, "the clip's truth")
     backend = VARIANTS[variant][0]
     camera = CameraChoice(sensor_width_mm=config.sensor_width_mm, focal_mm=config.focal_mm)
@@ -118,7 +116,7 @@ def _score(files: ClipFiles, config: SynthConfig, fit_config: FitConfig, name: s
                          frame_iou=(), error=str(exc))
     result = run.result
     return ClipScore(clip=name, variant=variant,
-                     hidden_height_floor=hidden_height_floor(files, fit_config),
+                     hidden_height_floor=hidden_height_floor(sections, fit_config),
                      volume_error=result.volume_m3 / truth["volume_m3"] - 1.0,
                      length_error=result.length_m / truth["length_m"] - 1.0,
                      mass_error=result.mass_kg / truth["mass_kg"] - 1.0,
@@ -170,10 +168,11 @@ def bench_suite(chosen: Sequence[Scenario], variants: tuple[str, ...] = DEFAULT_
     scores = []
     for scenario in chosen:
         files = ensure_scenario(scenario)
+        sections = truth_sections(scenario.config)
         for variant in variants:
             scores.append(_score(files, scenario.config,
                                  replace(base, **VARIANTS[variant][1]), scenario.name,
-                                 variant))
+                                 variant, sections))
             if progress is not None:
                 progress(scores[-1])
     return {"clips": [asdict(s) for s in scores], "summary": summarize(scores),

@@ -10,37 +10,43 @@ fit's elliptical sections over the truth's (superellipse) ones, minus one. Fins 
 of both. A fit whose error lies near its clip's floor has done what a top view allows.
 """
 
+from dataclasses import dataclass
+
 import numpy as np
 import torch
 
 from core.fit.config import FitConfig
 from core.fit.engine import fitted_template
-from core.io.json_file import read_json
 from core.measure.elliptical import TAIL_MEASURED, elliptical_volume
-from core.measure.mesh import station_profile
+from core.measure.hw_from_model import hw_from_template, station_extents
 from core.model.sections import section_area_factor
-from core.model.template import Template, load_template
+from core.model.template import load_template
 from core.synth.clip import synth_animal
 from core.synth.config import SynthConfig
-from core.synth.files import ClipFiles
 
 
-def station_hw(template: Template) -> np.ndarray:
-    """(19,) height/width ratio of a template's rest mesh at the stations."""
-    profile = station_profile(torch.as_tensor(template.verts),
-                              torch.as_tensor(template.station_rings))
-    return (profile.height / profile.width).numpy()
+@dataclass(frozen=True)
+class TruthSections:
+    """A synthetic animal's station widths and heights (S,), metres, and its sections'
+    superellipse exponent."""
+
+    width: np.ndarray
+    height: np.ndarray
+    section_exponent: float
 
 
-def hidden_height_floor(files: ClipFiles, fit_config: FitConfig) -> float:
-    """The clip's floor (module doc) for a fit made with ``fit_config``."""
-    config = SynthConfig.from_json(read_json(files.truth_json, "the clip's truth")["config"])
+def truth_sections(config: SynthConfig) -> TruthSections:
+    """The sections of the animal ``config`` makes (rebuilt as ``make_clip`` builds it)."""
     _, model, betas = synth_animal(config, np.random.default_rng(config.seed))
     with torch.no_grad():
         rest = model.forward_rest(betas)[0]
-    truth = station_profile(rest, model.station_rings)
-    width, height = truth.width.numpy(), truth.height.numpy()
-    assumed = station_hw(fitted_template(load_template(), fit_config))
-    ratio = (elliptical_volume(1.0, width, assumed, TAIL_MEASURED)
-             / elliptical_volume(1.0, width, height / width, TAIL_MEASURED))
-    return float(ratio / section_area_factor(config.section_exponent) - 1.0)
+    width, height = station_extents(rest.numpy(), model.station_rings.numpy())
+    return TruthSections(width, height, config.section_exponent)
+
+
+def hidden_height_floor(truth: TruthSections, fit_config: FitConfig) -> float:
+    """The floor (module doc) of a fit made with ``fit_config`` on the animal ``truth``."""
+    assumed = hw_from_template(fitted_template(load_template(), fit_config)).ratios
+    ratio = (elliptical_volume(1.0, truth.width, assumed, TAIL_MEASURED)
+             / elliptical_volume(1.0, truth.width, truth.height / truth.width, TAIL_MEASURED))
+    return float(ratio / section_area_factor(truth.section_exponent) - 1.0)

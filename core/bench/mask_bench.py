@@ -108,8 +108,8 @@ def score_backend(name: str, files: ClipFiles, backend: str, stride: int = DEFAU
     scored = sorted(set(range(click.frame_idx % stride, clip.num_frames, stride)))
     segmented = clip.num_frames if backend == COLOUR else len(scored)
     by_kind = {}
+    segmenter = make_segmenter(backend, only_frames=scored, checkpoint=checkpoint)
     for kind in dict.fromkeys((CLICK, *seeds)):
-        segmenter = make_segmenter(backend, only_frames=scored, checkpoint=checkpoint)
         error = ""
         with VideoReader(clip) as frames:
             start = time.perf_counter()

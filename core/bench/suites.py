@@ -8,7 +8,7 @@ highlights, white water, a second animal, deep murky passes and sharp turns.
 
 Two sets of animals (``SHAPES``): "varied" (the default) gives each animal heights drawn from
 the default HW table (its ratios and SDs) and cross-sections from lean to full superellipses
-(exponents 1.8–2.2, mean 2: up to ±3.5 % of volume at the same widths and heights), the
+(exponents 1.8–2.2, mean 2: −4.3 % to +3.5 % of volume at the same widths and heights), the
 animals a fit meets when someone else built them; "template" keeps the template's heights
 and elliptical sections (the suite before, clip for clip). Clips are rendered once into the
 cache (``cache_dir()/<suite>/NAME``) and reused while their recorded configuration matches.
@@ -121,13 +121,6 @@ def ensure_scenario(scenario: Scenario,
         return files
     from core.synth.clip import make_clip
     return make_clip(scenario.config, out, progress=progress)
-
-
-def ensure_suite(shapes: str = DEFAULT_SHAPES,
-                 progress: ProgressCallback | None = None) -> dict[str, ClipFiles]:
-    """The suite's clips by name (``ensure_scenario`` of each)."""
-    return {scenario.name: ensure_scenario(scenario, progress)
-            for scenario in scenarios(shapes)}
 
 
 def _is_current(files: ClipFiles, config: SynthConfig) -> bool:

@@ -70,9 +70,9 @@ def follow_bases(moved: torch.Tensor, rest: torch.Tensor, fins: FinIndex) -> tor
     return moved
 
 
-def spline_basis(t: np.ndarray, num_knots: int = NUM_KNOTS) -> np.ndarray:
-    """(len(t), num_knots) clamped cubic B-splines on [0, 1] at ``t``; rows sum to one."""
-    interior = np.linspace(0.0, 1.0, num_knots - DEGREE + 1)
+def spline_basis(t: np.ndarray) -> np.ndarray:
+    """(len(t), NUM_KNOTS) clamped cubic B-splines on [0, 1] at ``t``; rows sum to one."""
+    interior = np.linspace(0.0, 1.0, NUM_KNOTS - DEGREE + 1)
     knots = np.concatenate([[0.0] * DEGREE, interior, [1.0] * DEGREE])
     return BSpline.design_matrix(np.clip(t, 0.0, 1.0), knots, DEGREE).toarray()
 
@@ -80,21 +80,18 @@ def spline_basis(t: np.ndarray, num_knots: int = NUM_KNOTS) -> np.ndarray:
 class ProfileField(torch.nn.Module):
     """The field of a template (module doc) as buffers; call it with the (2, K) coefficients."""
 
-    def __init__(self, template: Template, dtype: torch.dtype = torch.float32,
-                 num_knots: int = NUM_KNOTS):
+    def __init__(self, template: Template, dtype: torch.dtype = torch.float32):
         super().__init__()
         self.fins = fin_index(template)
         sections = body_sections(template)
-        self.num_knots = num_knots
         self.register_buffer("body", torch.as_tensor(sections.body))
-        self.register_buffer("basis", torch.tensor(spline_basis(sections.t, num_knots),
-                                                   dtype=dtype))
+        self.register_buffer("basis", torch.tensor(spline_basis(sections.t), dtype=dtype))
         self.register_buffer("centre_z", torch.tensor(sections.centre_z, dtype=dtype))
 
     def forward(self, rest_verts: torch.Tensor, coefficients: torch.Tensor) -> torch.Tensor:
         """(V, 3) rest vertices reshaped by ``coefficients`` (2, K)."""
-        if coefficients.shape != (2, self.num_knots):
-            raise ValueError(f"profile coefficients must be (2, {self.num_knots}); "
+        if coefficients.shape != (2, NUM_KNOTS):
+            raise ValueError(f"profile coefficients must be (2, {NUM_KNOTS}); "
                              f"got {tuple(coefficients.shape)}")
         log_width = self.basis @ coefficients[0]
         log_height = log_width + self.basis @ coefficients[1]

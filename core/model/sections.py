@@ -22,12 +22,13 @@ import numpy as np
 import torch
 from scipy.interpolate import PchipInterpolator
 
+from core.measure.elliptical import TAIL_IDX
 from core.measure.stations import STATION_FRACTIONS
 from core.model.profile import height_fraction, width_fraction
 from core.model.profile_field import body_sections, fin_index, follow_bases
 from core.model.template import Template
 
-NUM_TABLE_STATIONS = 17   # 5–85 %: HW tables have no data on the flukes' 90 % and 95 %
+NUM_TABLE_STATIONS = TAIL_IDX[0]   # 5–85 %: HW tables have no data at the flukes' 90, 95 %
 TAIL_BLEND_T = 0.92   # behind the 85 % station the heights relax to the template's by here
 MIN_HALF_WIDTH_BL = 1e-4  # the apexes (zero width) stay where they are
 

@@ -142,7 +142,7 @@ def synth_animal(config: SynthConfig, rng: np.random.Generator
 
 
 def _body(config: SynthConfig) -> Template:
-    """The template, with the configured heights and section shape (body_shape.py)."""
+    """The template with the configured heights and sections (core/model/sections.py)."""
     template = load_template()
     if config.hw_table is None and config.section_exponent == 2.0:
         return template

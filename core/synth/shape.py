@@ -74,13 +74,13 @@ def draw_hw(table: HWRatios, rng: np.random.Generator) -> np.ndarray:
     the body (half the variance shared by every station, half in two slow waves), so
     neighbouring stations move together as a real animal's would.
     """
-    ratios, sd = table.completed()
+    ratios, sd = table.ratios[:NUM_TABLE_STATIONS], table.sd[:NUM_TABLE_STATIONS]
     t = STATION_FRACTIONS[:NUM_TABLE_STATIONS]
     common = rng.normal()
     waves = sum(rng.normal() * np.sin(math.pi * (k + 1) * t + rng.uniform(0, 2 * math.pi))
                 for k in range(2))
     field = math.sqrt(0.5) * (common + waves)   # waves: variance 1 on average over phases
-    return np.maximum(ratios[:NUM_TABLE_STATIONS] + sd[:NUM_TABLE_STATIONS] * field, 0.5)
+    return np.maximum(ratios + sd * field, 0.5)
 
 
 def subdivide(template: Template) -> Template:

@@ -2,40 +2,32 @@
 
 import pytest
 
-from core.bench.hidden_heights import hidden_height_floor
+from core.bench.hidden_heights import hidden_height_floor, truth_sections
 from core.fit.config import FitConfig
-from core.io.json_file import write_json
 from core.model.sections import section_area_factor
 from core.synth.config import Effects, SynthConfig
-from core.synth.files import clip_files
 
 PLAIN = SynthConfig(seed=4, shape_sd=0.0, effects=Effects(profile_warp=False))
 TEMPLATE_FIT = FitConfig(hw_table=None)   # the template's own heights
 
 
-def _files(tmp_path, config):
-    files = clip_files(tmp_path, config)
-    write_json(files.truth_json, {"config": config.to_json()})
-    return files
-
-
-def test_a_template_animal_has_no_floor_for_a_template_fit(tmp_path):
-    assert hidden_height_floor(_files(tmp_path, PLAIN), TEMPLATE_FIT) == pytest.approx(
+def test_a_template_animal_has_no_floor_for_a_template_fit():
+    assert hidden_height_floor(truth_sections(PLAIN), TEMPLATE_FIT) == pytest.approx(
         0.0, abs=1e-9)
 
 
-def test_the_floor_is_the_hidden_heights_and_sections_of_the_truth(tmp_path):
+def test_the_floor_is_the_hidden_heights_and_sections_of_the_truth():
     """A fit that takes the HW table's heights overestimates a template-shaped animal by
     8–13 % (the table's ratios are larger); fuller truth sections lower the floor by their
     area factor; an animal with the table's heights has no floor for that fit."""
     table_fit = FitConfig()   # the default: the default HW table's heights
-    over = hidden_height_floor(_files(tmp_path / "a", PLAIN), table_fit)
+    over = hidden_height_floor(truth_sections(PLAIN), table_fit)
     assert 0.08 < over < 0.13
     full = SynthConfig(seed=4, shape_sd=0.0, effects=Effects(profile_warp=False),
                        section_exponent=2.3)
-    assert hidden_height_floor(_files(tmp_path / "b", full), TEMPLATE_FIT) == pytest.approx(
+    assert hidden_height_floor(truth_sections(full), TEMPLATE_FIT) == pytest.approx(
         1.0 / section_area_factor(2.3) - 1.0, abs=5e-4)   # widths move by the faceting
     # table heights drawn with the table's SD: within a few SDs of none
     drawn = SynthConfig(seed=4, shape_sd=0.0, effects=Effects(profile_warp=False),
                         hw_table="tursiops-provisional")
-    assert abs(hidden_height_floor(_files(tmp_path / "c", drawn), table_fit)) < 0.08
+    assert abs(hidden_height_floor(truth_sections(drawn), table_fit)) < 0.08
