@@ -32,6 +32,7 @@ SUBCOMMANDS: dict[str, str] = {  # name → the first line of its module's docst
             "truth.",
     "batch": "Fit and measure many clips and animals as Dask tasks, resumably, into one "
              "summary table.",
+    "train": "Train the project's own networks again from synthetic clips, reproducibly.",
 }
 
 

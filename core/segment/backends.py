@@ -14,18 +14,21 @@ from core.errors import InputError
 from core.segment.segmenter import Segmenter
 
 NETWORK = "network"
+NETWORK_COLOUR_EDGES = "network-colour-edges"
 COLOUR = "colour"
 SAM2 = "sam2"
 BACKENDS: dict[str, str] = {
-    NETWORK: "salient-object network (U²-Net small) on a crop around the animal, edges "
-             "placed by colour; about 0.3–0.9 s per frame on two cores",
+    NETWORK: "salient-object network (U²-Net small) on a crop around the animal, the outline "
+             "drawn by the project's edge network; about 0.5–1.2 s per frame on two cores",
+    NETWORK_COLOUR_EDGES: "the same network with the outline placed by colour near its edge "
+                          "(the default before the edge network)",
     COLOUR: "colour models of the animal and the water; fast (about 0.05 s per frame) but "
             "loses light-grey flukes over green water",
     SAM2: "SAM-2's video predictor from a click or a box (the sam2 package and a checkpoint, "
           "both installed by the user); slow on the CPU, so only on the frames to be fitted",
 }
 DEFAULT_BACKEND = NETWORK
-ALWAYS_AVAILABLE = (NETWORK, COLOUR)  # need nothing beyond dolphinfit's own installation
+ALWAYS_AVAILABLE = (NETWORK, NETWORK_COLOUR_EDGES, COLOUR)  # need only dolphinfit's own files
 
 
 def make_segmenter(backend: str = DEFAULT_BACKEND, only_frames: Sequence[int] | None = None,
@@ -33,9 +36,10 @@ def make_segmenter(backend: str = DEFAULT_BACKEND, only_frames: Sequence[int] | 
     """A segmenter of ``backend``; ``only_frames`` limits the network and SAM-2 to those
     frames (the colour tracker is cheap enough to run on every frame and ignores it).
     ``checkpoint``: SAM-2's checkpoint file, required for it (the others ignore it)."""
-    if backend == NETWORK:
-        from core.segment.net_tracker import NetTracker
-        return NetTracker(only_frames=only_frames)
+    if backend in (NETWORK, NETWORK_COLOUR_EDGES):
+        from core.segment.net_tracker import NetSettings, NetTracker
+        edges = "network" if backend == NETWORK else "colour"
+        return NetTracker(NetSettings(edges=edges), only_frames=only_frames)
     if backend == COLOUR:
         from core.segment.tracker import MaskTracker
         return MaskTracker()

@@ -17,10 +17,12 @@ built-in tracker, on every frame or only on chosen ones (the frames a fit will u
    Pixels with saliency ≥ ``threshold``: the component that overlaps the prediction (at the
    seed: under the click) with parts a seam cuts off; a neighbour touching the animal is
    split off (``nearer_to``, ``own_body``).
-3. **Edges**: the network sees the crop at 320 px, coarser than the frame; within
-   ``band_px`` of its outline, each pixel is re-decided by the colour coverage of the
-   animal against the water (``colour.coverage``, models from the mask's rim and ring), which
-   places the outline to a fraction of a pixel where the two colours separate well.
+3. **Edges**: the network sees the crop at 320 px, coarser than the frame, and misses what
+   shows faintly (fluke lobes a little under the surface). By default the edge network
+   (``edge_net.LearnedEdges``) draws the outline again at the frame's resolution from the
+   crop, the saliency and the chosen component; with ``edges="colour"`` each pixel within
+   ``band_px`` of the outline is re-decided by the colour coverage of the animal against the
+   water (``ColourEdges``: ``colour.coverage``, models from the mask's rim and ring).
 4. **Moved**: a mask that overlaps its prediction less than ``follow_iou`` is looked at again
    in a window around both; of the two, the plausible one (area within ``lost_area_ratio``
    … ``max_area_ratio`` of the animal's, colours apart from the water) whose area is closest
@@ -43,6 +45,7 @@ seagrass otherwise grows into the seagrass round after round.
 import threading
 from collections.abc import Sequence
 from dataclasses import dataclass, field
+from typing import Protocol
 
 import cv2
 import numpy as np
@@ -50,6 +53,7 @@ import numpy as np
 from core.errors import InputError
 from core.io.masks import MaskTrack
 from core.iou import mask_iou
+from core.limits import one_of
 from core.progress import Progress, ProgressCallback, check_cancel
 from core.segment.colour import ColourModel, coverage, separation, to_lab
 from core.segment.regions import (
@@ -85,6 +89,7 @@ from core.segment.segmenter import (
 from core.segment.tracker import TrackerSettings, colour_follow
 
 BACKEND_NAME = "network (U²-Net small)"
+EDGE_STEPS = ("network", "colour")
 COLOUR_SETTINGS = TrackerSettings()  # the colour tracker's, for frames the network misses
 MAX_CROP_COVER = 0.5  # a mask over more of its crop than this leaves no water to model
 MIN_WINDOW_PX = 48    # smallest window: the colour models need a ring of water around
@@ -121,6 +126,7 @@ class NetSettings:
     fade_fraction: float = 0.15      # over this × its length
     follow_iou: float = 0.8          # below this overlap with its prediction, look again
     max_area_ratio: float = PAIR_AREA_RATIO  # larger than this × its area: merged with another
+    edges: str = "network"           # the outline step (module doc, step 3): EDGE_STEPS
 
 
 @dataclass
@@ -152,6 +158,38 @@ def longer_side(mask: np.ndarray) -> int:
     """The longer side of a non-empty mask's bounding box, pixels."""
     _, _, width, height = cv2.boundingRect(mask.astype(np.uint8))
     return max(width, height)
+
+
+class EdgeStep(Protocol):
+    """The outline step (module doc, step 3): the animal that ``mask`` (the component chosen
+    from the saliency) marks in the window, outlined again."""
+
+    name: str
+
+    def __call__(self, crop_rgb: np.ndarray, saliency: np.ndarray,
+                 mask: np.ndarray) -> np.ndarray: ...
+
+
+class ColourEdges:
+    """The outline by colour coverage near the network's edge (``refine_edges``)."""
+
+    name = "colour edges"
+
+    def __init__(self, settings: NetSettings) -> None:
+        self.settings = settings
+
+    def __call__(self, crop_rgb: np.ndarray, saliency: np.ndarray,
+                 mask: np.ndarray) -> np.ndarray:
+        return refine_edges(crop_rgb, mask, self.settings)
+
+
+def make_edge_step(settings: NetSettings) -> EdgeStep:
+    """The outline step that ``settings.edges`` names."""
+    one_of(settings.edges, EDGE_STEPS, "network tracker edges")
+    if settings.edges == "colour":
+        return ColourEdges(settings)
+    from core.segment.edge_net import LearnedEdges
+    return LearnedEdges(gap_px=settings.gap_px)
 
 
 def refine_edges(crop_rgb: np.ndarray, mask: np.ndarray, settings: NetSettings) -> np.ndarray:
@@ -272,13 +310,14 @@ class NetTracker:
 
     def __init__(self, settings: NetSettings = NetSettings(),
                  only_frames: Sequence[int] | None = None,
-                 net: SalientNet | None = None) -> None:
+                 net: SalientNet | None = None, edges: EdgeStep | None = None) -> None:
         """``only_frames``: segment just these frame indices (the seed frame is always
-        segmented); the others are reported not visible. ``net``: a loaded network to share
-        (default: load the installed weights)."""
+        segmented); the others are reported not visible. ``net``, ``edges``: a loaded network
+        and outline step to share (default: those ``settings`` name, loaded)."""
         self.settings = settings
         self.only_frames = None if only_frames is None else sorted(set(only_frames))
         self.net = net if net is not None else SalientNet()
+        self.edges = edges if edges is not None else make_edge_step(settings)
 
     def segment(self, frames: Frames, seed: Seed, progress: ProgressCallback | None = None,
                 cancel: threading.Event | None = None) -> MaskTrack:
@@ -316,10 +355,11 @@ class NetTracker:
                 if progress is not None:
                     progress(Progress(TRACK_STAGE, done, total))
         is_visible = np.array([t in crops for t in range(num_frames)])
-        return MaskTrack(is_visible, width, height, f"{BACKEND_NAME} from {seed}",
+        return MaskTrack(is_visible, width, height,
+                         f"{BACKEND_NAME}, {self.edges.name}, from {seed}",
                          lambda t: crops[t].paste(height, width))
 
-    def _masked(self, frame_rgb: np.ndarray, rows: slice, cols: slice,
+    def masked_in(self, frame_rgb: np.ndarray, rows: slice, cols: slice,
                 prediction: np.ndarray, near: bool = True,
                 focus: np.ndarray | None = None) -> np.ndarray:
         """Steps 2 and 3 in one window: the (H, W) mask attached to ``prediction``, kept near
@@ -346,7 +386,7 @@ class NetTracker:
             found = attached(nearer_to(found, local & found, beyond), local, settings.gap_px)
         elif found.any():
             found = own_body(found, local, saliency, expected_px)
-        mask[rows, cols] = refine_edges(crop, found, settings)
+        mask[rows, cols] = self.edges(crop, saliency, found)
         return mask
 
     def _saliency(self, crop: np.ndarray, expected: np.ndarray) -> np.ndarray:
@@ -389,12 +429,12 @@ class NetTracker:
             box = np.zeros((height, width), bool)
             box[seed.y_px:seed.y_px + seed.height_px, seed.x_px:seed.x_px + seed.width_px] = True
             rows, cols = self._around(frame_rgb, box)
-            mask = self._masked(frame_rgb, rows, cols, box) & \
+            mask = self.masked_in(frame_rgb, rows, cols, box) & \
                 dilate(box, self.settings.min_near_px)
         else:  # the tile shows the animal small: look again in a window around what it found
             mask = self._found(frame_rgb)
             rows, cols = self._around(frame_rgb, mask) if mask.any() else (slice(0), slice(0))
-            again = self._masked(frame_rgb, rows, cols, mask, near=False)
+            again = self.masked_in(frame_rgb, rows, cols, mask, near=False)
             mask = again if again.any() else mask
         growth = 1.0
         for _ in range(self.settings.seed_rounds):
@@ -404,7 +444,7 @@ class NetTracker:
             if cut_off:
                 growth *= self.settings.search_growth
             rows, cols = self._around(frame_rgb, mask, growth)
-            again = self._masked(frame_rgb, rows, cols, mask, near=False)
+            again = self.masked_in(frame_rgb, rows, cols, mask, near=False)
             if isinstance(seed, BoxSeed):
                 again &= dilate(box, self.settings.min_near_px)
             if not again.any():
@@ -522,7 +562,7 @@ class NetTracker:
             # fading out needs to know where the animal can be: not before its motion is
             focus_px = (round(settings.focus_fraction * longer_side(state.last_seen))
                         if state.moving else None)
-            found = self._masked(frame_rgb, *near_window, prediction,
+            found = self.masked_in(frame_rgb, *near_window, prediction,
                                  focus=None if focus_px is None else dilate(prediction, focus_px))
             candidates = [found]
             if not found.any() or mask_iou(found, prediction) < settings.follow_iou:
@@ -531,7 +571,7 @@ class NetTracker:
                 anchor = found if found.any() else prediction
                 both = found | prediction
                 wider = 1.0 if found.any() else settings.search_growth
-                candidates.append(self._masked(
+                candidates.append(self.masked_in(
                     frame_rgb, *self._around(frame_rgb, both, wider), anchor, near=False,
                     focus=None if focus_px is None else dilate(both, focus_px)))
             animals = [c for c in candidates if self._is_animal(frame_rgb, c, state)]

@@ -135,7 +135,10 @@ def test_missing_or_altered_weights_say_how_to_install(tmp_path, monkeypatch):
 def test_back_ends_by_name():
     assert isinstance(make_segmenter("network", only_frames=[0]), NetTracker)
     assert type(make_segmenter("colour")).__name__ == "MaskTracker"
-    with pytest.raises(InputError, match="unknown; choose one of network, colour"):
+    assert make_segmenter("network-colour-edges").edges.name == "colour edges"
+    assert make_segmenter("network").edges.name == "edge network"
+    with pytest.raises(InputError, match="unknown; choose one of network, network-colour-edges, "
+                                         "colour"):
         make_segmenter("sam")
 
 

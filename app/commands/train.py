@@ -1,0 +1,56 @@
+"""Train the project's own networks again from synthetic clips, reproducibly.
+
+  dolphinfit train edges --out PATH [--clips N] [--steps N] [--seed S] [--workers N]
+
+`edges` trains the edge network, which draws the animal's outline in the network tracker's
+window (core/segment/edge_net.py). It renders --clips random synthetic clips into the cache
+(none of them the bench suite's; about 30 s each, on --workers processes; kept for the next
+run), cuts the tracker's windows out of them and fits the network on patches of them for
+--steps steps (about 0.6 s each on two cores), then writes the weights and a record of the run
+to --out. The bundled weights are resources/models/edge_net_v1.npz, made with the defaults:
+
+  dolphinfit --threads 2 train edges --out resources/models/edge_net_v1.npz
+"""
+
+import argparse
+import json
+from dataclasses import replace
+from pathlib import Path
+
+from app.progress import terminal_progress
+from core.errors import InputError
+from core.io.output_paths import check_output_file
+from core.limits import count
+
+NETWORKS = ("edges",)
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    """The network, the output and the recipe's sizes."""
+    from core.segment.edge_training import TrainSettings
+    defaults = TrainSettings()
+    parser.add_argument("network", choices=NETWORKS, help="which network")
+    parser.add_argument("--out", type=Path, required=True, help="the weights file (.npz)")
+    parser.add_argument("--clips", type=int, default=defaults.clips,
+                        help=f"synthetic clips to train on (default {defaults.clips})")
+    parser.add_argument("--steps", type=int, default=defaults.steps,
+                        help=f"optimisation steps (default {defaults.steps})")
+    parser.add_argument("--seed", type=int, default=defaults.seed,
+                        help=f"draws the clips and the training (default {defaults.seed})")
+    parser.add_argument("--workers", type=int, default=2,
+                        help="processes rendering clips (default 2)")
+
+
+def run(args: argparse.Namespace) -> int:
+    """Check the options, train, write the weights and print the held-out scores."""
+    from core.segment.edge_training import TrainSettings, train_edges
+    if args.out.suffix != ".npz":
+        raise InputError(f"--out {args.out}: the weights are written as .npz")
+    check_output_file(args.out)
+    settings = replace(TrainSettings(), clips=count(args.clips, 10, "--clips"),
+                       steps=count(args.steps, 1, "--steps"), seed=count(args.seed, 0, "--seed"))
+    workers = count(args.workers, 1, "--workers")
+    record = train_edges(settings, args.out, workers, terminal_progress())
+    print(json.dumps(record["checks"][-1]))
+    print(f"wrote {args.out}")
+    return 0
