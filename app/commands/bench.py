@@ -193,7 +193,7 @@ def _print_score(score) -> None:
 
 def _print_mask_score(score) -> None:
     others = "".join(f"  {kind} IoU {s.mean_iou:.3f}" for kind, s in score.seeds.items())
-    print(f"{score.clip:16s} {score.backend:8s} IoU {score.mean_iou:.3f}  flukes "
+    print(f"{score.clip:16s} {score.backend:20s} IoU {score.mean_iou:.3f}  flukes "
           f"{score.flukes_iou:.3f}  rostrum {score.rostrum_iou:.3f}  "
           f"{score.seconds_per_frame:.2f} s/frame{others} {score.error}", file=sys.stderr,
           flush=True)
@@ -203,18 +203,18 @@ def format_masks(figures: dict) -> str:
     """Per-clip IoUs and the summary per back-end, from the click and from the other seeds
     (IoU, flukes, rostrum IoU of each)."""
     kinds = list(figures["clips"][0]["seeds"])
-    lines = ["clip             back-end  IoU    min    flukes rostrum s/frame"
+    lines = ["clip             back-end              IoU    min    flukes rostrum s/frame"
              + "".join(f"  {kind:>5s}: IoU  fl    ro" for kind in kinds)]
     for c in figures["clips"]:
         errors = [c["error"]] + [c["seeds"][kind]["error"] for kind in kinds]
-        lines.append(f"{c['clip']:16s} {c['backend']:8s}  {c['mean_iou']:.3f}  "
+        lines.append(f"{c['clip']:16s} {c['backend']:20s}  {c['mean_iou']:.3f}  "
                      f"{c['min_iou']:.3f}  {c['flukes_iou']:.3f}  {c['rostrum_iou']:.3f}   "
                      f"{c['seconds_per_frame']:.2f}"
                      + "".join(f"        {_ious(c['seeds'][kind])}" for kind in kinds)
                      + "".join(f"  ({e})" for e in errors if e))
     lines.append("")
     for backend, s in figures["summary"].items():
-        lines.append(f"{backend:8s} mean IoU {s['mean_iou']:.3f} (worst clip "
+        lines.append(f"{backend:20s} mean IoU {s['mean_iou']:.3f} (worst clip "
                      f"{s['worst_clip_iou']:.3f}), flukes {s['flukes_iou']:.3f}, rostrum "
                      f"{s['rostrum_iou']:.3f}, {s['seconds_per_frame']:.2f} s per frame"
                      + "".join(f"; {kind}: {t['mean_iou']:.3f} (worst clip "

@@ -28,7 +28,7 @@ from core.errors import InputError
 from core.fit.config import FitConfig, LossWeights
 from core.fit.pipeline import CameraChoice, run_fit
 from core.io.json_file import read_json
-from core.segment.backends import DEFAULT_BACKEND
+from core.segment.backends import DEFAULT_BACKEND, NETWORK_COLOUR_EDGES
 from core.synth.clip import make_clip
 from core.synth.config import SynthConfig
 from core.synth.files import ClipFiles, clip_files
@@ -44,6 +44,8 @@ VARIANTS: dict[str, tuple[str | None, dict]] = {
     "true_masks_exhaustive": (None, EXHAUSTIVE),
     "product_masks": (DEFAULT_BACKEND, {}),
     "product_masks_exhaustive": (DEFAULT_BACKEND, EXHAUSTIVE),
+    # the network's masks with the outline placed by colour (the default before the edge net)
+    "product_masks_colour_edges": (NETWORK_COLOUR_EDGES, {}),
     "true_masks_refraction": (None, {"use_refraction": True}),
     "true_masks_no_roi": (None, {"use_roi": False, "use_refraction": True}),
     "true_masks_colour_all_stages": (None, {"colour_geometry": "all_stages"}),

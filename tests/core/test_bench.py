@@ -109,7 +109,7 @@ def test_fit_suite_scores_clips_against_their_truth(tiny_scenario):
 
 def test_mask_bench_scores_each_back_end_from_the_click_the_automatic_seed_and_a_box(
         tiny_scenario):
-    """Both back-ends on the same clip: the network keeps a light-grey animal over green
+    """The three back-ends on the same clip: the network (either outline step) keeps a light-grey animal over green
     water from each seed; the colour tracker, which looks for a dark animal, finds none at
     the click nor by itself and scores 0 with the reason recorded, but follows it from a box
     (GrabCut finds it there)."""
@@ -117,13 +117,16 @@ def test_mask_bench_scores_each_back_end_from_the_click_the_automatic_seed_and_a
     from core.bench.suites import ensure_scenario
 
     figures = bench_masks({"tiny": ensure_scenario(tiny_scenario)}, stride=2)
-    network, colour = figures["clips"]
-    assert network["backend"] == "network" and network["frames"] == 2
-    assert network["mean_iou"] > 0.85 and network["flukes_iou"] > 0.5
-    assert 0.0 <= network["rostrum_iou"] <= 1.0 and not network["error"]
-    assert set(network["seeds"]) == {"auto", "box"}
-    for kind in ("auto", "box"):
-        assert network["seeds"][kind]["mean_iou"] > 0.85 and not network["seeds"][kind]["error"]
+    network, colour_edges, colour = figures["clips"]
+    assert [network["backend"], colour_edges["backend"]] == ["network", "network-colour-edges"]
+    for figures_of in (network, colour_edges):
+        assert figures_of["frames"] == 2 and not figures_of["error"]
+        assert figures_of["mean_iou"] > 0.85 and figures_of["flukes_iou"] > 0.5
+        assert 0.0 <= figures_of["rostrum_iou"] <= 1.0
+        assert set(figures_of["seeds"]) == {"auto", "box"}
+        for kind in ("auto", "box"):
+            assert figures_of["seeds"][kind]["mean_iou"] > 0.85
+            assert not figures_of["seeds"][kind]["error"]
     assert colour["mean_iou"] == 0.0 and "no dark, elongated animal" in colour["error"]
     assert colour["seeds"]["auto"]["mean_iou"] == 0.0 and colour["seeds"]["auto"]["error"]
     assert colour["seeds"]["box"]["mean_iou"] > 0.8
@@ -168,7 +171,8 @@ def test_bench_masks_defaults_to_the_back_ends_that_always_work():
     """SAM-2 is never in the default list: the bench must not fail where it is not installed."""
     from app.cli import build_parser
 
-    assert build_parser("bench").parse_args(["bench", "masks"]).backends == "network,colour"
+    assert build_parser("bench").parse_args(["bench", "masks"]).backends == \
+        "network,network-colour-edges,colour"
 
 
 @pytest.mark.parametrize("args, problem", [
