@@ -33,8 +33,9 @@ masks: each mask back-end from the same click on the target, on the frames a sui
 (every 4th): IoU against the true masks, IoU around the flukes and around the rostrum (the
 parts that decide the length) and seconds per frame; the same from the automatic seed and
 from a box around the target (--seeds, default click,auto,box; the click always). The default
-back-ends are those that need nothing beyond dolphinfit (network, colour); SAM-2 joins them
-with --backends network,colour,sam2 --sam2-checkpoint PATH where its package is installed.
+back-ends are those that need nothing beyond dolphinfit (network, network-colour-edges,
+colour); SAM-2 joins them with --backends network,colour,sam2 --sam2-checkpoint PATH where its
+package is installed.
 
 app: how long the desktop app takes from the command to the sample project's first frame on
 screen (``dolphinfit gui --sample --quit-when-shown``), beside the floor of an empty PySide6

@@ -1,11 +1,13 @@
 """Train the project's own networks again from synthetic clips, reproducibly.
 
-  dolphinfit train edges --out PATH [--clips N] [--steps N] [--seed S] [--workers N]
+  dolphinfit train edges --out PATH [--clips N] [--hard-clips N] [--steps N] [--seed S]
+                         [--workers N]
 
 `edges` trains the edge network, which draws the animal's outline in the network tracker's
-window (core/segment/edge_net.py). It renders --clips random synthetic clips into the cache
-(none of them the bench suite's; about 30 s each, on --workers processes; kept for the next
-run), cuts the tracker's windows out of them and fits the network on patches of them for
+window (core/segment/edge_net.py). It renders --clips random synthetic clips and --hard-clips
+of the hard scenes (surfacing, heavy glitter, faint deep passes, dark animals over sand) into
+the cache (none of them the bench suite's; about 30 s each, on --workers processes; kept for
+the next run), cuts the tracker's windows out of them and fits the network on patches of them for
 --steps steps (about 0.6 s each on two cores), then writes the weights and a record of the run
 to --out. The bundled weights are resources/models/edge_net_v1.npz, made with the defaults:
 
@@ -32,7 +34,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("network", choices=NETWORKS, help="which network")
     parser.add_argument("--out", type=Path, required=True, help="the weights file (.npz)")
     parser.add_argument("--clips", type=int, default=defaults.clips,
-                        help=f"synthetic clips to train on (default {defaults.clips})")
+                        help=f"random synthetic clips to train on (default {defaults.clips})")
+    parser.add_argument("--hard-clips", type=int, default=defaults.hard_clips,
+                        help=f"clips of the hard scenes besides (default {defaults.hard_clips})")
     parser.add_argument("--steps", type=int, default=defaults.steps,
                         help=f"optimisation steps (default {defaults.steps})")
     parser.add_argument("--seed", type=int, default=defaults.seed,
@@ -46,8 +50,9 @@ def run(args: argparse.Namespace) -> int:
     from core.segment.edge_training import TrainSettings, train_edges
     if args.out.suffix != ".npz":
         raise InputError(f"--out {args.out}: the weights are written as .npz")
-    check_output_file(args.out)
+    check_output_file(args.out, "--out ")
     settings = replace(TrainSettings(), clips=count(args.clips, 10, "--clips"),
+                       hard_clips=count(args.hard_clips, 0, "--hard-clips"),
                        steps=count(args.steps, 1, "--steps"), seed=count(args.seed, 0, "--seed"))
     workers = count(args.workers, 1, "--workers")
     record = train_edges(settings, args.out, workers, terminal_progress())
