@@ -19,7 +19,9 @@ import numpy as np
 from core.io.masks import read_png_folder
 from core.io.video import VideoReader, open_clip
 from core.measure.hw_ratios import DEFAULT_PRESET
-from core.segment.net_tracker import NetSettings, NetTracker, longer_side, square_window
+from core.segment.net_tracker import (
+    NetSettings, NetTracker, longer_side, square_window, window_side,
+)
 from core.segment.regions import centroid, shifted
 from core.segment.salient import SalientNet
 from core.segment.seed import dilate
@@ -74,8 +76,10 @@ def _random_config(rng: np.random.Generator, clip_seed: int,
                    water: str | None = None) -> SynthConfig:
     water = rng.choice(sorted(WATER_PRESETS)) if water is None else water
     preset = WATER_PRESETS[water]
-    jitter = lambda values, spread: tuple(float(v * math.exp(rng.normal(0, spread)))  # noqa: E731
-                                          for v in values)
+
+    def jitter(values: tuple[float, ...], spread: float) -> tuple[float, ...]:
+        return tuple(float(v * math.exp(rng.normal(0, spread))) for v in values)
+
     turning = rng.random() < 0.4
     companion = rng.random() < 0.4
     splash_kind = rng.random()
@@ -151,7 +155,8 @@ def ensure_clip(config: SynthConfig, root: Path) -> ClipFiles:
 
 
 def clip_windows(files: ClipFiles, seed: int, net: SalientNet | None = None) -> list[Window]:
-    """One window per frame where the target is visible (module doc)."""
+    """At most one window per frame where the target is visible (module doc): none where
+    the tracker's component would miss the target (``MIN_PRIOR_SHARE``)."""
     rng = np.random.default_rng([seed, 23])
     recorder = _Recorder()
     tracker = NetTracker(NetSettings(), net=net, edges=recorder)
@@ -176,7 +181,7 @@ def _window(tracker: NetTracker, recorder: _Recorder, frame_rgb: np.ndarray,
     if not prediction.any():
         return None
     growth = math.exp(rng.uniform(*np.log(GROWTH_RANGE)))
-    side = max(48, length_px * (1 + 2 * tracker.settings.context) * growth)
+    side = window_side(length_px, tracker.settings, growth)
     rows, cols = square_window(centroid(prediction) + rng.normal(0, 0.05 * side, 2), side,
                                *frame_rgb.shape[:2])
     moving = rng.random() < 0.7
@@ -189,7 +194,8 @@ def _window(tracker: NetTracker, recorder: _Recorder, frame_rgb: np.ndarray,
         return None
     crop, saliency, prior = recorder.seen
     truth = target[rows, cols]
-    if np.count_nonzero(prior & truth) < MIN_PRIOR_SHARE * np.count_nonzero(truth):
+    if not truth.any() or \
+            np.count_nonzero(prior & truth) < MIN_PRIOR_SHARE * np.count_nonzero(truth):
         return None  # the tracker would follow another animal or nothing here
     return Window(crop.copy(), np.round(saliency * 255).astype(np.uint8), prior.copy(),
                   truth.copy())

@@ -15,6 +15,7 @@ by its spread; the salient probability; the prior (0/1). Windows larger than
 """
 
 import json
+import zipfile
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -27,12 +28,14 @@ from torch.nn import functional as F
 from core.errors import InputError
 from core.io.atomic import atomic_path
 from core.resources import RESOURCES_DIR
+from core.segment.regions import attached
 
 WEIGHTS_PATH = RESOURCES_DIR / "models" / "edge_net_v1.npz"
 INPUT_CHANNELS = 5
 CHANNELS = (8, 16, 32, 48)     # per level, full resolution first
 MAX_SIDE_PX = 448              # larger windows are looked at downscaled
 MIN_SPREAD = 0.02              # floor of the RGB spread (flat windows)
+THRESHOLD = 0.5                # probability at which a pixel is the animal
 DEPTH_MULTIPLE = 2 ** (len(CHANNELS) - 1)
 
 
@@ -46,7 +49,8 @@ def _block(inputs: int, outputs: int) -> nn.Sequential:
 
 class EdgeNet(nn.Module):
     """U-Net: two 3×3 convolutions per level, max-pooling down, bilinear up with skips;
-    one logit per pixel. Input sides must be multiples of ``DEPTH_MULTIPLE``."""
+    one logit per pixel. It takes any size; sides that are multiples of ``DEPTH_MULTIPLE``
+    (``padded_to_multiple``) keep every level aligned with its skip, as in training."""
 
     def __init__(self, channels: tuple[int, ...] = CHANNELS) -> None:
         super().__init__()
@@ -132,7 +136,7 @@ def load_weights(path: Path = WEIGHTS_PATH) -> EdgeWeights:
                 if value.is_floating_point():
                     state[name] = torch.from_numpy(data[name])
             net.load_state_dict(state)
-    except (OSError, ValueError, KeyError, RuntimeError) as exc:
+    except (OSError, ValueError, KeyError, RuntimeError, TypeError, zipfile.BadZipFile) as exc:
         raise InputError(f"edge network weights {path}: unreadable ({exc})") from exc
     return EdgeWeights(net.eval(), meta)
 
@@ -142,10 +146,8 @@ class LearnedEdges:
 
     name = "edge network"
 
-    def __init__(self, weights: EdgeWeights | None = None, threshold: float = 0.5,
-                 gap_px: int = 2) -> None:
+    def __init__(self, weights: EdgeWeights | None = None, gap_px: int = 2) -> None:
         self.weights = weights if weights is not None else load_weights()
-        self.threshold = threshold
         self.gap_px = gap_px
 
     def probability(self, crop_rgb: np.ndarray, saliency: np.ndarray,
@@ -171,9 +173,10 @@ class LearnedEdges:
 
     def __call__(self, crop_rgb: np.ndarray, saliency: np.ndarray,
                  mask: np.ndarray) -> np.ndarray:
-        """The animal that ``mask`` marks, outlined by the network; unchanged when empty."""
-        from core.segment.regions import attached
+        """The animal that ``mask`` marks, outlined by the network; ``mask`` unchanged when it
+        is empty or the network's outline does not touch it."""
         if not mask.any():
             return mask
-        decided = self.probability(crop_rgb, saliency, mask) >= self.threshold
-        return attached(decided, mask, self.gap_px)
+        decided = self.probability(crop_rgb, saliency, mask) >= THRESHOLD
+        outlined = attached(decided, mask, self.gap_px)
+        return outlined if outlined.any() else mask

@@ -25,6 +25,7 @@ import numpy as np
 import torch
 from torch.nn import functional as F
 
+from core.errors import InputError
 from core.iou import mask_iou
 from core.progress import Progress, ProgressCallback
 from core.segment.edge_data import (
@@ -34,6 +35,7 @@ from core.segment.edge_data import (
 from core.segment.edge_net import (
     CHANNELS, EdgeNet, EdgeWeights, LearnedEdges, net_input, save_weights, water_of,
 )
+from core.segment.salient import SalientNet
 from core.segment.seed import dilate, erode
 from core.synth.config import SynthConfig
 from core.synth.sample import cache_dir
@@ -68,16 +70,17 @@ def windows_path(root: Path, config: SynthConfig) -> Path:
     return root / f"windows_{config.seed}_{hashlib.sha256(recipe.encode()).hexdigest()[:12]}.npz"
 
 
-def _windows_of(args: tuple[SynthConfig, Path, Path]) -> int:
+def _windows_of(args: tuple[SynthConfig, Path, Path]) -> None:
     config, root, out = args
     torch.set_num_threads(1)
-    if not out.exists():
-        files = ensure_clip(config, root)
-        windows = []
-        for repeat in range(WINDOWS_PER_FRAME):
-            windows += clip_windows(files, config.seed * WINDOWS_PER_FRAME + repeat)
-        save_windows(windows, out)
-    return len(load_windows(out))
+    if out.exists():
+        return
+    files = ensure_clip(config, root)
+    net = SalientNet()
+    windows = []
+    for repeat in range(WINDOWS_PER_FRAME):
+        windows += clip_windows(files, config.seed * WINDOWS_PER_FRAME + repeat, net)
+    save_windows(windows, out)
 
 
 def make_windows(settings: TrainSettings, workers: int = 2,
@@ -113,7 +116,10 @@ def _region(image: np.ndarray, row0: int, col0: int, side: int) -> np.ndarray:
 def cut_prior(prior: np.ndarray, rng: np.random.Generator) -> np.ndarray:
     """The prior with one end cut off across its long axis, keeping 45–85 % of its length
     from the other end: the salient network often gives only the front of an animal whose
-    tail lies in glitter or deeper, and the outline must grow back to the whole animal."""
+    tail lies in glitter or deeper, and the outline must grow back to the whole animal. An
+    empty prior stays empty."""
+    if not prior.any():
+        return prior
     rows, cols = np.nonzero(prior)
     points = np.stack([cols, rows], axis=1).astype(np.float64)
     centred = points - points.mean(axis=0)
@@ -268,6 +274,10 @@ def train_edges(settings: TrainSettings, out: Path, workers: int = 2,
     """The whole recipe: windows, training, weights written to ``out``; returns the record."""
     paths = make_windows(settings, workers, progress)
     train_windows, held_out = split(paths)
+    if not train_windows or not held_out:
+        raise InputError(f"edge network training: {len(train_windows)} training and "
+                         f"{len(held_out)} held-out windows from {len(paths)} clips; both "
+                         f"need some (more --clips)")
     log(f"{len(train_windows)} training windows, {len(held_out)} held out")
     net, record = train(train_windows, held_out, settings, progress, log)
     save_weights(net, record, out)

@@ -160,6 +160,12 @@ def longer_side(mask: np.ndarray) -> int:
     return max(width, height)
 
 
+def window_side(length_px: float, settings: NetSettings, growth: float = 1.0) -> float:
+    """The side of the square window around an animal ``length_px`` long (module doc,
+    step 1), ``growth`` × the usual."""
+    return max(MIN_WINDOW_PX, length_px * (1.0 + 2.0 * settings.context) * growth)
+
+
 class EdgeStep(Protocol):
     """The outline step (module doc, step 3): the animal that ``mask`` (the component chosen
     from the saliency) marks in the window, outlined again."""
@@ -409,8 +415,7 @@ class NetTracker:
     def _around(self, frame_rgb: np.ndarray, mask: np.ndarray,
                 growth: float = 1.0) -> tuple[slice, slice]:
         """The square window around a mask (module doc, step 1)."""
-        side = max(MIN_WINDOW_PX,
-                   longer_side(mask) * (1.0 + 2.0 * self.settings.context) * growth)
+        side = window_side(longer_side(mask), self.settings, growth)
         return square_window(centroid(mask), side, *frame_rgb.shape[:2])
 
     def _seed_mask(self, frame_rgb: np.ndarray, seed: Seed) -> np.ndarray:

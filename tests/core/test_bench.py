@@ -109,10 +109,10 @@ def test_fit_suite_scores_clips_against_their_truth(tiny_scenario):
 
 def test_mask_bench_scores_each_back_end_from_the_click_the_automatic_seed_and_a_box(
         tiny_scenario):
-    """The three back-ends on the same clip: the network (either outline step) keeps a light-grey animal over green
-    water from each seed; the colour tracker, which looks for a dark animal, finds none at
-    the click nor by itself and scores 0 with the reason recorded, but follows it from a box
-    (GrabCut finds it there)."""
+    """The three back-ends on the same clip: the network (either outline step) keeps a
+    light-grey animal over green water from each seed; the colour tracker, which looks for a
+    dark animal, finds none at the click nor by itself and scores 0 with the reason recorded,
+    but follows it from a box (GrabCut finds it there)."""
     from core.bench.mask_bench import bench_masks
     from core.bench.suites import ensure_scenario
 

@@ -14,13 +14,13 @@ from core.segment.edge_data import (
     FIRST_SEED, Window, clip_windows, load_windows, save_windows, training_configs,
 )
 from core.segment.edge_net import (
-    MAX_SIDE_PX, EdgeNet, EdgeWeights, LearnedEdges, load_weights, net_input,
+    MAX_SIDE_PX, WEIGHTS_PATH, EdgeNet, EdgeWeights, LearnedEdges, load_weights, net_input,
     padded_to_multiple, save_weights,
 )
 from core.segment.edge_training import (
     PRIOR_CUT_KEEP, TrainSettings, cut_prior, loss_of, train, training_patch,
 )
-from core.segment.net_tracker import ColourEdges, NetSettings
+from core.segment.net_tracker import ColourEdges, NetSettings, make_edge_step
 from core.segment.salient import SalientNet
 from core.synth.clip import make_clip
 from core.synth.config import SynthConfig
@@ -82,6 +82,46 @@ def test_missing_or_unreadable_weights_name_the_file(tmp_path):
     broken.write_bytes(b"not weights")
     with pytest.raises(InputError, match="broken.npz: unreadable"):
         load_weights(broken)
+    cut = tmp_path / "cut.npz"      # a copy broken off half way
+    cut.write_bytes(WEIGHTS_PATH.read_bytes()[:20_000])
+    with pytest.raises(InputError, match="cut.npz: unreadable"):
+        load_weights(cut)
+
+
+def _silent_net() -> EdgeWeights:
+    """A network that calls no pixel the animal."""
+    net = EdgeNet().eval()
+    with torch.no_grad():
+        net.head.weight.zero_()
+        net.head.bias.fill_(-30.0)
+    return EdgeWeights(net, {})
+
+
+def test_the_outline_step_keeps_its_mask_when_it_has_nothing_better():
+    """An empty mask stays empty; where the network's outline does not touch the chosen
+    component, the component is kept rather than the frame lost."""
+    window = _ellipse_window()
+    saliency = window.saliency / 255.0
+    edges = LearnedEdges(_silent_net())
+    assert not edges(window.crop_rgb, saliency, np.zeros_like(window.prior)).any()
+    assert np.array_equal(edges(window.crop_rgb, saliency, window.prior), window.prior)
+
+
+def test_small_windows_of_odd_sides_are_answered_at_their_own_size():
+    """The tracker's smallest windows (48 px) around a small animal, cut to odd sides."""
+    window = _ellipse_window(51)
+    edges = LearnedEdges()
+    for rows, cols in ((slice(10, 47), slice(1, 50)), (slice(0, 51), slice(3, 48))):
+        crop = np.ascontiguousarray(window.crop_rgb[rows, cols])
+        prior, target = window.prior[rows, cols], window.target[rows, cols]
+        out = edges(crop, window.saliency[rows, cols] / 255.0, prior)
+        assert out.shape == prior.shape and out.dtype == bool
+        assert mask_iou(out, target) >= mask_iou(prior, target) - 0.05
+
+
+def test_an_unknown_outline_step_is_refused():
+    with pytest.raises(InputError, match="network tracker edges: one of network, colour"):
+        make_edge_step(NetSettings(edges="grabcut"))
 
 
 def test_a_large_window_is_looked_at_downscaled_and_answered_at_full_size():
@@ -109,12 +149,15 @@ def test_patches_move_the_input_and_the_target_together():
     its target."""
     window = _ellipse_window()
     rng = np.random.default_rng(3)
+    checked = 0
     for _ in range(20):
         x, target, valid = training_patch(window, 64, 1.0, rng)
         assert x.shape == (5, 64, 64) and target.shape == valid.shape == (64, 64)
         prior = x[4] > 0.5
         if prior.sum() > 20:
             assert (prior & (target > 0.5)).sum() > 0.6 * prior.sum()
+            checked += 1
+    assert checked >= 10
 
 
 def test_patches_beyond_a_small_window_are_padding_and_not_scored():
