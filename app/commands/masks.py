@@ -9,9 +9,9 @@ its outline drawn by the project's edge network (default; keeps light-grey fluke
 water; about 0.9–1.4 s per frame on two cores), the same with the outline placed by colour
 (network-colour-edges, the default before the edge network), the colour tracker (fast, for
 dark animals over clear water) or SAM-2, the paper's segmenter, for users who installed its
-`sam2` package themselves: --sam2-checkpoint names the checkpoint file downloaded for it (e.g. sam2.1_hiera_tiny.pt); it needs --seed or --box. --every K runs
-the network or SAM-2 on every K-th frame only (the others are written empty), e.g. the frames
-a fit will use.
+`sam2` package themselves: --sam2-checkpoint names the checkpoint file downloaded for it (e.g.
+sam2.1_hiera_tiny.pt); it needs --seed or --box. --every K runs the network or SAM-2 on every
+K-th frame only (the others are written empty), e.g. the frames a fit will use.
 
 --seed is a click on the animal and --box a box around it (top-left x, y, width, height), in
 pixels of frame N (--frame, default 0); --auto finds the most dolphin-like blob (dark and

@@ -11,7 +11,7 @@ salient network's probability and the component the tracker would choose
 """
 
 import math
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, fields, replace
 from pathlib import Path
 
 import numpy as np
@@ -130,6 +130,9 @@ class Window:
     target: np.ndarray       # (h, w) bool: the true mask
 
 
+WINDOW_ARRAYS = tuple(field.name for field in fields(Window))  # as saved, in order
+
+
 class _Recorder:
     """An outline step that keeps what it was given and changes nothing."""
 
@@ -206,7 +209,7 @@ def save_windows(windows: list[Window], path: Path) -> None:
     from core.io.atomic import atomic_path
     arrays = {}
     for index, window in enumerate(windows):
-        for name in ("crop_rgb", "saliency", "prior", "target"):
+        for name in WINDOW_ARRAYS:
             arrays[f"{name}_{index:04d}"] = getattr(window, name)
     with atomic_path(path) as temporary:
         with open(temporary, "wb") as stream:
@@ -216,6 +219,5 @@ def save_windows(windows: list[Window], path: Path) -> None:
 def load_windows(path: Path) -> list[Window]:
     """The windows ``save_windows`` wrote."""
     with np.load(path, allow_pickle=False) as data:
-        return [Window(*(data[f"{name}_{index:04d}"]
-                         for name in ("crop_rgb", "saliency", "prior", "target")))
+        return [Window(*(data[f"{name}_{index:04d}"] for name in WINDOW_ARRAYS))
                 for index in range(int(data["count"]))]

@@ -366,8 +366,8 @@ class NetTracker:
                          lambda t: crops[t].paste(height, width))
 
     def masked_in(self, frame_rgb: np.ndarray, rows: slice, cols: slice,
-                prediction: np.ndarray, near: bool = True,
-                focus: np.ndarray | None = None) -> np.ndarray:
+                  prediction: np.ndarray, near: bool = True,
+                  focus: np.ndarray | None = None) -> np.ndarray:
         """Steps 2 and 3 in one window: the (H, W) mask attached to ``prediction``, kept near
         it unless ``near`` is False (at the seed, or after the animal moved off its
         prediction, where the prediction may be only a part of the animal). ``focus``: where
@@ -567,8 +567,8 @@ class NetTracker:
             # fading out needs to know where the animal can be: not before its motion is
             focus_px = (round(settings.focus_fraction * longer_side(state.last_seen))
                         if state.moving else None)
-            found = self.masked_in(frame_rgb, *near_window, prediction,
-                                 focus=None if focus_px is None else dilate(prediction, focus_px))
+            near_focus = None if focus_px is None else dilate(prediction, focus_px)
+            found = self.masked_in(frame_rgb, *near_window, prediction, focus=near_focus)
             candidates = [found]
             if not found.any() or mask_iou(found, prediction) < settings.follow_iou:
                 # moved off its prediction, or out of the window (where the network loses
