@@ -62,6 +62,12 @@ VARIANTS: dict[str, tuple[str | None, dict]] = {
     "true_masks_template_heights": (None, {"hw_table": None}),
     # the fit before both: the parts' scales alone and the template's heights
     "true_masks_before_field_and_table": (None, {"profile_field": False, "hw_table": None}),
+    # the depth prior off: depth and overall size trade freely, as before it
+    "true_masks_free_depth": (None, {"weights": LossWeights(depth=0.0)}),
+    # the soft targets' edge scale set before the depth prior
+    "true_masks_edge_078": (None, {"target_edge_scale": 0.78}),
+    "true_masks_before_depth_prior": (None, {"weights": LossWeights(depth=0.0),
+                                             "target_edge_scale": 0.78}),
 }
 DEFAULT_VARIANTS = ("true_masks", "product_masks")
 SUITE_FIT_FPS = 2.5

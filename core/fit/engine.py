@@ -363,6 +363,7 @@ class _Problem:
             "smooth_pos": losses.smoothness(params.transl, order, ratio),
             "smooth_rot": losses.rotation_smoothness(rotations, order, ratio),
             "smooth_pose": losses.smoothness(params.body_pose, order, ratio),
+            "depth": losses.depth_prior(params.transl, self.config.init_depth_m),
         }
         if self.config.profile_field:
             terms["profile"] = losses.profile_prior(params.profile)

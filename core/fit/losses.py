@@ -95,6 +95,13 @@ def vertical_motion(transl: torch.Tensor, forward_z: torch.Tensor, time_s: torch
     return ((step - speed * dt) ** 2).mean()
 
 
+def depth_prior(transl: torch.Tensor, depth_m: float) -> torch.Tensor:
+    """Mean squared deviation (m²) of the root's depth below the surface (world z = 0) from
+    ``depth_m``, over frames: silhouettes alone cannot tell a deeper animal from a larger
+    one, so without it the depth drifts and takes the overall size with it."""
+    return ((transl[:, 2] + depth_m) ** 2).mean()
+
+
 def direction_loss(forward_xy: torch.Tensor, transl: torch.Tensor) -> torch.Tensor:
     """Mean of 1 − cos(angle between heading and direction of motion), adjacent frames."""
     if transl.shape[0] < 2:

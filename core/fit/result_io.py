@@ -26,6 +26,7 @@ PROFILE = "profile"   # only in fits with a profile field
 # What a fit made before a configuration field existed did, where the field's default now
 # says otherwise: such a result reads back with these, not with today's defaults.
 FIELDS_BEFORE = {"colour_geometry": "all_stages", "profile_field": False, "hw_table": None}
+WEIGHTS_BEFORE = {"depth": 0.0}   # the same for the loss weights
 SCALARS = ("volume_m3", "length_m", "bci", "mass_kg", "density_kg_m3")
 
 
@@ -56,7 +57,7 @@ def read_fit_result(out_dir: Path) -> FitResult:
         fields = dict(
             **{name: float(data[name]) for name in SCALARS},
             loss_history=tuple(data["loss_history"]), timings_s=dict(data["timings"]),
-            config=FitConfig.from_json({**FIELDS_BEFORE, **data["config"]}),
+            config=_config_as_made(data["config"]),
             warnings=tuple(data["warnings"]),
             status=status, status_message=str(data["status_message"]))
         num_frames = len(data["frames"])
@@ -71,6 +72,16 @@ def read_fit_result(out_dir: Path) -> FitResult:
         raise InputError(f"{npz}: its per-frame arrays do not match the {num_frames} frames "
                          f"of {json_path}")
     return result
+
+
+def _config_as_made(config: dict) -> FitConfig:
+    """A saved fit's configuration, with what it did for the fields it predates."""
+    if not isinstance(config, dict):
+        raise TypeError(f"the configuration is a {type(config).__name__}, not an object")
+    weights = config.get("weights", {})
+    if isinstance(weights, dict):
+        config = {**config, "weights": {**WEIGHTS_BEFORE, **weights}}
+    return FitConfig.from_json({**FIELDS_BEFORE, **config})
 
 
 def _read_arrays(path: Path) -> dict[str, np.ndarray]:

@@ -68,11 +68,14 @@ def _truth(clip_dir):
 
 
 def test_end_to_end_volume_and_length_within_tolerance(clip_dir):
-    """A synthetic clip's volume comes back within 5 % and its length within 3 %."""
+    """A synthetic clip's volume comes back within 5 % and its length within 3 %, with the
+    animal at its depth (silhouettes alone would let depth and size trade)."""
     truth = _truth(clip_dir)
     result = fit(_data(clip_dir), QUICK)
     assert abs(result.volume_m3 / truth["volume_m3"] - 1) < 0.05
     assert abs(result.length_m / truth["length_m"] - 1) < 0.03
+    true_z = np.array([f["transl_m"][2] for f in truth["frames"]])[result.frame_idx]
+    assert np.abs(result.transl[:, 2] - true_z).max() < 0.05
     assert result.iou.mean() > 0.85
     assert result.posed_verts.shape == (len(result.frame_idx), 4002, 3)
     assert set(result.timings_s) >= {"heading", "global", "body", "shape", "total"}
@@ -219,19 +222,22 @@ def test_saved_fit_reads_back_field_for_field(tiny_run, tmp_path):
 
 
 def test_a_fit_saved_before_new_fields_reads_back_as_it_was_made(tiny_run, tmp_path):
-    """A result.json written before colour_geometry, profile_field and hw_table existed
-    says what that fit did (the paper's colour term, no profile field, the template's
-    heights), not today's defaults."""
+    """A result.json written before colour_geometry, profile_field, hw_table and the depth
+    prior existed says what that fit did (the paper's colour term, no profile field, the
+    template's heights, depth free), not today's defaults."""
     write_fit_result(tiny_run[0].result, tmp_path)
     json_path = tmp_path / RESULT_JSON
     data = json.loads(json_path.read_text())
     for name in ("colour_geometry", "profile_field", "hw_table"):
         del data["config"][name]
+    del data["config"]["weights"]["depth"]
     json_path.write_text(json.dumps(data))
     config = read_fit_result(tmp_path).config
-    assert (config.colour_geometry, config.profile_field, config.hw_table) == (
-        "all_stages", False, None)
+    assert (config.colour_geometry, config.profile_field, config.hw_table,
+            config.weights.depth) == ("all_stages", False, None, 0.0)
+    assert config.weights.pose == FitConfig().weights.pose
     assert FitConfig().profile_field and FitConfig().hw_table == "tursiops-provisional"
+    assert FitConfig().weights.depth > 0
 
 
 def test_broken_saved_fits_name_the_file(tiny_run, tmp_path):
