@@ -68,6 +68,8 @@ VARIANTS: dict[str, tuple[str | None, dict]] = {
     "true_masks_edge_078": (None, {"target_edge_scale": 0.78}),
     "true_masks_before_depth_prior": (None, {"weights": LossWeights(depth=0.0),
                                              "target_edge_scale": 0.78}),
+    "product_masks_free_depth": (DEFAULT_BACKEND, {"weights": LossWeights(depth=0.0)}),
+    "product_masks_edge_078": (DEFAULT_BACKEND, {"target_edge_scale": 0.78}),
 }
 DEFAULT_VARIANTS = ("true_masks", "product_masks")
 SUITE_FIT_FPS = 2.5
