@@ -131,7 +131,7 @@ class FitConfig:
     # target (widths came out 10 % narrow on a synthetic clip), 1 the measured profile. An
     # empirical calibration: with the depth prior, 0.92 makes the fit's own volume error
     # (its error minus the clip's hidden-height floor) average +0.1 % over the suite (0.78:
-    # −3.7 %, 0.85: −1.6 %, 1.0: +2.0 %; `dolphinfit bench fit --suite`, README). 0.78 was
+    # −3.7 %, 0.85: −1.8 %, 1.0: +1.8 %; `dolphinfit bench fit --suite`, README). 0.78 was
     # set while depth drifted with size.
     target_edge_scale: float = 0.92
     # Which stages the colour term's gradient moves the geometry in (pose, position, shape):
