@@ -16,6 +16,7 @@ from pathlib import Path
 
 import numpy as np
 
+from core.io.atomic import atomic_path
 from core.io.masks import read_png_folder
 from core.io.video import VideoReader, open_clip
 from core.measure.hw_ratios import DEFAULT_PRESET
@@ -26,7 +27,8 @@ from core.segment.regions import centroid, shifted
 from core.segment.salient import SalientNet
 from core.segment.seed import dilate
 from core.synth.config import Effects, SynthConfig
-from core.synth.files import ClipFiles, clip_files, made_from
+from core.synth.files import ClipFiles
+from core.synth.sample import ensure_clip
 from core.synth.water import WATER_PRESETS, with_water
 
 TRAINING_SET = "edge-training-v1"
@@ -147,14 +149,9 @@ class _Recorder:
         return mask
 
 
-def ensure_clip(config: SynthConfig, root: Path) -> ClipFiles:
+def training_clip(config: SynthConfig, root: Path) -> ClipFiles:
     """The clip of ``config`` under ``root`` (its seed names the folder), rendered if missing."""
-    out = root / f"clip_{config.seed}"
-    files = clip_files(out, config)
-    if made_from(files, config):
-        return files
-    from core.synth.clip import make_clip
-    return make_clip(config, out)
+    return ensure_clip(config, root / f"clip_{config.seed}")
 
 
 def clip_windows(files: ClipFiles, seed: int, net: SalientNet | None = None) -> list[Window]:
@@ -206,7 +203,6 @@ def _window(tracker: NetTracker, recorder: _Recorder, frame_rgb: np.ndarray,
 
 def save_windows(windows: list[Window], path: Path) -> None:
     """The windows of one clip in one ``.npz``."""
-    from core.io.atomic import atomic_path
     arrays = {}
     for index, window in enumerate(windows):
         for name in WINDOW_ARRAYS:

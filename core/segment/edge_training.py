@@ -29,8 +29,8 @@ from core.errors import InputError
 from core.iou import mask_iou
 from core.progress import Progress, ProgressCallback
 from core.segment.edge_data import (
-    TRAINING_SET, WINDOW_RECIPE, WINDOWS_PER_FRAME, Window, clip_windows, ensure_clip,
-    load_windows, save_windows, training_configs,
+    TRAINING_SET, WINDOW_RECIPE, WINDOWS_PER_FRAME, Window, clip_windows,
+    load_windows, save_windows, training_clip, training_configs,
 )
 from core.segment.edge_net import (
     CHANNELS, EdgeNet, EdgeWeights, LearnedEdges, net_input, save_weights, water_of,
@@ -75,7 +75,7 @@ def _windows_of(args: tuple[SynthConfig, Path, Path]) -> None:
     torch.set_num_threads(1)
     if out.exists():
         return
-    files = ensure_clip(config, root)
+    files = training_clip(config, root)
     net = SalientNet()
     windows = []
     for repeat in range(WINDOWS_PER_FRAME):

@@ -31,12 +31,17 @@ def cache_dir() -> Path:
     return Path(xdg) / "dolphinfit"
 
 
-def ensure_sample(progress: ProgressCallback | None = None) -> ClipFiles:
-    """The sample clip's files, rendering them first if they are missing or stale (only
-    rendering loads the model stack, torch)."""
-    out_dir = cache_dir() / SAMPLE_NAME
-    files = clip_files(out_dir, SAMPLE_CONFIG)
-    if made_from(files, SAMPLE_CONFIG):
+def ensure_clip(config: SynthConfig, out_dir: Path,
+                progress: ProgressCallback | None = None) -> ClipFiles:
+    """The files of the clip of ``config`` in ``out_dir``, rendered first if they are missing
+    or were made from another configuration (only rendering loads the model stack, torch)."""
+    files = clip_files(out_dir, config)
+    if made_from(files, config):
         return files
     from core.synth.clip import make_clip
-    return make_clip(SAMPLE_CONFIG, out_dir, progress=progress)
+    return make_clip(config, out_dir, progress=progress)
+
+
+def ensure_sample(progress: ProgressCallback | None = None) -> ClipFiles:
+    """The sample clip's files, rendering them first if they are missing or stale."""
+    return ensure_clip(SAMPLE_CONFIG, cache_dir() / SAMPLE_NAME, progress)
