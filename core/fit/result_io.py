@@ -25,8 +25,9 @@ LIGHT_PREFIX = "light_"
 PROFILE = "profile"   # only in fits with a profile field
 # What a fit made before a configuration field existed did, where the field's default now
 # says otherwise: such a result reads back with these, not with today's defaults.
-FIELDS_BEFORE = {"colour_geometry": "all_stages", "profile_field": False, "hw_table": None}
-WEIGHTS_BEFORE = {"depth": 0.0}   # the same for the loss weights
+# Nested objects (the loss weights) likewise, field by field.
+FIELDS_BEFORE = {"colour_geometry": "all_stages", "profile_field": False, "hw_table": None,
+                 "weights": {"depth": 0.0}}
 SCALARS = ("volume_m3", "length_m", "bci", "mass_kg", "density_kg_m3")
 
 
@@ -57,7 +58,7 @@ def read_fit_result(out_dir: Path) -> FitResult:
         fields = dict(
             **{name: float(data[name]) for name in SCALARS},
             loss_history=tuple(data["loss_history"]), timings_s=dict(data["timings"]),
-            config=_config_as_made(data["config"]),
+            config=FitConfig.from_json(_as_made(data["config"], FIELDS_BEFORE)),
             warnings=tuple(data["warnings"]),
             status=status, status_message=str(data["status_message"]))
         num_frames = len(data["frames"])
@@ -74,14 +75,18 @@ def read_fit_result(out_dir: Path) -> FitResult:
     return result
 
 
-def _config_as_made(config: dict) -> FitConfig:
-    """A saved fit's configuration, with what it did for the fields it predates."""
-    if not isinstance(config, dict):
-        raise TypeError(f"the configuration is a {type(config).__name__}, not an object")
-    weights = config.get("weights", {})
-    if isinstance(weights, dict):
-        config = {**config, "weights": {**WEIGHTS_BEFORE, **weights}}
-    return FitConfig.from_json({**FIELDS_BEFORE, **config})
+def _as_made(saved: dict, before: dict) -> dict:
+    """A saved configuration object with ``before``'s value for each field it predates,
+    within nested objects too."""
+    if not isinstance(saved, dict):
+        raise TypeError(f"a configuration object is a {type(saved).__name__}")
+    made = dict(saved)
+    for name, value in before.items():
+        if name not in saved:
+            made[name] = value
+        elif isinstance(value, dict) and isinstance(saved[name], dict):
+            made[name] = _as_made(saved[name], value)
+    return made
 
 
 def _read_arrays(path: Path) -> dict[str, np.ndarray]:
