@@ -38,6 +38,10 @@ from core.synth.sample import cache_dir
 # resolution throughout. Measured beside the defaults by both the suite and the speed run.
 EXHAUSTIVE = {"soft_primitives": "faces", "heading_max_frames": 0, "shape_max_frames": 0,
               "coarse_factor": 1}
+# the depth prior off: depth and overall size trade freely, as before it
+FREE_DEPTH = {"weights": LossWeights(depth=0.0)}
+# the soft targets' edge scale set before the depth prior
+EDGE_BEFORE_DEPTH_PRIOR = {"target_edge_scale": 0.78}
 VARIANTS: dict[str, tuple[str | None, dict]] = {
     # name: (mask back-end, None for the clip's true masks; fit options over the defaults)
     "true_masks": (None, {}),
@@ -62,14 +66,11 @@ VARIANTS: dict[str, tuple[str | None, dict]] = {
     "true_masks_template_heights": (None, {"hw_table": None}),
     # the fit before both: the parts' scales alone and the template's heights
     "true_masks_before_field_and_table": (None, {"profile_field": False, "hw_table": None}),
-    # the depth prior off: depth and overall size trade freely, as before it
-    "true_masks_free_depth": (None, {"weights": LossWeights(depth=0.0)}),
-    # the soft targets' edge scale set before the depth prior
-    "true_masks_edge_078": (None, {"target_edge_scale": 0.78}),
-    "true_masks_before_depth_prior": (None, {"weights": LossWeights(depth=0.0),
-                                             "target_edge_scale": 0.78}),
-    "product_masks_free_depth": (DEFAULT_BACKEND, {"weights": LossWeights(depth=0.0)}),
-    "product_masks_edge_078": (DEFAULT_BACKEND, {"target_edge_scale": 0.78}),
+    "true_masks_free_depth": (None, FREE_DEPTH),
+    "true_masks_edge_078": (None, EDGE_BEFORE_DEPTH_PRIOR),
+    "true_masks_before_depth_prior": (None, {**FREE_DEPTH, **EDGE_BEFORE_DEPTH_PRIOR}),
+    "product_masks_free_depth": (DEFAULT_BACKEND, FREE_DEPTH),
+    "product_masks_edge_078": (DEFAULT_BACKEND, EDGE_BEFORE_DEPTH_PRIOR),
 }
 DEFAULT_VARIANTS = ("true_masks", "product_masks")
 SUITE_FIT_FPS = 2.5
