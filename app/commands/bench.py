@@ -31,11 +31,12 @@ truth. Clips are rendered once into the cache.
 
 masks: each mask back-end from the same click on the target, on the frames a suite fit uses
 (every 4th): IoU against the true masks, IoU around the flukes and around the rostrum (the
-parts that decide the length) and seconds per frame; the same from the automatic seed and
-from a box around the target (--seeds, default click,auto,box; the click always). The default
-back-ends are those that need nothing beyond dolphinfit (network, network-colour-edges,
-colour); SAM-2 joins them with --backends network,colour,sam2 --sam2-checkpoint PATH where its
-package is installed.
+parts that decide the length), the outline offset (how far the outline lies outside or
+inside the true one, in pixels: what volume follows) and seconds per frame; the same from
+the automatic seed and from a box around the target (--seeds, default click,auto,box; the
+click always). The default back-ends are those that need nothing beyond dolphinfit (network,
+network-colour-edges, colour); SAM-2 joins them with --backends network,colour,sam2
+--sam2-checkpoint PATH where its package is installed.
 
 app: how long the desktop app takes from the command to the sample project's first frame on
 screen (``dolphinfit gui --sample --quit-when-shown``), beside the floor of an empty PySide6
@@ -195,29 +196,33 @@ def _print_score(score) -> None:
 def _print_mask_score(score) -> None:
     others = "".join(f"  {kind} IoU {s.mean_iou:.3f}" for kind, s in score.seeds.items())
     print(f"{score.clip:16s} {score.backend:20s} IoU {score.mean_iou:.3f}  flukes "
-          f"{score.flukes_iou:.3f}  rostrum {score.rostrum_iou:.3f}  "
-          f"{score.seconds_per_frame:.2f} s/frame{others} {score.error}", file=sys.stderr,
+          f"{score.flukes_iou:.3f}  rostrum {score.rostrum_iou:.3f}  outline "
+          f"{score.outline_offset_px:+.2f} px  {score.seconds_per_frame:.2f} s/frame{others} "
+          f"{score.error}", file=sys.stderr,
           flush=True)
 
 
 def format_masks(figures: dict) -> str:
-    """Per-clip IoUs and the summary per back-end, from the click and from the other seeds
-    (IoU, flukes, rostrum IoU of each)."""
+    """Per-clip IoUs and outline offsets and the summary per back-end, from the click and from
+    the other seeds (IoU, flukes, rostrum IoU of each)."""
     kinds = list(figures["clips"][0]["seeds"])
-    lines = ["clip             back-end              IoU    min    flukes rostrum s/frame"
+    lines = ["clip             back-end              IoU    min    flukes rostrum outline px "
+             "s/frame"
              + "".join(f"  {kind:>5s}: IoU  fl    ro" for kind in kinds)]
     for c in figures["clips"]:
         errors = [c["error"]] + [c["seeds"][kind]["error"] for kind in kinds]
         lines.append(f"{c['clip']:16s} {c['backend']:20s}  {c['mean_iou']:.3f}  "
                      f"{c['min_iou']:.3f}  {c['flukes_iou']:.3f}  {c['rostrum_iou']:.3f}   "
-                     f"{c['seconds_per_frame']:.2f}"
+                     f"{c['outline_offset_px']:+6.2f}     {c['seconds_per_frame']:.2f}"
                      + "".join(f"        {_ious(c['seeds'][kind])}" for kind in kinds)
                      + "".join(f"  ({e})" for e in errors if e))
     lines.append("")
     for backend, s in figures["summary"].items():
         lines.append(f"{backend:20s} mean IoU {s['mean_iou']:.3f} (worst clip "
                      f"{s['worst_clip_iou']:.3f}), flukes {s['flukes_iou']:.3f}, rostrum "
-                     f"{s['rostrum_iou']:.3f}, {s['seconds_per_frame']:.2f} s per frame"
+                     f"{s['rostrum_iou']:.3f}, outline offset {s['mean_abs_outline_offset_px']:.2f} "
+                     f"px (worst clip {s['worst_outline_offset_px']:.2f}), "
+                     f"{s['seconds_per_frame']:.2f} s per frame"
                      + "".join(f"; {kind}: {t['mean_iou']:.3f} (worst clip "
                                f"{t['worst_clip_iou']:.3f})" for kind, t in s["seeds"].items()))
     return "\n".join(lines)

@@ -11,6 +11,9 @@ is scored on those frames:
 - **flukes** and **rostrum IoU**: the same within a zone around that part's true region
   (``parts.npz``; the zone is the region grown by ``PART_ZONE_PX``), over the frames where the
   part is visible: the parts that decide the body length;
+- **outline offset**: how far the outline lies outside (+) or inside (−) the true one, in
+  pixels, averaged over the scored frames (``evaluate.outline_offset_px``): the figure volume
+  follows, where IoU does not say in which direction a mask errs;
 - **seconds per segmented frame**, wall time of the whole pass (for SAM-2 including
   building its model from the checkpoint, once per clip).
 
@@ -31,7 +34,7 @@ from core.io.video import VideoReader, open_clip
 from core.iou import mask_iou
 from core.limits import one_of
 from core.segment.backends import ALWAYS_AVAILABLE, COLOUR, make_segmenter
-from core.segment.evaluate import box_seed_from
+from core.segment.evaluate import box_seed_from, outline_offset_px
 from core.segment.seed import dilate
 from core.segment.segmenter import AutoSeed, PointSeed, Seed
 from core.synth.files import ClipFiles, read_part_masks
@@ -51,6 +54,7 @@ class SeedScore:
     flukes_iou: float     # NaN when the flukes are never visible in the scored frames
     rostrum_iou: float
     seconds_per_frame: float
+    outline_offset_px: float = float("nan")   # mean over the frames where the target shows
     error: str = ""       # why the back-end gave no masks at all (scored as empty masks)
 
 
@@ -67,6 +71,7 @@ class MaskScore:
     rostrum_iou: float
     frames: int           # frames scored
     seconds_per_frame: float
+    outline_offset_px: float = float("nan")
     error: str = ""       # why the back-end gave no masks at all (scored as empty masks)
     seeds: dict[str, SeedScore] = field(default_factory=dict)
 
@@ -123,18 +128,21 @@ def score_backend(name: str, files: ClipFiles, backend: str, stride: int = DEFAU
     return MaskScore(clip=name, backend=backend, mean_iou=first.mean_iou,
                      min_iou=first.min_iou, flukes_iou=first.flukes_iou,
                      rostrum_iou=first.rostrum_iou, frames=len(scored),
-                     seconds_per_frame=first.seconds_per_frame, error=first.error,
+                     seconds_per_frame=first.seconds_per_frame,
+                     outline_offset_px=first.outline_offset_px, error=first.error,
                      seeds=by_kind)
 
 
 def _scores(track: MaskTrack | None, truth: MaskTrack, parts: dict[str, np.ndarray],
             scored: list[int], seconds_per_frame: float, error: str) -> SeedScore:
     """The IoUs of ``track`` (None: no masks) on the scored frames."""
-    ious, part_ious = [], {part: [] for part in ("flukes", "rostrum")}
+    ious, offsets, part_ious = [], [], {part: [] for part in ("flukes", "rostrum")}
     for t in scored:
         target = truth.mask(t)
         result = track.mask(t) if track is not None else np.zeros_like(target)
         ious.append(mask_iou(result, target))
+        if target.any():
+            offsets.append(outline_offset_px(result, target))
         for part, values in part_ious.items():
             region = parts[part][t] & target
             if region.any():
@@ -143,12 +151,18 @@ def _scores(track: MaskTrack | None, truth: MaskTrack, parts: dict[str, np.ndarr
                   for part, values in part_ious.items()}
     return SeedScore(mean_iou=float(np.mean(ious)), min_iou=float(np.min(ious)),
                      flukes_iou=part_means["flukes"], rostrum_iou=part_means["rostrum"],
-                     seconds_per_frame=seconds_per_frame, error=error)
+                     seconds_per_frame=seconds_per_frame,
+                     outline_offset_px=float(np.mean(offsets)) if offsets else float("nan"),
+                     error=error)
 
 
 def _means(scores: list[SeedScore | MaskScore]) -> dict[str, float]:
-    """The mean over clips of each figure, and the worst clip's mean IoU."""
+    """The mean over clips of each figure, the worst clip's mean IoU, and the mean and worst
+    size of the clips' outline offsets."""
+    offsets = np.abs([s.outline_offset_px for s in scores])
     return {"mean_iou": float(np.mean([s.mean_iou for s in scores])),
+            "mean_abs_outline_offset_px": float(np.nanmean(offsets)),
+            "worst_outline_offset_px": float(np.nanmax(offsets)),
             "worst_clip_iou": float(np.min([s.mean_iou for s in scores])),
             "flukes_iou": float(np.nanmean([s.flukes_iou for s in scores])),
             "rostrum_iou": float(np.nanmean([s.rostrum_iou for s in scores])),

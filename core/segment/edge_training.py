@@ -8,7 +8,8 @@ renderer's look alone: scale, rotation and mirror, colour gain, gamma and offset
 sensor noise, JPEG re-compression, a prior eroded or grown by a pixel or two, and a prior
 that lost one end of the animal (``cut_prior``). A tenth of
 the clips is held out and scored as the tracker would use the network (whole windows, the
-component attached to the prior), against the prior itself.
+component attached to the prior), against the prior itself, and by how far its outline lies
+from the true one (``evaluate.outline_offset_px``).
 """
 
 import hashlib
@@ -35,6 +36,7 @@ from core.segment.edge_data import (
 from core.segment.edge_net import (
     CHANNELS, EdgeNet, EdgeWeights, LearnedEdges, net_input, save_weights, water_of,
 )
+from core.segment.evaluate import outline_offset_px
 from core.segment.salient import SalientNet
 from core.segment.seed import dilate, erode
 from core.synth.config import SynthConfig
@@ -207,14 +209,19 @@ def loss_of(logits: torch.Tensor, target: torch.Tensor, valid: torch.Tensor,
     return bce + dice_weight * (1 - dice)
 
 
-def held_out_iou(edges: LearnedEdges, windows: list[Window]) -> tuple[float, float]:
-    """Mean IoU over whole windows of the network's outline and of the prior alone."""
-    network, prior = [], []
+def held_out_scores(edges: LearnedEdges, windows: list[Window]) -> dict[str, float]:
+    """Over whole windows: the mean IoU of the network's outline and of the prior alone, and
+    the mean size and mean of the network's outline offset (px)."""
+    network, prior, offsets = [], [], []
     for window in windows:
         saliency = window.saliency.astype(np.float32) / 255.0
-        network.append(mask_iou(edges(window.crop_rgb, saliency, window.prior), window.target))
+        outlined = edges(window.crop_rgb, saliency, window.prior)
+        network.append(mask_iou(outlined, window.target))
         prior.append(mask_iou(window.prior, window.target))
-    return float(np.mean(network)), float(np.mean(prior))
+        offsets.append(outline_offset_px(outlined, window.target))
+    return {"held_out_iou": float(np.mean(network)), "prior_iou": float(np.mean(prior)),
+            "held_out_abs_offset_px": float(np.mean(np.abs(offsets))),
+            "held_out_offset_px": float(np.mean(offsets))}
 
 
 def train(train_windows: list[Window], held_out: list[Window], settings: TrainSettings,
@@ -243,12 +250,13 @@ def train(train_windows: list[Window], held_out: list[Window], settings: TrainSe
         if step % CHECK_EVERY == 0 or step == settings.steps:
             net.eval()  # on the way, a quarter of the held-out windows; at the end all
             scored = held_out if step == settings.steps else held_out[::4]
-            iou, prior_iou = held_out_iou(LearnedEdges(EdgeWeights(net, {})), scored)
+            scores = held_out_scores(LearnedEdges(EdgeWeights(net, {})), scored)
             checks.append({"step": step, "loss": float(np.mean(losses[-CHECK_EVERY:])),
-                           "windows": len(scored),
-                           "held_out_iou": iou, "prior_iou": prior_iou})
-            log(f"step {step}: loss {checks[-1]['loss']:.4f}, held-out IoU {iou:.4f} "
-                f"(prior {prior_iou:.4f}), {time.perf_counter() - start:.0f} s")
+                           "windows": len(scored), **scores})
+            log(f"step {step}: loss {checks[-1]['loss']:.4f}, held-out IoU "
+                f"{scores['held_out_iou']:.4f} (prior {scores['prior_iou']:.4f}), outline "
+                f"offset {scores['held_out_offset_px']:+.3f} px (mean size "
+                f"{scores['held_out_abs_offset_px']:.3f}), {time.perf_counter() - start:.0f} s")
         if progress is not None:
             progress(Progress(TRAIN_STAGE, step, settings.steps))
     net.eval()

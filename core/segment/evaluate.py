@@ -1,4 +1,5 @@
-"""Measuring a segmenter against true masks: per-frame intersection over union.
+"""Measuring a segmenter against true masks: per-frame intersection over union, and how far
+out or in its outline lies.
 
 ``measure_tracker`` runs on any clip with a folder of true masks (``%06d.png``): the synthetic
 clips of the tests today, ``core/synth`` clips once they exist. IoU is ``core.iou``'s: a frame
@@ -8,6 +9,7 @@ frame where only one of them is empty scores 0.
 
 from pathlib import Path
 
+import cv2
 import numpy as np
 
 from core.io.masks import MaskTrack, read_png_folder
@@ -20,6 +22,19 @@ from core.segment.tracker import MaskTracker
 def track_iou(result: MaskTrack, truth: MaskTrack) -> np.ndarray:
     """(T,) float64 IoU of each frame's masks."""
     return np.array([mask_iou(result.mask(t), truth.mask(t)) for t in range(truth.num_frames)])
+
+
+def outline_offset_px(result: np.ndarray, truth: np.ndarray) -> float:
+    """How far the result's outline lies outside (+) or inside (−) the truth's on average, in
+    pixels: the difference of their areas over the length of the truth's outline (NaN where
+    the truth is empty). Volume follows it closely: every width is two outlines apart, so at
+    the suite's pixel size a tenth of a pixel is 1–3 % of volume (README)."""
+    contours, _ = cv2.findContours(truth.astype(np.uint8), cv2.RETR_EXTERNAL,
+                                   cv2.CHAIN_APPROX_NONE)
+    length = sum(cv2.arcLength(contour, True) for contour in contours)
+    if length == 0:
+        return float("nan")
+    return (int(np.count_nonzero(result)) - int(np.count_nonzero(truth))) / length
 
 
 def box_seed_from(truth: MaskTrack, frame_idx: int | None = None) -> BoxSeed:

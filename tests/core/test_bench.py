@@ -123,6 +123,7 @@ def test_mask_bench_scores_each_back_end_from_the_click_the_automatic_seed_and_a
         assert figures_of["frames"] == 2 and not figures_of["error"]
         assert figures_of["mean_iou"] > 0.85 and figures_of["flukes_iou"] > 0.5
         assert 0.0 <= figures_of["rostrum_iou"] <= 1.0
+        assert abs(figures_of["outline_offset_px"]) < 0.6
         assert set(figures_of["seeds"]) == {"auto", "box"}
         for kind in ("auto", "box"):
             assert figures_of["seeds"][kind]["mean_iou"] > 0.85
@@ -153,17 +154,19 @@ def test_masks_table_shows_each_seed_beside_the_click():
 
     def scores(iou, error=""):
         return {"mean_iou": iou, "min_iou": iou, "flukes_iou": 0.5, "rostrum_iou": 0.6,
-                "seconds_per_frame": 1.0, "error": error}
+                "seconds_per_frame": 1.0, "outline_offset_px": -0.25, "error": error}
 
     clip = {"clip": "grey_green", "backend": "network", "frames": 8, **scores(0.9),
             "seeds": {"auto": scores(0.0, "no animal"), "box": scores(0.88)}}
-    summary = {**scores(0.9), "worst_clip_iou": 0.9,
+    summary = {**scores(0.9), "worst_clip_iou": 0.9, "mean_abs_outline_offset_px": 0.25,
+               "worst_outline_offset_px": 0.25,
                "seeds": {"auto": {**scores(0.0), "worst_clip_iou": 0.0},
                          "box": {**scores(0.88), "worst_clip_iou": 0.88}}}
     table = format_masks({"clips": [clip], "summary": {"network": summary}})
     header, row, _, total = table.splitlines()
     assert "auto: IoU" in header and "box: IoU" in header
     assert "0.000 0.500 0.600" in row and "0.880 0.500 0.600" in row and "(no animal)" in row
+    assert "outline px" in header and " -0.25 " in row and "outline offset 0.25 px" in total
     assert total.endswith("; auto: 0.000 (worst clip 0.000); box: 0.880 (worst clip 0.880)")
 
 

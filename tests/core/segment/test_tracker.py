@@ -10,7 +10,9 @@ from core.errors import InputError
 from core.io.masks import MaskTrack, read_png_folder
 from core.io.video import VideoReader, open_clip
 from core.progress import Cancelled
-from core.segment.evaluate import box_seed_from, mask_iou, measure_tracker, track_iou
+from core.segment.evaluate import (
+    box_seed_from, mask_iou, measure_tracker, outline_offset_px, track_iou,
+)
 from core.segment.segmenter import AutoSeed, PointSeed
 from core.segment.tracker import MaskTracker
 
@@ -133,3 +135,16 @@ def test_mask_iou():
     b[2:6, 2:6] = True
     assert mask_iou(a, b) == 4 / 28
     assert mask_iou(a & False, b & False) == 1.0 and mask_iou(a, b & False) == 0.0
+
+
+def test_outline_offset_is_the_shift_of_the_outline_in_pixels():
+    """Discs of radius 49 and 51 against one of 50: the outline 1 px in and out (within the
+    few per cent by which a pixel outline's length exceeds the circle's); none for the same
+    mask, NaN where the truth is empty."""
+    rows, cols = np.mgrid[:160, :160]
+    radius = np.hypot(rows - 80, cols - 80)
+    truth = radius <= 50
+    assert outline_offset_px(radius <= 51, truth) == pytest.approx(1.0, abs=0.05)
+    assert outline_offset_px(radius <= 49, truth) == pytest.approx(-1.0, abs=0.05)
+    assert outline_offset_px(truth, truth) == 0.0
+    assert np.isnan(outline_offset_px(truth, np.zeros_like(truth)))
