@@ -29,10 +29,9 @@ from core.fit.config import FitConfig, LossWeights
 from core.fit.pipeline import CameraChoice, run_fit
 from core.io.json_file import read_json
 from core.segment.backends import DEFAULT_BACKEND, NETWORK_COLOUR_EDGES
-from core.synth.clip import make_clip
 from core.synth.config import SynthConfig
-from core.synth.files import ClipFiles, clip_files
-from core.synth.sample import cache_dir
+from core.synth.files import ClipFiles
+from core.synth.sample import cache_dir, ensure_clip
 
 # The fit before its speed work: every face in the soft mask, every frame in every step, native
 # resolution throughout. Measured beside the defaults by both the suite and the speed run.
@@ -98,14 +97,6 @@ class ClipScore:
     # and sections (core.bench.hidden_heights): the floor under volume_error
     hidden_height_floor: float = float("nan")
     error: str = ""                # why there is no fit (its errors are then NaN)
-
-
-def _ensure(config: SynthConfig, name: str) -> ClipFiles:
-    out = cache_dir() / SPEED_CACHE / name
-    files = clip_files(out, config)
-    if files.truth_json.exists() and files.video.exists():
-        return files
-    return make_clip(config, out)
 
 
 def _score(files: ClipFiles, config: SynthConfig, fit_config: FitConfig, name: str,
@@ -198,7 +189,7 @@ def bench_suite(chosen: Sequence[Scenario], variants: tuple[str, ...] = DEFAULT_
 def bench_speed(clip: SynthConfig = SPEED_CLIP, exhaustive: bool = True) -> dict:
     """A default fit of the speed clip and, with ``exhaustive``, an exhaustive one of the
     same data: wall time, stages, the memory each added and their errors."""
-    files = _ensure(clip, "speed")
+    files = ensure_clip(clip, cache_dir() / SPEED_CACHE / "speed")
     truth = read_json(files.truth_json, "the clip's truth")
     configs = {"default": FitConfig()}
     if exhaustive:

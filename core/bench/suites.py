@@ -20,8 +20,8 @@ from core.limits import one_of
 from core.measure.hw_ratios import DEFAULT_PRESET
 from core.progress import ProgressCallback
 from core.synth.config import Effects, SynthConfig
-from core.synth.files import ClipFiles, clip_files, made_from
-from core.synth.sample import cache_dir
+from core.synth.files import ClipFiles
+from core.synth.sample import cache_dir, ensure_clip
 from core.synth.water import with_water
 
 SUITE_NAME = "bench-suite-v2"          # the template's shapes
@@ -115,13 +115,4 @@ def ensure_scenario(scenario: Scenario,
                     progress: ProgressCallback | None = None) -> ClipFiles:
     """One scenario's clip, rendered first if it is missing or was made from another
     configuration (only rendering loads the model stack)."""
-    out = cache_dir() / scenario.suite / scenario.name
-    files = clip_files(out, scenario.config)
-    if _is_current(files, scenario.config):
-        return files
-    from core.synth.clip import make_clip
-    return make_clip(scenario.config, out, progress=progress)
-
-
-def _is_current(files: ClipFiles, config: SynthConfig) -> bool:
-    return files.parts.exists() and made_from(files, config)
+    return ensure_clip(scenario.config, cache_dir() / scenario.suite / scenario.name, progress)

@@ -35,10 +35,10 @@ def clip_files(out_dir: Path, config: SynthConfig) -> ClipFiles:
 
 
 def made_from(files: ClipFiles, config: SynthConfig) -> bool:
-    """Whether the clip in ``files`` is whole and was made from ``config``: its truth's
-    recorded configuration reads back equal to it (fields added since it was made take their
-    defaults, which render clips as before them)."""
-    if not (files.truth_json.exists() and files.video.exists()):
+    """Whether the clip in ``files`` is whole (truth, video and part masks) and was made from
+    ``config``: its truth's recorded configuration reads back equal to it (fields added since
+    it was made take their defaults, which render clips as before them)."""
+    if not (files.truth_json.exists() and files.video.exists() and files.parts.exists()):
         return False
     try:
         recorded = json.loads(files.truth_json.read_text(encoding="utf-8"))["config"]

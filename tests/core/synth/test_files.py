@@ -12,6 +12,7 @@ CONFIG = SynthConfig(seed=3, width_px=320, height_px=240)
 def _cached(tmp_path, recorded: dict):
     files = clip_files(tmp_path, CONFIG)
     files.video.write_bytes(b"video")
+    files.parts.write_bytes(b"parts")
     files.truth_json.write_text(json.dumps({"config": recorded}))
     return files
 
@@ -31,6 +32,10 @@ def test_unreadable_or_foreign_truths_are_stale(tmp_path):
     files = _cached(tmp_path, {**CONFIG.to_json(), "from_the_future": 1})
     assert not made_from(files, CONFIG)
     files.truth_json.write_text("{not json")
+    assert not made_from(files, CONFIG)
+    files.truth_json.write_text(json.dumps({"config": CONFIG.to_json()}))
+    assert made_from(files, CONFIG)
+    files.parts.unlink()     # a clip cut short before its part masks
     assert not made_from(files, CONFIG)
     files.truth_json.unlink()
     assert not made_from(files, CONFIG)
