@@ -11,7 +11,7 @@ def test_depth_prior_is_the_mean_squared_depth_deviation():
     prior's depth; the gradient pulls each root back towards it."""
     transl = torch.tensor([[0.3, 0.1, -0.25], [0.5, 0.2, -0.05]], requires_grad=True)
     value = losses.depth_prior(transl, 0.15)
-    assert float(value) == pytest.approx(0.01)
+    assert value.item() == pytest.approx(0.01)
     value.backward()
     assert transl.grad[:, :2].abs().max() == 0
     # descent raises the deep one and lowers the shallow one
