@@ -27,10 +27,13 @@ from core.synth.config import SynthConfig
 from core.synth.water import with_water
 
 
-def _ellipse_window(side: int = 120) -> Window:
-    """Green water with a grey ellipse; the prior one pixel too small all round."""
+def _ellipse_window(side: int = 120, half_length: float = 0.35,
+                    half_width: float = 0.07) -> Window:
+    """Green water with a grey ellipse (half axes × ``side``); the prior one pixel too small
+    all round."""
     rows, cols = np.mgrid[:side, :side]
-    body = ((cols - side / 2) / (0.35 * side)) ** 2 + ((rows - side / 2) / (0.07 * side)) ** 2
+    body = (((cols - side / 2) / (half_length * side)) ** 2
+            + ((rows - side / 2) / (half_width * side)) ** 2)
     target = body <= 1.0
     crop = np.zeros((side, side, 3), np.uint8)
     crop[:] = (40, 110, 90)
@@ -125,7 +128,9 @@ def test_an_unknown_outline_step_is_refused():
 
 
 def test_a_large_window_is_looked_at_downscaled_and_answered_at_full_size():
-    window = _ellipse_window(2 * MAX_SIDE_PX)
+    """The tracker's window is twice the animal's length and a dolphin about a sixth as wide
+    as long, so a window shrunk to ``MAX_SIDE_PX`` shows a body at most 0.08 of it wide."""
+    window = _ellipse_window(2 * MAX_SIDE_PX, half_length=0.25, half_width=0.04)
     edges = LearnedEdges()
     probability = edges.probability(window.crop_rgb, window.saliency / 255.0, window.prior)
     assert probability.shape == window.prior.shape
