@@ -198,8 +198,7 @@ def _print_mask_score(score) -> None:
     print(f"{score.clip:16s} {score.backend:20s} IoU {score.mean_iou:.3f}  flukes "
           f"{score.flukes_iou:.3f}  rostrum {score.rostrum_iou:.3f}  outline "
           f"{score.outline_offset_px:+.2f} px  {score.seconds_per_frame:.2f} s/frame{others} "
-          f"{score.error}", file=sys.stderr,
-          flush=True)
+          f"{score.error}", file=sys.stderr, flush=True)
 
 
 def format_masks(figures: dict) -> str:
