@@ -44,6 +44,9 @@ SENSOR_WIDTH_MM = Limits(1.0, 100.0, "mm")
 PIXEL_DIMENSION_MM = Limits(0.0005, 0.1, "mm/px")
 IMAGE_SIZE_PX = Limits(16, 100_000, "px")
 FPS = Limits(0.01, 1000.0, "frames/s")
+# How far the masks' outline may lie off the animal's, one SD: exact masks to a fifth of a
+# dolphin's width on a 1080p frame at 25 m.
+MASK_OUTLINE_SD_PX = Limits(0.0, 5.0, "px")
 # Mass model (Baieri et al.): density of a dolphin's body and the BCI range a relation may be
 # trusted on; a body twice or none of its expected volume is beyond any condition.
 DENSITY_KG_M3 = Limits(800.0, 1300.0, "kg/m³")

@@ -18,6 +18,7 @@ class ComparisonView:
 
     rows: list[ComparisonRow]
     measured_widths_m: np.ndarray
+    used_widths_m: np.ndarray
     hw_heights_m: np.ndarray
     fitted_widths_m: np.ndarray
     fitted_heights_m: np.ndarray
@@ -36,5 +37,6 @@ def comparison_view(estimate: BaselineEstimate, fit: FitResult) -> ComparisonVie
     verts, faces = elliptical_solid(float(point.length_m), point.widths_m, point.heights_m)
     return ComparisonView(rows=compare(estimate, fit),
                           measured_widths_m=estimate.measured.widths_px * estimate.m_per_px,
+                          used_widths_m=point.widths_m,
                           hw_heights_m=point.heights_m, fitted_widths_m=fitted_widths,
                           fitted_heights_m=fitted_heights, solid_verts=verts, solid_faces=faces)

@@ -1,7 +1,7 @@
 """Both methods side by side: length, volume, BCI, density and mass of the elliptical
-baseline (with its 95 % interval) and of the 3D fit, their difference in % of the elliptical
-value, and a plot of the 19 station widths as measured against the fitted model's, and of the
-HW-ratio heights against the fitted model's heights."""
+baseline and of the 3D fit (each with its 95 % interval), their difference in % of the
+elliptical value, and a plot of the 19 station widths as the elliptical volume takes them
+against the fitted model's, and of the HW-ratio heights against the fitted model's."""
 
 from collections.abc import Sequence
 
@@ -14,13 +14,20 @@ from PySide6.QtWidgets import (
     QVBoxLayout, QWidget,
 )
 
-from core.project.comparison import ComparisonRow
+from core.project.comparison import ComparisonRow, MethodValue
 
-COLUMNS = ("Quantity", "Elliptical (95 %)", "3D fit", "Fit − ell.")
+COLUMNS = ("Quantity", "Elliptical (95 %)", "3D fit (95 %)", "Fit − ell.")
 FORMATS = {"length_m": ".3f", "volume_m3": ".4f", "bci": "+.3f", "density_kg_m3": ".1f",
            "mass_kg": ".1f"}
 PLOT_SIZE_IN = (3.6, 3.4)
 PLOT_MIN_HEIGHT_PX = 160
+
+
+def _with_interval(value: MethodValue, fmt: str) -> str:
+    text = format(value.value, fmt)
+    if value.low is None or value.high is None:
+        return text
+    return f"{text} ({format(value.low, fmt)}–{format(value.high, fmt)})"
 
 
 def _cell(text: str) -> QTableWidgetItem:
@@ -66,15 +73,11 @@ class ComparisonPanel(QWidget):
         self.table.setRowCount(len(rows))
         for i, row in enumerate(rows):
             fmt = FORMATS[row.key]
-            ell = format(row.elliptical.value, fmt)
-            if row.elliptical.low is not None:
-                ell += (f" ({format(row.elliptical.low, fmt)}–"
-                        f"{format(row.elliptical.high, fmt)})")
             label = f"{row.label} ({row.unit})" if row.unit else row.label
             item = QTableWidgetItem(label)
             self.table.setItem(i, 0, item)
-            self.table.setItem(i, 1, _cell(ell))
-            self.table.setItem(i, 2, _cell(format(row.fitted.value, fmt)))
+            self.table.setItem(i, 1, _cell(_with_interval(row.elliptical, fmt)))
+            self.table.setItem(i, 2, _cell(_with_interval(row.fitted, fmt)))
             self.table.setItem(i, 3, _cell(f"{row.difference:+.1f} %" if row.is_relative
                                            else f"{row.difference:+.3f}"))
         self.table.setFixedHeight(self.table.horizontalHeader().sizeHint().height()
@@ -82,19 +85,28 @@ class ComparisonPanel(QWidget):
                                   * max(1, len(rows)) + 4)
 
     def show_profiles(self, station_pct: np.ndarray, measured_widths_m: np.ndarray | None,
-                      fitted_widths_m: np.ndarray, hw_heights_m: np.ndarray | None,
-                      fitted_heights_m: np.ndarray) -> None:
-        """Plot widths (measured vs fitted) and heights (HW-ratio vs fitted) per station."""
+                      used_widths_m: np.ndarray | None, fitted_widths_m: np.ndarray,
+                      hw_heights_m: np.ndarray | None, fitted_heights_m: np.ndarray) -> None:
+        """Plot widths (the elliptical volume's vs fitted, and measured ones the volume does
+        not take, e.g. the flukes' span at 90–95 % with the tail extrapolated) and heights
+        (HW-ratio vs fitted) per station."""
         self.figure.clear()
         widths, heights = self.figure.subplots(2, 1, sharex=True)
         for axes, measured, fitted, what, source in (
-                (widths, measured_widths_m, fitted_widths_m, "width", "measured"),
+                (widths, used_widths_m, fitted_widths_m, "width", "elliptical (as used)"),
                 (heights, hw_heights_m, fitted_heights_m, "height", "width × HW ratio")):
             if measured is not None:
                 axes.plot(station_pct, measured, "o-", ms=3, label=source)
             axes.plot(station_pct, fitted, "s--", ms=3, label="3D fit")
             axes.set_ylabel(f"{what} (m)")
-            axes.legend(fontsize="small")
             axes.grid(alpha=0.3)
+        if measured_widths_m is not None and used_widths_m is not None:
+            unused = np.isfinite(measured_widths_m) & ~np.isclose(measured_widths_m,
+                                                                 used_widths_m)
+            if unused.any():
+                widths.plot(station_pct[unused], measured_widths_m[unused], "x", ms=5,
+                            label="measured, not used")
+        for axes in (widths, heights):
+            axes.legend(fontsize="small")
         heights.set_xlabel("station (% of body length)")
         self.canvas.draw_idle()

@@ -238,8 +238,9 @@ class FitController(QObject):
             return
         panel.show_comparison(None if view is None else view.rows, self._comparison_status)
         if view is not None:
-            panel.show_profiles(STATION_PCT, view.measured_widths_m, view.fitted_widths_m,
-                                view.hw_heights_m, view.fitted_heights_m)
+            panel.show_profiles(STATION_PCT, view.measured_widths_m, view.used_widths_m,
+                                view.fitted_widths_m, view.hw_heights_m,
+                                view.fitted_heights_m)
 
     # ----- the fitted silhouette over the frame
     def set_silhouette_visible(self, visible: bool) -> None:

@@ -233,11 +233,13 @@ def _ious(score: dict) -> str:
 
 def format_suite(figures: dict) -> str:
     """Per-clip errors and the summary per variant."""
-    lines = ["clip             variant         volume    (floor)    length    mass      IoU   "
-             "min IoU frames  s"]
+    lines = ["clip             variant         volume    (floor)    (95 % interval)     length"
+             "    mass      IoU   min IoU frames  s"]
     for c in figures["clips"]:
         lines.append(f"{c['clip']:16s} {c['variant']:14s} {100 * c['volume_error']:+6.2f} %  "
                      f"({100 * c['hidden_height_floor']:+6.2f} %)  "
+                     f"({100 * c['volume_low_error']:+5.1f} … "
+                     f"{100 * c['volume_high_error']:+5.1f} %)  "
                      f"{100 * c['length_error']:+6.2f} %  {100 * c['mass_error']:+6.2f} %  "
                      f"{c['mean_iou']:.3f}  {c['min_iou']:.3f}  {c['frames']:6d}  "
                      f"{c['seconds']:.0f}" + (f"  ({c['error']})" if c["error"] else ""))
@@ -253,7 +255,10 @@ def format_suite(figures: dict) -> str:
                      f"{100 * s['worst_abs_hidden_height_floor']:.2f} %); |length| median "
                      f"{100 * s['median_abs_length_error']:.2f} %, worst "
                      f"{100 * s['worst_abs_length_error']:.2f} %; |mass| median "
-                     f"{100 * s['median_abs_mass_error']:.2f} %; mean IoU {s['mean_iou']:.3f}")
+                     f"{100 * s['median_abs_mass_error']:.2f} %; mean IoU {s['mean_iou']:.3f}; "
+                     f"the fit's 95 % volume interval (outline, heights) holds the truth on "
+                     f"{100 * s['volume_interval_coverage']:.0f} % of clips, half-width median "
+                     f"{100 * s['median_volume_interval_half_width']:.1f} %")
     return "\n".join(lines)
 
 

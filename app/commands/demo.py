@@ -38,7 +38,7 @@ def run(args: argparse.Namespace) -> int:
     fit_run = run_fit(files.video, files.srt, files.masks_dir, camera,
                       replace(FitConfig(), fps=DEMO_FPS), SAMPLE_CONFIG.launch_height_m,
                       progress=terminal_progress())
-    status = report(fit_run, args.out)
+    status = report(fit_run, args.out, camera)
     truth = read_json(files.truth_json, "the sample's truth")
     result = fit_run.result
     print("\n             truth     estimate   error")

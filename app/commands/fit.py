@@ -4,6 +4,7 @@
                  [--masks DIR|VIDEO|NPZ] [--camera PRESET | --sensor-width-mm X --focal-mm Y]
                  [--start S] [--end S] [--fps N] [--out DIR] [--no-roi] [--refraction]
                  [--vertical-prior] [--hw PRESET|CSV|model] [--config FILE.json]
+                 [--altitude-source laser|barometer|manual] [--outline-sd-px PX]
 
 Without --masks the built-in tracker finds the dolphin by itself (automatic seed). Writes
 DIR/result.json (volume_m3, length_m, mass_kg, bci, frames, timings, status, …), DIR/result.npz
@@ -11,7 +12,11 @@ DIR/result.json (volume_m3, length_m, mass_kg, bci, frames, timings, status, …
 (one per fitted frame) and DIR/overlays/%06d.png (frame | mask | render). --fps sets how many
 frames per second of video are fitted (default 5). --hw names the HW table whose height/width
 ratios give the heights a camera above cannot see (as `dolphinfit measure --hw`; "model"
-keeps the template's own).
+keeps the template's own). The figures print with their 95 % intervals
+(core.measure.fit_uncertainty: altitude and camera error, the masks' outline, the hidden
+heights); --altitude-source sets the altitude error (default: barometer for a DJI SRT, laser
+for a laser log, manual for a number or an altitude CSV); --outline-sd-px how far the masks'
+outline may lie off the animal's (default 0.3 px, measured on the bench suite's clips).
 
 Exit codes: 0 the fit completed; 2 bad input; 1 an internal error, or a fit that ended early
 (status "diverged": the loss turned non-finite; "cancelled" comes only from callers of
@@ -27,14 +32,19 @@ from pathlib import Path
 from app.progress import terminal_progress
 from core.errors import InputError
 from core.fit.config import FitConfig, fit_hw_table
+from core.fit.interval import run_interval
 from core.fit.outputs import check_fit_folder, write_outputs
 from core.fit.pipeline import CameraChoice, FitRun, run_fit
-from core.fit.result import STATUS_COMPLETE
+from core.fit.result import STATUS_COMPLETE, FitResult
 from core.io.json_file import read_json
+from core.measure.annotation import ALTITUDE_SOURCE_OF_KIND, ALTITUDE_SOURCES
+from core.measure.fit_uncertainty import OUTLINE_SD_PX, FitInterval
 from core.measure.hw_ratios import resolve_hw
+from core.measure.records import default_error_model
+from core.measure.uncertainty import Summary
 from core.limits import (
-    ALTITUDE_M, FOCAL_MM, FPS, LAUNCH_HEIGHT_M, SENSOR_WIDTH_MM, in_range, result_figures,
-    time_window,
+    ALTITUDE_M, FOCAL_MM, FPS, LAUNCH_HEIGHT_M, MASK_OUTLINE_SD_PX, SENSOR_WIDTH_MM, in_range,
+    result_figures, time_window,
 )
 from core.model.template import load_template
 
@@ -66,6 +76,12 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                              "configuration's, else the default preset); model: the "
                              "template's own")
     parser.add_argument("--config", type=Path, default=None, help="a FitConfig JSON")
+    parser.add_argument("--altitude-source", choices=ALTITUDE_SOURCES, default=None,
+                        help="what measured the altitude, for the intervals (default: "
+                             "barometer for an SRT, laser for a laser log, else manual)")
+    parser.add_argument("--outline-sd-px", type=float, default=OUTLINE_SD_PX, metavar="PX",
+                        help="one SD of the masks' outline offset, for the intervals "
+                             f"(default {OUTLINE_SD_PX:g}; 0: masks taken as exact)")
 
 
 def fit_config(args: argparse.Namespace) -> FitConfig:
@@ -99,6 +115,7 @@ def fit_config(args: argparse.Namespace) -> FitConfig:
 def check_options(args: argparse.Namespace) -> None:
     """InputError naming the option whose value is outside its plausible range."""
     in_range(args.launch_height, LAUNCH_HEIGHT_M, "--launch-height")
+    in_range(args.outline_sd_px, MASK_OUTLINE_SD_PX, "--outline-sd-px")
     for value, limits, option in ((args.sensor_width_mm, SENSOR_WIDTH_MM, "--sensor-width-mm"),
                                   (args.focal_mm, FOCAL_MM, "--focal-mm"),
                                   (args.fps, FPS, "--fps")):
@@ -120,11 +137,28 @@ def run(args: argparse.Namespace) -> int:
             raise InputError(f"--altitude {altitude!r}: neither a number of metres nor a file")
     fit_run = run_fit(args.clip, altitude, args.masks, camera, fit_config(args),
                       args.launch_height, progress=terminal_progress())
-    return report(fit_run, args.out)
+    return report(fit_run, args.out, camera, args.altitude_source, args.outline_sd_px)
 
 
-def report(fit_run: FitRun, out_dir: Path) -> int:
-    """Write the outputs, print the figures and warnings; the exit code (module docstring).
+def _with_interval(value: float, summary: Summary, fmt: str) -> str:
+    return f"{value:{fmt}} ({float(summary.low):{fmt}}–{float(summary.high):{fmt}})"
+
+
+def _interval_lines(result: FitResult, interval: FitInterval, altitude_source: str) -> list[str]:
+    """The figures with their 95 % intervals, and what the intervals assume."""
+    return [f"length {_with_interval(result.length_m, interval.length_m, '.3f')} m   "
+            f"volume {_with_interval(result.volume_m3, interval.volume_m3, '.4f')} m³",
+            f"BCI {_with_interval(result.bci, interval.bci, '+.3f')}   "
+            f"mass {_with_interval(result.mass_kg, interval.mass_kg, '.1f')} kg",
+            f"(95 % intervals: altitude from the {altitude_source}, masks' outline "
+            f"±{interval.outline_sd_px:g} px, the HW table's heights)"]
+
+
+def report(fit_run: FitRun, out_dir: Path, camera: CameraChoice,
+           altitude_source: str | None = None, outline_sd_px: float = OUTLINE_SD_PX) -> int:
+    """Write the outputs, print the figures with their intervals (``altitude_source``: by
+    default the one that goes with the altitude file) and the warnings; the exit code (module
+    docstring).
 
     A completed fit with an implausible length, or a volume or mass that is not positive, is
     refused (exit 2) and not written."""
@@ -136,8 +170,15 @@ def report(fit_run: FitRun, out_dir: Path) -> int:
     written = write_outputs(result, fit_run.data, load_template(), out_dir)
     print(f"fitted {len(result.frame_idx)} frames of {fit_run.clip.path.name} "
           f"in {result.timings_s.get('total', 0.0):.0f} s, mean IoU {result.iou.mean():.3f}")
-    print(f"length {result.length_m:.3f} m   volume {result.volume_m3:.4f} m³   "
-          f"BCI {result.bci:+.3f}   mass {result.mass_kg:.1f} kg")
+    if result.volume_m3 > 0 and result.length_m > 0:
+        source = altitude_source or ALTITUDE_SOURCE_OF_KIND.get(
+            fit_run.telemetry.source.kind, "manual")
+        interval = run_interval(fit_run, default_error_model(source, camera.is_approximate),
+                                outline_sd_px)
+        print("\n".join(_interval_lines(result, interval, source)))
+    else:
+        print(f"length {result.length_m:.3f} m   volume {result.volume_m3:.4f} m³   "
+              f"BCI {result.bci:+.3f}   mass {result.mass_kg:.1f} kg")
     for warning in fit_run.data.warnings + tuple(w for w in result.warnings
                                                  if w not in fit_run.data.warnings):
         print(f"warning: {warning}")

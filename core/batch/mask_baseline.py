@@ -15,7 +15,7 @@ from core.camera_presets import DEFAULT_PRESET, CameraPreset, get_preset
 from core.fit.pipeline import CameraChoice, FitRun
 from core.io.annotation_json import AnnotationFile
 from core.measure.annotation import Annotation, Calibration, place_stations, suggest_edges
-from core.measure.baseline import BaselineSettings, estimate_baseline
+from core.measure.baseline import BaselineEstimate, BaselineSettings, estimate_baseline
 from core.measure.hw_ratios import resolve_hw
 from core.measure.mask_midline import midline_from_mask
 from core.measure.records import (
@@ -46,9 +46,9 @@ def largest_mask_frame(run: FitRun) -> int:
 
 
 def mask_baseline(run: FitRun, choice: CameraChoice, measurement: MaskMeasurement,
-                  stem: Path) -> dict[str, Any]:
+                  stem: Path) -> tuple[dict[str, Any], BaselineEstimate]:
     """Measure the animal on its largest fitted mask, write STEM_measure.json, STEM_mmx.csv
-    and STEM_wide.csv; the summary's elliptical values."""
+    and STEM_wide.csv; the summary's elliptical values and the estimate."""
     frame_idx = largest_mask_frame(run)
     mask = run.masks.mask(frame_idx)
     midline = midline_from_mask(mask)
@@ -69,4 +69,4 @@ def mask_baseline(run: FitRun, choice: CameraChoice, measurement: MaskMeasuremen
         measurement.num_draws, np.random.default_rng(0))
     record = result_record(source, estimate, input_name=image_id, seed=0)
     write_exports(stem, source, estimate, record)
-    return elliptical_values(estimate, record, image_id, frame_idx)
+    return elliptical_values(estimate, record, image_id, frame_idx), estimate

@@ -1,6 +1,6 @@
 """The batch's summary table: one row per clip and animal with both methods' length, volume,
-BCI, density and mass (the elliptical ones with their 95 % Monte Carlo interval; the fit has
-none yet), the task's status and error."""
+BCI, density and mass, each with its 95 % Monte Carlo interval (the fit's drawn on the elliptical
+estimate's error model: core.project.comparison), the task's status and error."""
 
 from collections.abc import Sequence
 from pathlib import Path
@@ -10,13 +10,13 @@ from core.batch.record import TaskRecord
 from core.fit.result import FitResult
 from core.io.collatrix import write_wide_csv
 from core.measure.baseline import BaselineEstimate
-from core.project.comparison import QUANTITIES, interval_of
+from core.project.comparison import QUANTITIES, fit_interval_of, interval_of
 
 SUMMARY_CSV = "summary.csv"
 COLUMNS = ("clip", "animal_id", "status", "error", "notes", "folder", "reused", "Image",
            "ell_frame",
            *(f"{key}_{suffix}" for key, _, _ in QUANTITIES
-             for suffix in ("ell", "ell_lo95", "ell_hi95", "fit")),
+             for suffix in ("ell", "ell_lo95", "ell_hi95", "fit", "fit_lo95", "fit_hi95")),
            "fit_status", "fit_frames", "fit_mean_iou", "seconds")
 
 
@@ -39,6 +39,15 @@ def fit_values(result: FitResult) -> dict[str, Any]:
     values.update(fit_status=result.status, fit_frames=len(result.frame_idx),
                   fit_mean_iou=float(result.iou.mean()))
     return values
+
+
+def fit_interval_values(estimate: BaselineEstimate, result: FitResult) -> dict[str, Any]:
+    """The fit's interval columns; none when the estimate has no Monte Carlo."""
+    fitted = fit_interval_of(estimate, result)
+    if fitted is None:
+        return {}
+    return {f"{key}_fit_{end}95": float(getattr(getattr(fitted, key), bound))
+            for key, _, _ in QUANTITIES for end, bound in (("lo", "low"), ("hi", "high"))}
 
 
 def summary_row(record: TaskRecord) -> dict[str, Any]:

@@ -15,12 +15,13 @@ from core.batch.mask_baseline import NOTE, mask_baseline
 from core.batch.record import (
     STATUS_COMPLETE, STATUS_FAILED, TaskRecord, read_record, write_record,
 )
-from core.batch.summary import elliptical_values, fit_values
+from core.batch.summary import elliptical_values, fit_interval_values, fit_values
 from core.batch.task import BatchTask, ProjectMeasurement
 from core.errors import InputError
 from core.fit.outputs import write_outputs
 from core.fit.pipeline import FitRun, run_fit
 from core.fit.result import STATUS_COMPLETE as FIT_COMPLETE
+from core.measure.baseline import BaselineEstimate
 from core.measure.records import write_exports
 from core.model.template import load_template
 from core.project.evaluate import all_keys, frame_results
@@ -76,17 +77,22 @@ def _run_methods(task: BatchTask, folder: Path) -> tuple[dict[str, Any], list[st
                 errors.append(f"fit {run.result.status}: {run.result.status_message}")
         except Exception as exc:  # noqa: BLE001 (recorded; the batch goes on)
             errors.append(f"fit: {describe(exc)}")
+    estimate = None
     try:
         if isinstance(task.measurement, ProjectMeasurement):
-            values.update(_project_elliptical(task.measurement, folder, notes))
+            elliptical, estimate = _project_elliptical(task.measurement, folder, notes)
+            values.update(elliptical)
         elif run is None:
             errors.append("elliptical: it measures the fit's masks, and there is no fit")
         else:
-            values.update(mask_baseline(run, task.fit.camera, task.measurement,
-                                        folder / ELLIPTICAL_STEM))
+            elliptical, estimate = mask_baseline(run, task.fit.camera, task.measurement,
+                                                 folder / ELLIPTICAL_STEM)
+            values.update(elliptical)
             notes.append(f"elliptical {NOTE}")
     except Exception as exc:  # noqa: BLE001 (recorded; the batch goes on)
         errors.append(f"elliptical: {describe(exc)}")
+    if run is not None and estimate is not None:
+        values.update(fit_interval_values(estimate, run.result))
     return values, errors, notes
 
 
@@ -98,13 +104,14 @@ def _fit(task: BatchTask, folder: Path) -> FitRun:
     return run
 
 
-def _project_elliptical(m: ProjectMeasurement, folder: Path, notes: list[str]) -> dict[str, Any]:
+def _project_elliptical(m: ProjectMeasurement, folder: Path, notes: list[str]
+                        ) -> tuple[dict[str, Any], BaselineEstimate | None]:
     """Measure every frame the user measured on the animal (exports of each in the folder);
-    the summary takes the first, as the app's comparison does."""
+    the summary takes the first, as the app's comparison does, with its estimate."""
     keys = all_keys(m.project, m.clip_idx, m.animal_idx)
     if not keys:
         notes.append("elliptical: no frame measured in the project")
-        return {}
+        return {}, None
     results, skipped = frame_results(m.project, m.project_path, keys, m.num_draws)
     if not results:
         raise InputError("; ".join(skipped))
@@ -117,4 +124,5 @@ def _project_elliptical(m: ProjectMeasurement, folder: Path, notes: list[str]) -
     first = results[0]
     frame_idx = m.project.clips[m.clip_idx].animals[m.animal_idx].measurements[
         first.key.measurement].frame_idx
-    return elliptical_values(first.estimate, first.record, first.image_id, frame_idx)
+    return (elliptical_values(first.estimate, first.record, first.image_id, frame_idx),
+            first.estimate)

@@ -26,8 +26,10 @@ from core.bench.suites import Scenario, ensure_scenario
 from core.bench.timing import run_with_peak_rss_mb
 from core.errors import InputError
 from core.fit.config import FitConfig, LossWeights
+from core.fit.interval import run_interval
 from core.fit.pipeline import CameraChoice, run_fit
 from core.io.json_file import read_json
+from core.measure.uncertainty import ErrorModel
 from core.segment.backends import DEFAULT_BACKEND, NETWORK_COLOUR_EDGES
 from core.synth.config import SynthConfig
 from core.synth.files import ClipFiles
@@ -73,6 +75,8 @@ VARIANTS: dict[str, tuple[str | None, dict]] = {
 }
 DEFAULT_VARIANTS = ("true_masks", "product_masks")
 SUITE_FIT_FPS = 2.5
+SUITE_ERRORS = ErrorModel(altitude_sd_fraction=0.0, focal_sd_fraction=0.0,
+                          digitisation_sd_px=0.0, hw_sd_scale=1.0)
 SPEED_CACHE = "bench-speed-v1"
 _SPEED_BASE = SynthConfig(width_px=1920, height_px=1080, fps=10.0, duration_s=3.0,
                           shape_sd=0.05)
@@ -97,6 +101,9 @@ class ClipScore:
     # and sections (core.bench.hidden_heights): the floor under volume_error
     hidden_height_floor: float = float("nan")
     error: str = ""                # why there is no fit (its errors are then NaN)
+    # the fit's 95 % volume interval (SUITE_ERRORS) as errors against the truth
+    volume_low_error: float = float("nan")
+    volume_high_error: float = float("nan")
 
 
 def _score(files: ClipFiles, config: SynthConfig, fit_config: FitConfig, name: str,
@@ -117,7 +124,10 @@ def _score(files: ClipFiles, config: SynthConfig, fit_config: FitConfig, name: s
                          mass_error=nan, mean_iou=nan, min_iou=nan, frames=0, seconds=nan,
                          frame_iou=(), error=str(exc))
     result = run.result
+    volume = run_interval(run, SUITE_ERRORS).volume_m3
     return ClipScore(clip=name, variant=variant,
+                     volume_low_error=float(volume.low) / truth["volume_m3"] - 1.0,
+                     volume_high_error=float(volume.high) / truth["volume_m3"] - 1.0,
                      hidden_height_floor=hidden_height_floor(sections, fit_config),
                      volume_error=result.volume_m3 / truth["volume_m3"] - 1.0,
                      length_error=result.length_m / truth["length_m"] - 1.0,
@@ -141,6 +151,8 @@ def summarize(scores: list[ClipScore]) -> dict[str, dict[str, float]]:
         length = np.abs([s.length_error for s in chosen])
         mass = np.abs([s.mass_error for s in chosen])
         floor = np.abs([s.hidden_height_floor for s in chosen])
+        held = [s.volume_low_error <= 0.0 <= s.volume_high_error for s in chosen]
+        half_width = [(s.volume_high_error - s.volume_low_error) / 2 for s in chosen]
         summary[variant] = {"median_abs_volume_error": float(np.median(volume)),
                             "worst_abs_volume_error": float(volume.max()),
                             "median_abs_length_error": float(np.median(length)),
@@ -148,6 +160,8 @@ def summarize(scores: list[ClipScore]) -> dict[str, dict[str, float]]:
                             "median_abs_mass_error": float(np.median(mass)),
                             "median_abs_hidden_height_floor": float(np.median(floor)),
                             "worst_abs_hidden_height_floor": float(floor.max()),
+                            "volume_interval_coverage": float(np.mean(held)),
+                            "median_volume_interval_half_width": float(np.median(half_width)),
                             "mean_iou": float(np.mean([s.mean_iou for s in chosen])),
                             "mean_seconds": float(np.mean([s.seconds for s in chosen])),
                             "failed": failed}

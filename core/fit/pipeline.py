@@ -47,6 +47,14 @@ class CameraChoice:
         return CameraIntrinsics.from_sensor(preset.focal_mm, preset.sensor_width_mm,
                                             clip.width_px, clip.height_px)
 
+    @property
+    def is_approximate(self) -> bool:
+        """Whether the focal length is unverified for the video mode (a preset marked
+        approximate); explicit values count as calibrated."""
+        if self.sensor_width_mm is not None and self.focal_mm is not None:
+            return False
+        return get_preset(self.preset or DEFAULT_PRESET).approximate
+
 
 @dataclass(frozen=True, eq=False)
 class FitRun:

@@ -32,6 +32,9 @@ from core.measure.stations import NUM_STATIONS, STATION_FRACTIONS
 
 SIDES = ("A", "B")
 ALTITUDE_SOURCES = ("laser", "barometer", "manual")  # recorded with the result (DESIGN §8)
+# The altitude source of a reader's kind (core.io.altitude_samples); an altitude CSV's
+# instrument is unknown.
+ALTITUDE_SOURCE_OF_KIND = {"srt": "barometer", "laser": "laser", "constant": "manual"}
 
 # Arc length: Simpson's rule on this many intervals per click span. The spline is a cubic
 # per span, its speed smooth, so the error is far below a thousandth of a pixel.

@@ -3,18 +3,23 @@ the model-based 3D fit, with their difference (in % of the elliptical value; for
 units), and the row per animal that the comparison CSV holds (joinable with CollatriX tables
 on ``Image``).
 
-The fit carries no interval of its own yet: its bounds are None.
+The fit's interval comes from core.measure.fit_uncertainty, drawn on the elliptical estimate's
+error model, HW table, mass model and scale, with as many draws: both methods' intervals rest
+on the same assumptions. Without a Monte Carlo neither has one.
 """
 
 import threading
 from dataclasses import dataclass
 from pathlib import Path
 
+import numpy as np
+
 from core.errors import InputError
 from core.fit.result import FitResult
 from core.fit.result_io import read_fit_result
 from core.io.collatrix import write_wide_csv
 from core.measure.baseline import BaselineEstimate
+from core.measure.fit_uncertainty import FitInterval, fit_interval
 from core.measure.uncertainty import Summary
 from core.progress import ProgressCallback, check_cancel
 from core.project.evaluate import frame_results
@@ -41,6 +46,25 @@ def interval_of(estimate: BaselineEstimate, key: str) -> Summary | None:
     intercept, slope = model.density_intercept_kg_m3, model.density_slope_kg_m3
     return Summary(mean=intercept - slope * bci.mean, sd=slope * bci.sd,
                    low=intercept - slope * bci.high, high=intercept - slope * bci.low)
+
+
+FIT_DRAWS_SEED = 0  # the fit's draws are seeded apart from the elliptical ones: same rows each time
+
+
+def fit_interval_of(estimate: BaselineEstimate, fit: FitResult) -> FitInterval | None:
+    """The fit's Monte Carlo beside the estimate's (module doc); None when the estimate has
+    none or the fit has no positive volume and length. Loads torch: worker only."""
+    from core.measure.hw_from_model import station_extents
+    from core.model.template import load_template
+
+    if estimate.interval is None or not (fit.volume_m3 > 0 and fit.length_m > 0):
+        return None
+    widths, heights = station_extents(fit.rest_verts, load_template().station_rings)
+    return fit_interval(fit.length_m, fit.volume_m3, widths, heights, estimate.m_per_px,
+                        estimate.errors, estimate.settings.hw,
+                        np.random.default_rng(FIT_DRAWS_SEED),
+                        mass_model=estimate.settings.mass_model,
+                        num_draws=estimate.interval.num_draws)
 
 
 @dataclass(frozen=True)
@@ -81,27 +105,33 @@ def _elliptical_value(estimate: BaselineEstimate, key: str) -> float:
 
 
 def compare(estimate: BaselineEstimate, fit: FitResult) -> list[ComparisonRow]:
-    """Length, volume, BCI, density and mass of an elliptical estimate and a fit."""
-    rows = []
-    for key, label, unit in QUANTITIES:
-        summary = interval_of(estimate, key)
-        elliptical = MethodValue(_elliptical_value(estimate, key),
-                                 None if summary is None else float(summary.low),
-                                 None if summary is None else float(summary.high))
-        rows.append(ComparisonRow(key, label, unit, elliptical,
-                                  MethodValue(float(getattr(fit, key)))))
-    return rows
+    """Length, volume, BCI, density and mass of an elliptical estimate and a fit, each with
+    its 95 % interval when the estimate has a Monte Carlo."""
+    fitted = fit_interval_of(estimate, fit)
+    return [ComparisonRow(key, label, unit,
+                          _with_interval(_elliptical_value(estimate, key),
+                                         interval_of(estimate, key)),
+                          _with_interval(float(getattr(fit, key)),
+                                         None if fitted is None else getattr(fitted, key)))
+            for key, label, unit in QUANTITIES]
+
+
+def _with_interval(value: float, summary: Summary | None) -> MethodValue:
+    if summary is None:
+        return MethodValue(value)
+    return MethodValue(value, float(summary.low), float(summary.high))
 
 
 def comparison_csv_row(image: str, animal_id: str, fit_status: str,
                        rows: list[ComparisonRow]) -> dict[str, object]:
     """One CSV row per animal: ``Image`` (the measured frame's image ID, CollatriX's join
     key), the animal, then per quantity the elliptical value and interval, the fit's value
-    and the difference (``_diff_pct`` in %, ``bci_diff`` in BCI units)."""
+    and interval and the difference (``_diff_pct`` in %, ``bci_diff`` in BCI units)."""
     row: dict[str, object] = {"Image": image, "animal_id": animal_id, "fit_status": fit_status}
     for r in rows:
         row.update({f"{r.key}_ell": r.elliptical.value, f"{r.key}_ell_lo95": r.elliptical.low,
                     f"{r.key}_ell_hi95": r.elliptical.high, f"{r.key}_fit": r.fitted.value,
+                    f"{r.key}_fit_lo95": r.fitted.low, f"{r.key}_fit_hi95": r.fitted.high,
                     f"{r.key}_diff{'_pct' if r.is_relative else ''}": r.difference})
     return row
 

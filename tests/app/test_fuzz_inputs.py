@@ -163,6 +163,8 @@ CASES = [
     ("fit {clip} --masks {masks} --out {out_fit} --altitude 20 --focal-mm 12 "
      "--sensor-width-mm=-1", "--sensor-width-mm: -1 mm"),
     ("fit {clip} --masks {masks} --out {out_fit} --altitude 20 --fps 0", "--fps: 0 frames/s"),
+    ("fit {clip} --masks {masks} --out {out_fit} --altitude 20 --outline-sd-px=-0.1",
+     "--outline-sd-px: -0.1 px is outside"),
     ("measure {mmx_focal0} --out {out_measure}", "mmx_focal0.csv, line 4: Focal Length: 0 mm"),
     ("measure {mmx_pixel0} --out {out_measure}", "mmx_pixel0.csv, line 6: Pixel Dimension"),
     ("measure {mmx_altitude_negative} --out {out_measure}", "line 5: Altitude: -50 m"),

@@ -101,8 +101,13 @@ def test_fit_suite_scores_clips_against_their_truth(tiny_scenario):
         assert abs(clip["hidden_height_floor"]) < 0.08
         assert len(clip["frame_iou"]) == clip["frames"]
         assert min(clip["frame_iou"]) == clip["min_iou"] > 0.5
+        # the fit's 95 % interval lies around its own value
+        assert clip["volume_low_error"] < clip["volume_error"] < clip["volume_high_error"]
     summary = figures["summary"]["true_masks"]
     assert summary["median_abs_volume_error"] == abs(figures["clips"][0]["volume_error"])
+    first = figures["clips"][0]
+    assert summary["volume_interval_coverage"] == float(
+        first["volume_low_error"] <= 0 <= first["volume_high_error"])
     with pytest.raises(InputError, match="variants nope: unknown"):
         fit_bench.bench_suite((tiny_scenario,), variants=("nope",), base=quick)
 

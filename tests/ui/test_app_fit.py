@@ -154,12 +154,16 @@ def test_fit_runs_saves_shows_and_cancels(qtbot, sample_copy, make_window):
             rows = list(csv.DictReader(file))
         assert len(rows) == 1 and rows[0]["fit_status"] == "cancelled"
         assert float(rows[0]["volume_m3_fit"]) == pytest.approx(partial.volume_m3)
+        assert (float(rows[0]["volume_m3_fit_lo95"]) < float(rows[0]["volume_m3_fit"])
+                < float(rows[0]["volume_m3_fit_hi95"]))
         assert rows[0]["Image"] == f"clip_f{window.frame_idx:06d}"
 
         # the comparison shows both methods; the fit's HW ratios become the project's table
         window.docks["Comparison"].raise_()  # the panel is built when first shown
         qtbot.waitUntil(lambda: fits.comparison is not None
                         and fits.comparison.table.rowCount() == 5, timeout=60_000)
+        volume = fits.comparison.table.item(1, 2).text()  # the fit's, with its interval
+        assert volume.startswith(f"{partial.volume_m3:.4f} (") and "–" in volume
         fits.comparison.hw_button.click()
         qtbot.waitUntil(lambda: "_hw_" in window.model.project.hw_ratios, timeout=60_000)
         assert window.model.project.hw_ratios.endswith(".csv")

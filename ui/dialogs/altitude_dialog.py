@@ -20,7 +20,7 @@ from core.errors import InputError
 from core.io.altitude_samples import AltitudeSamples
 from core.io.telemetry import READER_KINDS, find_srt_sidecar, read_altitude, summarize_samples
 from core.io.video import Clip
-from core.measure.annotation import ALTITUDE_SOURCES
+from core.measure.annotation import ALTITUDE_SOURCE_OF_KIND, ALTITUDE_SOURCES
 from core.project.model import AltitudeSpec
 from core.project.project_file import relative_media_path
 from ui.dialogs.dialog_buttons import ok_cancel_buttons
@@ -30,8 +30,6 @@ CONSTANT_RANGE_M = (1.0, 500.0)
 DEFAULT_CONSTANT_M = 20.0  # a typical survey height over dolphins (DESIGN.md §3)
 LAUNCH_HEIGHT_RANGE_M = (0.0, 500.0)
 TIME_OFFSET_LIMIT_S = 86400.0  # a day either way
-# The altitude source preset by a choice; an altitude CSV keeps whatever is selected.
-SOURCE_OF_KIND = {"srt": "barometer", "laser": "laser", "constant": "manual"}
 _PATTERNS = " ".join(f"*{s} *{s.upper()}" for s in READER_KINDS)
 FILE_FILTER = f"Altitude files: DJI SRT, altitude CSV, laser log ({_PATTERNS});;All files (*)"
 
@@ -191,8 +189,8 @@ class AltitudeDialog(QDialog):
         samples = self._samples()
         kind = ("constant" if self._constant_radio.isChecked()
                 else samples.source.kind if samples is not None else None)
-        if kind in SOURCE_OF_KIND:
-            self._source_combo.setCurrentText(SOURCE_OF_KIND[kind])
+        if kind in ALTITUDE_SOURCE_OF_KIND:
+            self._source_combo.setCurrentText(ALTITUDE_SOURCE_OF_KIND[kind])
 
     def _refresh(self) -> None:
         """Enable the fields the choice needs; update the preview, the error and OK."""

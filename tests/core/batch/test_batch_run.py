@@ -64,8 +64,9 @@ def test_batch_runs_resumes_and_retries(batch, client, tmp_path):
     for method in ("fit", "ell"):  # one step per stage: the initial size from the masks
         assert abs(float(row[f"length_m_{method}"]) / truth["length_m"] - 1) < 0.1
     for key in ("length_m", "volume_m3", "bci", "mass_kg"):
-        assert (float(row[f"{key}_ell_lo95"]) < float(row[f"{key}_ell"])
-                < float(row[f"{key}_ell_hi95"]))
+        for method in ("ell", "fit"):
+            assert (float(row[f"{key}_{method}_lo95"]) < float(row[f"{key}_{method}"])
+                    < float(row[f"{key}_{method}_hi95"]))
     assert 0.2 < float(row["mass_kg_ell"]) / float(row["mass_kg_fit"]) < 5
     assert int(row["fit_frames"]) == 2 and row["reused"] == "no"
     produced = {p.name for p in (out / good.name).iterdir()}

@@ -268,16 +268,23 @@ def test_config_round_trips_and_rejects_nonsense():
 
 
 def test_cli_fit_writes_result_meshes_and_overlays(clip_dir, tmp_path, capsys):
-    """`dolphinfit fit` writes result.json, the rest mesh, posed meshes and overlays; --hw
-    picks the table of the hidden heights ("model": the template's own)."""
+    """`dolphinfit fit` writes result.json, the rest mesh, posed meshes and overlays and prints
+    the figures with their 95 % intervals (an altitude CSV: the manual altitude error unless
+    --altitude-source says otherwise); --hw picks the table of the hidden heights ("model":
+    the template's own)."""
     config = tmp_path / "quick.json"
     config.write_text(json.dumps(TINY.to_json()))
     out = tmp_path / "out"
     argv = ["fit", str(clip_dir / "clip.mkv"), "--altitude", str(clip_dir / "altitude.csv"),
             "--masks", str(clip_dir / "masks"), "--sensor-width-mm", "17.27", "--focal-mm",
-            "12.29", "--config", str(config), "--out", str(out), "--hw", "circular"]
+            "12.29", "--config", str(config), "--out", str(out), "--hw", "circular",
+            "--altitude-source", "laser"]
     assert main(argv) == 0
+    printed = capsys.readouterr().out
     result = json.loads((out / "result.json").read_text())
+    value, low, high = map(float, re.search(r"volume (\S+) \((\S+)–(\S+)\) m³", printed).groups())
+    assert low < value < high and value == pytest.approx(result["volume_m3"], abs=1e-4)
+    assert "altitude from the laser" in printed
     for key in ("volume_m3", "length_m", "mass_kg", "bci", "frames", "timings"):
         assert key in result
     assert result["config"]["hw_table"] == "circular"
