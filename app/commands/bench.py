@@ -1,8 +1,9 @@
 """Measure speed (and later accuracy) side by side in one run.
 
   dolphinfit bench render [--json] [--repeats N] [--quick]
-  dolphinfit bench fit (--suite [--clips N] [--shapes S] [--variants V,…] | --speed) [--json]
-  dolphinfit bench masks [--clips N | --only NAME,…] [--shapes S] [--backends B,…]
+  dolphinfit bench fit (--suite [--clips N] [--shapes S] [--frame-size F] [--variants V,…]
+                       | --speed) [--json]
+  dolphinfit bench masks [--clips N | --only NAME,…] [--shapes S] [--frame-size F] [--backends B,…]
                          [--seeds S,…] [--sam2-checkpoint PATH] [--stride K] [--json]
   dolphinfit bench app [--repeats N] [--json]
   dolphinfit bench batch [--clips N] [--quick] [--json]
@@ -23,7 +24,8 @@ product's own masks from a click on the target): relative errors of volume, leng
 per clip, their median and worst, and the fit's IoU per frame. --shapes varied (default)
 gives the animals heights drawn from the default HW table and cross-sections from lean to
 full (the animals someone else built); --shapes template keeps the template's heights and
-elliptical sections (the suite before). fit --speed: a 10 s, 25 fps,
+elliptical sections (the suite before); --frame-size 4k renders the same scenes at 3840×2160
+(default 1080p). fit --speed: a 10 s, 25 fps,
 1920×1080 clip fitted with the defaults and exhaustively (every face in the soft mask, every
 frame in every step, native resolution: the fit before its speed work), side by side: wall
 time, seconds of fit per second of video, time by stage, peak memory, errors against the
@@ -60,7 +62,8 @@ from core.bench.fit_bench import DEFAULT_VARIANTS, VARIANTS, bench_speed, bench_
 from core.bench.mask_bench import DEFAULT_STRIDE, SEED_KINDS, bench_masks
 from core.bench.render_bench import RenderBench, bench_render, bench_to_json
 from core.bench.suites import (
-    DEFAULT_SHAPES, SHAPES, SUITE, ensure_scenario, scenarios, scenarios_named,
+    DEFAULT_FRAME_SIZE, DEFAULT_SHAPES, FRAME_SIZES, SHAPES, SUITE, ensure_scenario, scenarios,
+    scenarios_named,
 )
 from core.bench.timing import command_seconds
 from core.errors import InputError
@@ -89,6 +92,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                      help=f"suite clips to use (1–{len(SUITE)})")
     fit.add_argument("--shapes", choices=SHAPES, default=DEFAULT_SHAPES,
                      help=f"the suite's animals (default {DEFAULT_SHAPES}; see above)")
+    fit.add_argument("--frame-size", choices=tuple(FRAME_SIZES), default=DEFAULT_FRAME_SIZE,
+                     help=f"the suite's frame size (default {DEFAULT_FRAME_SIZE})")
     fit.add_argument("--variants", default=",".join(DEFAULT_VARIANTS),
                      help=f"comma-separated, of {', '.join(VARIANTS)} "
                           f"(default {','.join(DEFAULT_VARIANTS)})")
@@ -101,6 +106,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                             "grey_green,dark_sandy)")
     masks.add_argument("--shapes", choices=SHAPES, default=DEFAULT_SHAPES,
                        help=f"the suite's animals (default {DEFAULT_SHAPES})")
+    masks.add_argument("--frame-size", choices=tuple(FRAME_SIZES), default=DEFAULT_FRAME_SIZE,
+                       help=f"the suite's frame size (default {DEFAULT_FRAME_SIZE})")
     masks.add_argument("--backends", default=",".join(ALWAYS_AVAILABLE),
                        help=f"comma-separated, of {', '.join(BACKENDS)} "
                             f"(default {','.join(ALWAYS_AVAILABLE)})")
@@ -137,15 +144,16 @@ def run(args: argparse.Namespace) -> int:
         seeds = tuple(args.seeds.split(","))
         for kind in seeds:
             one_of(kind, SEED_KINDS, "--seeds")
-        chosen = (scenarios_named(args.only.split(","), args.shapes) if args.only
-                  else scenarios(args.shapes)[:count(args.clips, 1, "--clips")])
+        chosen = (scenarios_named(args.only.split(","), args.shapes, args.frame_size)
+                  if args.only else
+                  scenarios(args.shapes, args.frame_size)[:count(args.clips, 1, "--clips")])
         figures = bench_masks({sc.name: ensure_scenario(sc) for sc in chosen}, backends,
                               count(args.stride, 1, "--stride"), seeds,
                               progress=_print_mask_score, checkpoint=checkpoint)
         print(json.dumps(figures, indent=2) if args.json else format_masks(figures))
         return 0
     if args.suite_name == "fit":
-        chosen = scenarios(args.shapes)[:count(args.clips, 1, "--clips")]
+        chosen = scenarios(args.shapes, args.frame_size)[:count(args.clips, 1, "--clips")]
         figures = (bench_suite(chosen, variants=tuple(args.variants.split(",")),
                                progress=_print_score)
                    if args.suite else bench_speed())

@@ -10,8 +10,11 @@ Two sets of animals (``SHAPES``): "varied" (the default) gives each animal heigh
 the default HW table (its ratios and SDs) and cross-sections from lean to full superellipses
 (exponents 1.8–2.2, mean 2: −4.3 % to +3.5 % of volume at the same widths and heights), the
 animals a fit meets when someone else built them; "template" keeps the template's heights
-and elliptical sections (the suite before, clip for clip). Clips are rendered once into the
-cache (``cache_dir()/<suite>/NAME``) and reused while their recorded configuration matches.
+and elliptical sections (the suite before, clip for clip). Two frame sizes
+(``FRAME_SIZES``): 1080p (the default) and 4K UHD, the same scenes with four times the pixels
+(drones record 4K by default; the blur, noise and compression of a pixel stay a pixel's).
+Clips are rendered once into the cache (``cache_dir()/<suite>/NAME``) and reused while their
+recorded configuration matches.
 """
 
 from dataclasses import dataclass, replace
@@ -28,6 +31,8 @@ SUITE_NAME = "bench-suite-v2"          # the template's shapes
 VARIED_SUITE_NAME = "bench-suite-v3-shapes"
 SHAPES = ("varied", "template")
 DEFAULT_SHAPES = "varied"
+FRAME_SIZES = {"1080p": (1920, 1080), "4k": (3840, 2160)}   # name: (width, height) px
+DEFAULT_FRAME_SIZE = "1080p"
 # one per scenario, in order; mean 2 (the ellipse), so no net bias in volume
 SECTION_EXPONENTS = (2.0, 2.15, 1.9, 2.2, 1.95, 2.1, 1.85, 2.05, 2.0, 1.9, 2.1, 1.8)
 
@@ -91,21 +96,29 @@ SUITE: tuple[Scenario, ...] = (
 )
 
 
-def scenarios(shapes: str = DEFAULT_SHAPES) -> tuple[Scenario, ...]:
-    """The suite's scenarios with the animals of ``shapes`` (module doc)."""
+def scenarios(shapes: str = DEFAULT_SHAPES,
+              frame_size: str = DEFAULT_FRAME_SIZE) -> tuple[Scenario, ...]:
+    """The suite's scenarios with the animals of ``shapes`` at ``frame_size`` (module doc)."""
     one_of(shapes, SHAPES, "suite shapes")
-    if shapes == "template":
-        return SUITE
-    return tuple(replace(scenario, suite=VARIED_SUITE_NAME,
-                         config=replace(scenario.config, hw_table=DEFAULT_PRESET,
-                                        section_exponent=exponent))
-                 for scenario, exponent in zip(SUITE, SECTION_EXPONENTS, strict=True))
+    one_of(frame_size, tuple(FRAME_SIZES), "suite frame size")
+    chosen = SUITE if shapes == "template" else tuple(
+        replace(scenario, suite=VARIED_SUITE_NAME,
+                config=replace(scenario.config, hw_table=DEFAULT_PRESET,
+                               section_exponent=exponent))
+        for scenario, exponent in zip(SUITE, SECTION_EXPONENTS, strict=True))
+    if frame_size == DEFAULT_FRAME_SIZE:
+        return chosen
+    width, height = FRAME_SIZES[frame_size]
+    return tuple(replace(scenario, suite=f"{scenario.suite}-{frame_size}",
+                         config=replace(scenario.config, width_px=width, height_px=height))
+                 for scenario in chosen)
 
 
-def scenarios_named(names: list[str], shapes: str = DEFAULT_SHAPES) -> tuple[Scenario, ...]:
-    """The suite's scenarios (with the animals of ``shapes``) of these names, in the order
-    given; InputError on an unknown one."""
-    by_name = {scenario.name: scenario for scenario in scenarios(shapes)}
+def scenarios_named(names: list[str], shapes: str = DEFAULT_SHAPES,
+                    frame_size: str = DEFAULT_FRAME_SIZE) -> tuple[Scenario, ...]:
+    """The suite's scenarios (with the animals of ``shapes``, at ``frame_size``) of these
+    names, in the order given; InputError on an unknown one."""
+    by_name = {scenario.name: scenario for scenario in scenarios(shapes, frame_size)}
     for name in names:
         one_of(name, tuple(by_name), "suite clip")
     return tuple(by_name[name] for name in names)

@@ -2,6 +2,8 @@
 
 import json
 
+from dataclasses import replace
+
 import pytest
 import torch
 
@@ -152,6 +154,23 @@ def test_suite_clips_by_name_keep_the_order_given_and_refuse_unknown_names(capsy
         scenarios_named(["grey_green", "nope"])
     assert main(["bench", "masks", "--only", "nope"]) == 2
     assert "got 'nope'" in capsys.readouterr().err
+
+
+def test_the_4k_suite_is_the_same_scenes_with_four_times_the_pixels(capsys):
+    from core.bench.suites import scenarios
+
+    full_hd, uhd = scenarios(), scenarios(frame_size="4k")
+    assert [s.name for s in uhd] == [s.name for s in full_hd]
+    for small, large in zip(full_hd, uhd, strict=True):
+        assert (large.config.width_px, large.config.height_px) == (3840, 2160)
+        assert replace(large.config, width_px=1920, height_px=1080) == small.config
+        assert large.suite == f"{small.suite}-4k"   # cached apart
+    with pytest.raises(InputError, match="suite frame size: one of 1080p, 4k"):
+        scenarios(frame_size="8k")
+    with pytest.raises(SystemExit) as exit_:
+        main(["bench", "fit", "--suite", "--frame-size", "8k"])
+    assert exit_.value.code == 2
+    assert "--frame-size: invalid choice: '8k'" in capsys.readouterr().err
 
 
 def test_masks_table_shows_each_seed_beside_the_click():
