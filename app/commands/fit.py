@@ -9,7 +9,8 @@
 Without --masks the built-in tracker finds the dolphin by itself (automatic seed). Writes
 DIR/result.json (volume_m3, length_m, mass_kg, bci, frames, timings, status, …), DIR/result.npz
 (every fitted array; core.fit.result_io reads both back), DIR/rest_mesh.ply, DIR/posed/%06d.ply
-(one per fitted frame) and DIR/overlays/%06d.png (frame | mask | render). --fps sets how many
+(one per fitted frame), DIR/overlays/%06d.png (frame | mask | render) and DIR/interval.json
+(the 95 % intervals below, with what they assumed). --fps sets how many
 frames per second of video are fitted (default 5). --hw names the HW table whose height/width
 ratios give the heights a camera above cannot see (as `dolphinfit measure --hw`; "model"
 keeps the template's own). The figures print with their 95 % intervals
@@ -36,7 +37,7 @@ from core.fit.interval import run_interval
 from core.fit.outputs import check_fit_folder, write_outputs
 from core.fit.pipeline import CameraChoice, FitRun, run_fit
 from core.fit.result import STATUS_COMPLETE, FitResult
-from core.io.json_file import read_json
+from core.io.json_file import read_json, write_json
 from core.measure.annotation import ALTITUDE_SOURCE_OF_KIND, ALTITUDE_SOURCES
 from core.measure.fit_uncertainty import OUTLINE_SD_PX, FitInterval
 from core.measure.hw_ratios import resolve_hw
@@ -47,6 +48,9 @@ from core.limits import (
     result_figures, time_window,
 )
 from core.model.template import load_template
+
+
+INTERVAL_JSON = "interval.json"
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -175,6 +179,8 @@ def report(fit_run: FitRun, out_dir: Path, camera: CameraChoice,
             fit_run.telemetry.source.kind, "manual")
         interval = run_interval(fit_run, default_error_model(source, camera.is_approximate),
                                 outline_sd_px)
+        write_json(out_dir / INTERVAL_JSON, {"altitude_source": source, **interval.to_json()})
+        written.append(out_dir / INTERVAL_JSON)
         print("\n".join(_interval_lines(result, interval, source)))
     else:
         print(f"length {result.length_m:.3f} m   volume {result.volume_m3:.4f} m³   "

@@ -21,7 +21,7 @@ from core.measure.elliptical import (
 from core.measure.hw_ratios import HWRatios
 from core.measure.stations import STATION_PCT
 from core.measure.uncertainty import (
-    ERROR_SOURCES, ErrorModel, MonteCarloResult, Summary, monte_carlo, uncertainty_budget,
+    ERROR_SOURCES, ErrorModel, MonteCarloResult, monte_carlo, summary_json, uncertainty_budget,
 )
 from core.progress import ProgressCallback, part_of
 
@@ -114,18 +114,12 @@ class BaselineEstimate:
         return {
             "num_draws": mc.num_draws,
             "errors": asdict(self.errors),
-            **{name: _summary_json(getattr(mc, name)) for name in SUMMARISED},
-            "widths_m": _summary_json(mc.widths_m),
+            **{name: summary_json(getattr(mc, name)) for name in SUMMARISED},
+            "widths_m": summary_json(mc.widths_m),
             "fraction_outside_fit_range": mc.fraction_outside_fit_range,
             "budget_sd": {source: {name: float(getattr(result, name).sd) for name in SUMMARISED}
                           for source, result in self.budget.items()},
         }
-
-
-def _summary_json(summary: Summary) -> dict[str, Any]:
-    """Mean, SD and interval as numbers (scalars) or lists (per station)."""
-    return {key: np.asarray(getattr(summary, key)).tolist()
-            for key in ("mean", "sd", "low", "high")}
 
 
 def estimate_baseline(pixels: PixelMeasurements, focal_px: float, altitude_m: float,

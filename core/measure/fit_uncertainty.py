@@ -28,7 +28,7 @@ import numpy as np
 
 from core.measure.condition import MassModel, body_condition
 from core.measure.hw_ratios import HWRatios
-from core.measure.uncertainty import ErrorModel, Summary, summarize
+from core.measure.uncertainty import ErrorModel, Summary, summarize, summary_json
 
 # The outline bias of the product's masks, one SD in pixels: the root mean square of the
 # per-clip outline offsets of the default back-end on the bench suite (`dolphinfit bench
@@ -43,12 +43,23 @@ class FitInterval:
     """Mean, SD and central 95 % interval of a fit's figures over ``num_draws`` draws."""
 
     num_draws: int
+    errors: ErrorModel      # its digitisation SD unused: the fit has no clicks
     outline_sd_px: float
     length_m: Summary
     volume_m3: Summary
     bci: Summary
     density_kg_m3: Summary
     mass_kg: Summary
+
+    def to_json(self) -> dict:
+        """The draws' summaries and what they assumed."""
+        errors = self.errors
+        return {"num_draws": self.num_draws, "outline_sd_px": self.outline_sd_px,
+                "errors": {"altitude_sd_fraction": errors.altitude_sd_fraction,
+                           "focal_sd_fraction": errors.focal_sd_fraction,
+                           "hw_sd_scale": errors.hw_sd_scale},
+                **{name: summary_json(getattr(self, name))
+                   for name in ("length_m", "volume_m3", "bci", "density_kg_m3", "mass_kg")}}
 
 
 def fit_interval(length_m: float, volume_m3: float, widths_m: np.ndarray,
@@ -79,7 +90,7 @@ def fit_interval(length_m: float, volume_m3: float, widths_m: np.ndarray,
     lengths = scale * (length_m + grown_m)
     volumes = scale ** 3 * volume_m3 * section_change
     condition = body_condition(lengths, volumes, mass_model)
-    return FitInterval(num_draws=num_draws, outline_sd_px=outline_sd_px,
+    return FitInterval(num_draws=num_draws, errors=errors, outline_sd_px=outline_sd_px,
                        length_m=summarize(lengths), volume_m3=summarize(volumes),
                        bci=summarize(condition.bci),
                        density_kg_m3=summarize(condition.density_kg_m3),

@@ -116,6 +116,12 @@ def summarize(samples: np.ndarray) -> Summary:
                    high=high)
 
 
+def summary_json(summary: Summary) -> dict[str, Any]:
+    """Mean, SD and interval as numbers (scalars) or lists (per station)."""
+    return {key: np.asarray(getattr(summary, key)).tolist()
+            for key in ("mean", "sd", "low", "high")}
+
+
 @dataclass(frozen=True, eq=False)
 class MonteCarloResult:
     """Summaries of D draws. widths_m: (S,) per station (as the volume used them)."""

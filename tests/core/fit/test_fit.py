@@ -285,6 +285,10 @@ def test_cli_fit_writes_result_meshes_and_overlays(clip_dir, tmp_path, capsys):
     value, low, high = map(float, re.search(r"volume (\S+) \((\S+)–(\S+)\) m³", printed).groups())
     assert low < value < high and value == pytest.approx(result["volume_m3"], abs=1e-4)
     assert "altitude from the laser" in printed
+    saved = json.loads((out / "interval.json").read_text())
+    assert saved["altitude_source"] == "laser" and saved["errors"]["altitude_sd_fraction"] == 0.01
+    assert saved["volume_m3"]["low"] == pytest.approx(low, abs=1e-4)
+    assert saved["volume_m3"]["high"] == pytest.approx(high, abs=1e-4)
     for key in ("volume_m3", "length_m", "mass_kg", "bci", "frames", "timings"):
         assert key in result
     assert result["config"]["hw_table"] == "circular"
