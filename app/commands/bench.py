@@ -3,8 +3,9 @@
   dolphinfit bench render [--json] [--repeats N] [--quick]
   dolphinfit bench fit (--suite [--clips N] [--shapes S] [--frame-size F] [--variants V,…]
                        | --speed) [--json]
-  dolphinfit bench masks [--clips N | --only NAME,…] [--shapes S] [--frame-size F] [--backends B,…]
-                         [--seeds S,…] [--sam2-checkpoint PATH] [--stride K] [--json]
+  dolphinfit bench masks [--clips N | --only NAME,…] [--shapes S] [--frame-size F]
+                         [--backends B,…] [--seeds S,…] [--sam2-checkpoint PATH] [--stride K]
+                         [--json]
   dolphinfit bench app [--repeats N] [--json]
   dolphinfit bench batch [--clips N] [--quick] [--json]
 

@@ -83,7 +83,8 @@ def fit_interval(length_m: float, volume_m3: float, widths_m: np.ndarray,
              / (1 + rng.normal(0.0, errors.focal_sd_fraction, num_draws)))
     grown_m = 2 * m_per_px * rng.normal(0.0, outline_sd_px, num_draws)
     ratios, ratio_sd = hw.completed()
-    height_factor = 1 + rng.normal(0.0, 1.0, (num_draws, 1)) * errors.hw_sd_scale * ratio_sd / ratios
+    relative_sd = errors.hw_sd_scale * ratio_sd / ratios
+    height_factor = 1 + rng.normal(0.0, 1.0, (num_draws, 1)) * relative_sd
     drawn_widths = np.maximum(widths + grown_m[:, None], 0.0)
     drawn_heights = heights * drawn_widths / widths * height_factor
     section_change = (drawn_widths * drawn_heights).sum(1) / (widths * heights).sum()

@@ -282,7 +282,8 @@ def test_cli_fit_writes_result_meshes_and_overlays(clip_dir, tmp_path, capsys):
     assert main(argv) == 0
     printed = capsys.readouterr().out
     result = json.loads((out / "result.json").read_text())
-    value, low, high = map(float, re.search(r"volume (\S+) \((\S+)–(\S+)\) m³", printed).groups())
+    shown = re.search(r"volume (\S+) \((\S+)–(\S+)\) m³", printed)
+    value, low, high = map(float, shown.groups())
     assert low < value < high and value == pytest.approx(result["volume_m3"], abs=1e-4)
     assert "altitude from the laser" in printed
     saved = json.loads((out / "interval.json").read_text())
