@@ -26,8 +26,10 @@ class ComparisonView:
     solid_faces: np.ndarray
 
 
-def comparison_view(estimate: BaselineEstimate, fit: FitResult) -> ComparisonView:
-    """Both methods of one animal (loads torch for the fitted profile: worker only)."""
+def comparison_view(estimate: BaselineEstimate, fit: FitResult,
+                    frame_width_px: int) -> ComparisonView:
+    """Both methods of one animal in a clip ``frame_width_px`` wide (loads torch for the
+    fitted profile: worker only)."""
     from core.measure.hw_from_model import station_extents
     from core.model.template import load_template
 
@@ -35,7 +37,7 @@ def comparison_view(estimate: BaselineEstimate, fit: FitResult) -> ComparisonVie
                                                     load_template().station_rings)
     point = estimate.point
     verts, faces = elliptical_solid(float(point.length_m), point.widths_m, point.heights_m)
-    return ComparisonView(rows=compare(estimate, fit),
+    return ComparisonView(rows=compare(estimate, fit, frame_width_px),
                           measured_widths_m=estimate.measured.widths_px * estimate.m_per_px,
                           used_widths_m=point.widths_m,
                           hw_heights_m=point.heights_m, fitted_widths_m=fitted_widths,

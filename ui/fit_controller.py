@@ -298,7 +298,8 @@ class FitController(QObject):
         if (frame_result.key.clip, frame_result.key.animal) != (m.clip_idx, m.animal_idx):
             return  # the previous animal's result, still on show
         fit, folder = self._fits[self._shown], self._shown
-        self.window.jobs.run(lambda: comparison_view(frame_result.estimate, fit),
+        width = m.project.clips[frame_result.key.clip].camera.image_width_px
+        self.window.jobs.run(lambda: comparison_view(frame_result.estimate, fit, width),
                              lambda view: self._show_comparison(folder, view),
                              lambda why: self._comparison_failed(folder, why))
 

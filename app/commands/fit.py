@@ -17,7 +17,8 @@ keeps the template's own). The figures print with their 95 % intervals
 (core.measure.fit_uncertainty: altitude and camera error, the masks' outline, the hidden
 heights); --altitude-source sets the altitude error (default: barometer for a DJI SRT, laser
 for a laser log, manual for a number or an altitude CSV); --outline-sd-px how far the masks'
-outline may lie off the animal's (default 0.3 px, measured on the bench suite's clips).
+outline may lie off the animal's (default 0.36 px at 1920 px wide, 0.73 at 3840: measured on
+the bench suite's clips).
 
 Exit codes: 0 the fit completed; 2 bad input; 1 an internal error, or a fit that ended early
 (status "diverged": the loss turned non-finite; "cancelled" comes only from callers of
@@ -39,7 +40,7 @@ from core.fit.pipeline import CameraChoice, FitRun, run_fit
 from core.fit.result import STATUS_COMPLETE, FitResult
 from core.io.json_file import read_json, write_json
 from core.measure.annotation import ALTITUDE_SOURCE_OF_KIND, ALTITUDE_SOURCES
-from core.measure.fit_uncertainty import OUTLINE_SD_PX, FitInterval
+from core.measure.fit_uncertainty import FitInterval
 from core.measure.hw_ratios import resolve_hw
 from core.measure.records import default_error_model
 from core.measure.uncertainty import Summary
@@ -83,9 +84,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--altitude-source", choices=ALTITUDE_SOURCES, default=None,
                         help="what measured the altitude, for the intervals (default: "
                              "barometer for an SRT, laser for a laser log, else manual)")
-    parser.add_argument("--outline-sd-px", type=float, default=OUTLINE_SD_PX, metavar="PX",
-                        help="one SD of the masks' outline offset, for the intervals "
-                             f"(default {OUTLINE_SD_PX:g}; 0: masks taken as exact)")
+    parser.add_argument("--outline-sd-px", type=float, default=None, metavar="PX",
+                        help="one SD of the masks' outline offset in the clip's pixels, for "
+                             "the intervals (default: 0.36 px at 1920 px wide, in proportion "
+                             "to the width; 0: masks taken as exact)")
 
 
 def fit_config(args: argparse.Namespace) -> FitConfig:
@@ -119,7 +121,8 @@ def fit_config(args: argparse.Namespace) -> FitConfig:
 def check_options(args: argparse.Namespace) -> None:
     """InputError naming the option whose value is outside its plausible range."""
     in_range(args.launch_height, LAUNCH_HEIGHT_M, "--launch-height")
-    in_range(args.outline_sd_px, MASK_OUTLINE_SD_PX, "--outline-sd-px")
+    if args.outline_sd_px is not None:
+        in_range(args.outline_sd_px, MASK_OUTLINE_SD_PX, "--outline-sd-px")
     for value, limits, option in ((args.sensor_width_mm, SENSOR_WIDTH_MM, "--sensor-width-mm"),
                                   (args.focal_mm, FOCAL_MM, "--focal-mm"),
                                   (args.fps, FPS, "--fps")):
@@ -155,11 +158,11 @@ def _interval_lines(result: FitResult, interval: FitInterval, altitude_source: s
             f"BCI {_with_interval(result.bci, interval.bci, '+.3f')}   "
             f"mass {_with_interval(result.mass_kg, interval.mass_kg, '.1f')} kg",
             f"(95 % intervals: altitude from the {altitude_source}, masks' outline "
-            f"±{interval.outline_sd_px:g} px, the HW table's heights)"]
+            f"±{interval.outline_sd_px:.2g} px, the HW table's heights)"]
 
 
 def report(fit_run: FitRun, out_dir: Path, camera: CameraChoice,
-           altitude_source: str | None = None, outline_sd_px: float = OUTLINE_SD_PX) -> int:
+           altitude_source: str | None = None, outline_sd_px: float | None = None) -> int:
     """Write the outputs, print the figures with their intervals (``altitude_source``: by
     default the one that goes with the altitude file) and the warnings; the exit code (module
     docstring).

@@ -41,9 +41,11 @@ def fit_values(result: FitResult) -> dict[str, Any]:
     return values
 
 
-def fit_interval_values(estimate: BaselineEstimate, result: FitResult) -> dict[str, Any]:
-    """The fit's interval columns; none when the estimate has no Monte Carlo."""
-    fitted = fit_interval_of(estimate, result)
+def fit_interval_values(estimate: BaselineEstimate, result: FitResult,
+                        frame_width_px: int) -> dict[str, Any]:
+    """The fit's interval columns (``frame_width_px``: the clip's); none when the estimate
+    has no Monte Carlo."""
+    fitted = fit_interval_of(estimate, result, frame_width_px)
     if fitted is None:
         return {}
     return {f"{key}_fit_{end}95": float(getattr(getattr(fitted, key), bound))

@@ -92,7 +92,7 @@ def _run_methods(task: BatchTask, folder: Path) -> tuple[dict[str, Any], list[st
     except Exception as exc:  # noqa: BLE001 (recorded; the batch goes on)
         errors.append(f"elliptical: {describe(exc)}")
     if run is not None and estimate is not None:
-        values.update(fit_interval_values(estimate, run.result))
+        values.update(fit_interval_values(estimate, run.result, run.clip.width_px))
     return values, errors, notes
 
 

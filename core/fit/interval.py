@@ -1,10 +1,10 @@
-"""A finished fit's 95 % intervals (core.measure.fit_uncertainty) at the scale of the frames it
-was fitted to, on the HW table it assumed."""
+"""A finished fit's 95 % intervals (core.measure.fit_uncertainty) at the scale of the clip's
+own pixels, on the HW table it assumed."""
 
 import numpy as np
 
 from core.fit.pipeline import FitRun
-from core.measure.fit_uncertainty import OUTLINE_SD_PX, FitInterval, fit_interval
+from core.measure.fit_uncertainty import FitInterval, fit_interval, outline_sd_px
 from core.measure.hw_from_model import station_extents
 from core.measure.hw_ratios import load_hw_preset, resolve_hw
 from core.measure.uncertainty import ErrorModel
@@ -14,14 +14,17 @@ INTERVAL_SEED = 0  # the draws are seeded: a fit reports the same interval every
 
 
 def run_interval(run: FitRun, errors: ErrorModel,
-                 outline_sd_px: float = OUTLINE_SD_PX) -> FitInterval:
-    """The fit's Monte Carlo with ``errors``; its metres per pixel at the median altitude of
-    the fitted frames, its HW table's SDs (the default table's when it kept the template's
-    own heights, which state none)."""
-    result, camera = run.result, run.data.camera
+                 outline_sd: float | None = None) -> FitInterval:
+    """The fit's Monte Carlo with ``errors`` and an outline SD of ``outline_sd`` pixels of
+    the clip (default: ``outline_sd_px`` of its width); metres per pixel at the median
+    altitude of the fitted frames; its HW table's SDs (the default table's when it kept the
+    template's own heights, which state none)."""
+    result, camera, width = run.result, run.data.camera, run.clip.width_px
     widths, heights = station_extents(result.rest_verts, load_template().station_rings)
-    m_per_px = camera.intrinsics.gsd_m_per_px(float(camera.altitude_m.median()))
+    fitted_m_per_px = camera.intrinsics.gsd_m_per_px(float(camera.altitude_m.median()))
+    m_per_px = fitted_m_per_px * camera.intrinsics.width_px / width  # frames may be resized
     table = result.config.hw_table
     hw = load_hw_preset() if table is None else resolve_hw(table)
     return fit_interval(result.length_m, result.volume_m3, widths, heights, m_per_px, errors,
-                        hw, np.random.default_rng(INTERVAL_SEED), outline_sd_px=outline_sd_px)
+                        hw, np.random.default_rng(INTERVAL_SEED),
+                        outline_sd_px(width) if outline_sd is None else outline_sd)

@@ -8,7 +8,8 @@ error source would have (first order in the error), and reruns body condition an
   the volume by its cube.
 - **Outline**: the masks the fit matched lie ``δ`` pixels outside (+) or inside (−) the
   animal's true outline, one ``δ`` per clip (a bias of the segmenter on that water, not
-  noise: it does not average out over frames). Every station's width grows by 2δ, its height
+  noise: it does not average out over frames), its SD a share of the frame's width
+  (``OUTLINE_SD_OF_WIDTH``). Every station's width grows by 2δ, its height
   with it (the fit ties heights to widths), and the length by 2δ (rostrum tip and fluke
   notch). Checked against fits on the suite's true masks grown by 1.2 px all round: this
   model gives +24.6 % and +38.6 % of volume where the fit gave +19.5 % and +31.9 %
@@ -30,12 +31,19 @@ from core.measure.condition import MassModel, body_condition
 from core.measure.hw_ratios import HWRatios
 from core.measure.uncertainty import ErrorModel, Summary, summarize, summary_json
 
-# The outline bias of the product's masks, one SD in pixels: the root mean square of the
-# per-clip outline offsets of the default back-end on the bench suite (`dolphinfit bench
-# masks`: −0.61 … +0.37 px over 12 clips, RMS 0.31). Measured on synthetic 1080p clips only:
-# real water may do worse (provisional).
-OUTLINE_SD_PX = 0.3
+# The outline bias of the product's masks, one SD, as a share of the frame's width: the root
+# mean square of the per-clip outline offsets of the default back-end on the bench suite
+# (`dolphinfit bench masks`) was 0.31 px at 1920 px wide (−0.61 … +0.37 px over 12 clips) and
+# 0.74 px at 3840 (−1.66 … +0.48 px): the larger share, so 0.36 px at 1080p and 0.73 px at
+# 4K. The errors grow with the frame (foam, glitter and faint ends are scene-sized, not pixel-
+# sized). Measured on synthetic clips only: real water may do worse (provisional).
+OUTLINE_SD_OF_WIDTH = 1.9e-4
 DEFAULT_FIT_DRAWS = 4000
+
+
+def outline_sd_px(frame_width_px: int) -> float:
+    """The default outline SD in pixels of a frame ``frame_width_px`` wide."""
+    return OUTLINE_SD_OF_WIDTH * frame_width_px
 
 
 @dataclass(frozen=True, eq=False)
@@ -64,13 +72,14 @@ class FitInterval:
 
 def fit_interval(length_m: float, volume_m3: float, widths_m: np.ndarray,
                  heights_m: np.ndarray, m_per_px: float, errors: ErrorModel, hw: HWRatios,
-                 rng: np.random.Generator, outline_sd_px: float = OUTLINE_SD_PX,
+                 rng: np.random.Generator, outline_sd_px: float,
                  mass_model: MassModel = MassModel(),
                  num_draws: int = DEFAULT_FIT_DRAWS) -> FitInterval:
     """The fit's figures over ``num_draws`` draws of the error sources (module doc).
 
     widths_m, heights_m: (S,) the fitted rest mesh's extents at the stations
-    (``hw_from_model.station_extents``); m_per_px: the clip's nominal scale at the animal.
+    (``hw_from_model.station_extents``); m_per_px: the clip's nominal scale at the animal, in
+    the pixels of ``outline_sd_px`` (the frame's own: ``outline_sd_px(width)``).
     """
     if num_draws < 2:
         raise ValueError(f"num_draws must be at least 2, got {num_draws}")

@@ -19,7 +19,7 @@ from core.fit.result import FitResult
 from core.fit.result_io import read_fit_result
 from core.io.collatrix import write_wide_csv
 from core.measure.baseline import BaselineEstimate
-from core.measure.fit_uncertainty import FitInterval, fit_interval
+from core.measure.fit_uncertainty import FitInterval, fit_interval, outline_sd_px
 from core.measure.uncertainty import Summary
 from core.progress import ProgressCallback, check_cancel
 from core.project.evaluate import frame_results
@@ -51,9 +51,11 @@ def interval_of(estimate: BaselineEstimate, key: str) -> Summary | None:
 FIT_DRAWS_SEED = 0  # the fit's draws are seeded apart from the elliptical ones: same rows each time
 
 
-def fit_interval_of(estimate: BaselineEstimate, fit: FitResult) -> FitInterval | None:
-    """The fit's Monte Carlo beside the estimate's (module doc); None when the estimate has
-    none or the fit has no positive volume and length. Loads torch: worker only."""
+def fit_interval_of(estimate: BaselineEstimate, fit: FitResult,
+                    frame_width_px: int) -> FitInterval | None:
+    """The fit's Monte Carlo beside the estimate's (module doc), its outline SD that of a frame
+    ``frame_width_px`` wide; None when the estimate has none or the fit has no positive
+    volume and length. Loads torch: worker only."""
     from core.measure.hw_from_model import station_extents
     from core.model.template import load_template
 
@@ -62,7 +64,7 @@ def fit_interval_of(estimate: BaselineEstimate, fit: FitResult) -> FitInterval |
     widths, heights = station_extents(fit.rest_verts, load_template().station_rings)
     return fit_interval(fit.length_m, fit.volume_m3, widths, heights, estimate.m_per_px,
                         estimate.errors, estimate.settings.hw,
-                        np.random.default_rng(FIT_DRAWS_SEED),
+                        np.random.default_rng(FIT_DRAWS_SEED), outline_sd_px(frame_width_px),
                         mass_model=estimate.settings.mass_model,
                         num_draws=estimate.interval.num_draws)
 
@@ -104,10 +106,11 @@ def _elliptical_value(estimate: BaselineEstimate, key: str) -> float:
                  else getattr(point.condition, key))
 
 
-def compare(estimate: BaselineEstimate, fit: FitResult) -> list[ComparisonRow]:
+def compare(estimate: BaselineEstimate, fit: FitResult,
+            frame_width_px: int) -> list[ComparisonRow]:
     """Length, volume, BCI, density and mass of an elliptical estimate and a fit, each with
-    its 95 % interval when the estimate has a Monte Carlo."""
-    fitted = fit_interval_of(estimate, fit)
+    its 95 % interval when the estimate has a Monte Carlo (``frame_width_px``: the clip's)."""
+    fitted = fit_interval_of(estimate, fit, frame_width_px)
     return [ComparisonRow(key, label, unit,
                           _with_interval(_elliptical_value(estimate, key),
                                          interval_of(estimate, key)),
@@ -164,8 +167,9 @@ def project_comparison_rows(project: Project, project_path: Path, num_draws: int
         except (InputError, OSError) as exc:
             notes.append(f"{project.clips[key.clip].name} {animal.animal_id}: {exc}")
             continue
+        width = project.clips[key.clip].camera.image_width_px
         rows.append(comparison_csv_row(by_key[key].image_id, animal.animal_id, fit.status,
-                                       compare(by_key[key].estimate, fit)))
+                                       compare(by_key[key].estimate, fit, width)))
     return rows, notes + skipped
 
 

@@ -172,6 +172,7 @@ def test_fit_runs_saves_shows_and_cancels(qtbot, sample_copy, make_window):
                         == "3D fit of dolphin 1 (clip.mp4)", timeout=60_000)
         hw = window.results.current_result().record["settings"]["hw_ratios"]
         assert "survey.fits" in hw["source"] and not hw["is_provisional"]
+        assert window.save()  # else the autosave, 1.5 s after the change, asks on reopening
     finally:
         window.shutdown()
 

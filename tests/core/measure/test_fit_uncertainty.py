@@ -10,7 +10,7 @@ import torch
 from core.measure.annotation import PixelMeasurements
 from core.measure.baseline import BaselineSettings, estimate_baseline
 from core.measure.condition import body_condition
-from core.measure.fit_uncertainty import fit_interval
+from core.measure.fit_uncertainty import fit_interval, outline_sd_px
 from core.measure.hw_ratios import load_hw_preset
 from core.measure.mesh import body_length, mesh_volume
 from core.measure.uncertainty import ErrorModel
@@ -30,6 +30,11 @@ def _interval(errors=NO_ERROR, outline_sd_px=0.0, widths=WIDTHS, heights=HEIGHTS
     return fit_interval(BL_M, VOLUME_M3, widths, heights, M_PER_PX, errors, HW,
                         np.random.default_rng(0), outline_sd_px=outline_sd_px,
                         num_draws=draws)
+
+
+def test_the_default_outline_sd_grows_with_the_frame():
+    assert outline_sd_px(1920) == pytest.approx(0.365, abs=0.005)
+    assert outline_sd_px(3840) == pytest.approx(2 * outline_sd_px(1920))
 
 
 def test_zero_error_collapses_onto_the_fit():
@@ -88,7 +93,8 @@ def test_hidden_heights_move_the_volume_by_the_tables_relative_sd():
                                     {"widths_m": np.zeros(19)}, {"outline_sd_px": -0.1}])
 def test_bad_inputs_are_refused(change):
     args = dict(length_m=BL_M, volume_m3=VOLUME_M3, widths_m=WIDTHS, heights_m=HEIGHTS,
-                m_per_px=M_PER_PX, errors=NO_ERROR, hw=HW, rng=np.random.default_rng(0))
+                m_per_px=M_PER_PX, errors=NO_ERROR, hw=HW, rng=np.random.default_rng(0),
+                outline_sd_px=0.3)
     with pytest.raises(ValueError):
         fit_interval(**(args | change))
 
@@ -110,7 +116,7 @@ def test_the_comparison_gives_the_fit_an_interval_beside_the_elliptical_one():
     errors = ErrorModel.default("laser", False)
     estimate = estimate_baseline(pixels, 1.0 / M_PER_PX, 1.0, BaselineSettings(HW), errors,
                                  2000, np.random.default_rng(0))
-    rows = {row.key: row for row in compare(estimate, fit)}
+    rows = {row.key: row for row in compare(estimate, fit, 1920)}
     for row in rows.values():
         for method in (row.elliptical, row.fitted):
             assert method.low < method.value < method.high
@@ -119,4 +125,6 @@ def test_the_comparison_gives_the_fit_an_interval_beside_the_elliptical_one():
     assert volume.high - volume.low > 1.5 * altitude_only
     no_draws = estimate_baseline(pixels, 1.0 / M_PER_PX, 1.0, BaselineSettings(HW), errors,
                                  0, np.random.default_rng(0))
-    assert all(row.fitted.low is None for row in compare(no_draws, fit))
+    assert all(row.fitted.low is None for row in compare(no_draws, fit, 1920))
+    wider = {row.key: row for row in compare(estimate, fit, 3840)}["volume_m3"].fitted
+    assert wider.high - wider.low > volume.high - volume.low  # twice the outline SD in px
