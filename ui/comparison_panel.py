@@ -14,20 +14,13 @@ from PySide6.QtWidgets import (
     QVBoxLayout, QWidget,
 )
 
-from core.project.comparison import ComparisonRow, MethodValue
+from core.project.comparison import ComparisonRow
 
 COLUMNS = ("Quantity", "Elliptical (95 %)", "3D fit (95 %)", "Fit − ell.")
 FORMATS = {"length_m": ".3f", "volume_m3": ".4f", "bci": "+.3f", "density_kg_m3": ".1f",
            "mass_kg": ".1f"}
 PLOT_SIZE_IN = (3.6, 3.4)
 PLOT_MIN_HEIGHT_PX = 160
-
-
-def _with_interval(value: MethodValue, fmt: str) -> str:
-    text = format(value.value, fmt)
-    if value.low is None or value.high is None:
-        return text
-    return f"{text} ({format(value.low, fmt)}–{format(value.high, fmt)})"
 
 
 def _cell(text: str) -> QTableWidgetItem:
@@ -76,8 +69,8 @@ class ComparisonPanel(QWidget):
             label = f"{row.label} ({row.unit})" if row.unit else row.label
             item = QTableWidgetItem(label)
             self.table.setItem(i, 0, item)
-            self.table.setItem(i, 1, _cell(_with_interval(row.elliptical, fmt)))
-            self.table.setItem(i, 2, _cell(_with_interval(row.fitted, fmt)))
+            self.table.setItem(i, 1, _cell(row.elliptical.text(fmt)))
+            self.table.setItem(i, 2, _cell(row.fitted.text(fmt)))
             self.table.setItem(i, 3, _cell(f"{row.difference:+.1f} %" if row.is_relative
                                            else f"{row.difference:+.3f}"))
         self.table.setFixedHeight(self.table.horizontalHeader().sizeHint().height()

@@ -43,12 +43,12 @@ from core.measure.annotation import ALTITUDE_SOURCE_OF_KIND, ALTITUDE_SOURCES
 from core.measure.fit_uncertainty import FitInterval
 from core.measure.hw_ratios import resolve_hw
 from core.measure.records import default_error_model
-from core.measure.uncertainty import Summary
 from core.limits import (
     ALTITUDE_M, FOCAL_MM, FPS, LAUNCH_HEIGHT_M, MASK_OUTLINE_SD_PX, SENSOR_WIDTH_MM, in_range,
     result_figures, time_window,
 )
 from core.model.template import load_template
+from core.project.comparison import method_value
 
 
 INTERVAL_JSON = "interval.json"
@@ -147,16 +147,13 @@ def run(args: argparse.Namespace) -> int:
     return report(fit_run, args.out, camera, args.altitude_source, args.outline_sd_px)
 
 
-def _with_interval(value: float, summary: Summary, fmt: str) -> str:
-    return f"{value:{fmt}} ({float(summary.low):{fmt}}–{float(summary.high):{fmt}})"
-
-
 def _interval_lines(result: FitResult, interval: FitInterval, altitude_source: str) -> list[str]:
     """The figures with their 95 % intervals, and what the intervals assume."""
-    return [f"length {_with_interval(result.length_m, interval.length_m, '.3f')} m   "
-            f"volume {_with_interval(result.volume_m3, interval.volume_m3, '.4f')} m³",
-            f"BCI {_with_interval(result.bci, interval.bci, '+.3f')}   "
-            f"mass {_with_interval(result.mass_kg, interval.mass_kg, '.1f')} kg",
+    def shown(key: str, fmt: str) -> str:
+        return method_value(getattr(result, key), getattr(interval, key)).text(fmt)
+
+    return [f"length {shown('length_m', '.3f')} m   volume {shown('volume_m3', '.4f')} m³",
+            f"BCI {shown('bci', '+.3f')}   mass {shown('mass_kg', '.1f')} kg",
             f"(95 % intervals: altitude from the {altitude_source}, masks' outline "
             f"±{interval.outline_sd_px:.2g} px, the HW table's heights)"]
 

@@ -1,16 +1,32 @@
-"""A finished fit's 95 % intervals (core.measure.fit_uncertainty) at the scale of the clip's
-own pixels, on the HW table it assumed."""
+"""A fitted animal's 95 % intervals (core.measure.fit_uncertainty): from its rest mesh at a
+given scale and HW table, and for a finished run at the scale of the clip's own pixels, on
+the HW table it assumed."""
 
 import numpy as np
 
 from core.fit.pipeline import FitRun
-from core.measure.fit_uncertainty import FitInterval, fit_interval, outline_sd_px
+from core.fit.result import FitResult
+from core.measure.condition import MassModel
+from core.measure.fit_uncertainty import (
+    DEFAULT_FIT_DRAWS, FitInterval, fit_interval, outline_sd_px,
+)
 from core.measure.hw_from_model import station_extents
-from core.measure.hw_ratios import load_hw_preset, resolve_hw
+from core.measure.hw_ratios import HWRatios, load_hw_preset, resolve_hw
 from core.measure.uncertainty import ErrorModel
 from core.model.template import load_template
 
 INTERVAL_SEED = 0  # the draws are seeded: a fit reports the same interval every time
+
+
+def result_interval(result: FitResult, m_per_px: float, errors: ErrorModel, hw: HWRatios,
+                    outline_sd: float, mass_model: MassModel = MassModel(),
+                    num_draws: int = DEFAULT_FIT_DRAWS) -> FitInterval:
+    """The Monte Carlo of a fit's figures, from its rest mesh's station extents: ``m_per_px``
+    metres in a pixel of ``outline_sd`` (the outline SD)."""
+    widths, heights = station_extents(result.rest_verts, load_template().station_rings)
+    return fit_interval(result.length_m, result.volume_m3, widths, heights, m_per_px, errors,
+                        hw, np.random.default_rng(INTERVAL_SEED), outline_sd, mass_model,
+                        num_draws)
 
 
 def run_interval(run: FitRun, errors: ErrorModel,
@@ -19,12 +35,10 @@ def run_interval(run: FitRun, errors: ErrorModel,
     the clip (default: ``outline_sd_px`` of its width); metres per pixel at the median
     altitude of the fitted frames; its HW table's SDs (the default table's when it kept the
     template's own heights, which state none)."""
-    result, camera, width = run.result, run.data.camera, run.clip.width_px
-    widths, heights = station_extents(result.rest_verts, load_template().station_rings)
+    camera, width = run.data.camera, run.clip.width_px
     fitted_m_per_px = camera.intrinsics.gsd_m_per_px(float(camera.altitude_m.median()))
     m_per_px = fitted_m_per_px * camera.intrinsics.width_px / width  # frames may be resized
-    table = result.config.hw_table
+    table = run.result.config.hw_table
     hw = load_hw_preset() if table is None else resolve_hw(table)
-    return fit_interval(result.length_m, result.volume_m3, widths, heights, m_per_px, errors,
-                        hw, np.random.default_rng(INTERVAL_SEED),
-                        outline_sd_px(width) if outline_sd is None else outline_sd)
+    return result_interval(run.result, m_per_px, errors, hw,
+                           outline_sd_px(width) if outline_sd is None else outline_sd)

@@ -12,14 +12,12 @@ import threading
 from dataclasses import dataclass
 from pathlib import Path
 
-import numpy as np
-
 from core.errors import InputError
 from core.fit.result import FitResult
 from core.fit.result_io import read_fit_result
 from core.io.collatrix import write_wide_csv
 from core.measure.baseline import BaselineEstimate
-from core.measure.fit_uncertainty import FitInterval, fit_interval, outline_sd_px
+from core.measure.fit_uncertainty import FitInterval, outline_sd_px
 from core.measure.uncertainty import Summary
 from core.progress import ProgressCallback, check_cancel
 from core.project.evaluate import frame_results
@@ -48,25 +46,18 @@ def interval_of(estimate: BaselineEstimate, key: str) -> Summary | None:
                    low=intercept - slope * bci.high, high=intercept - slope * bci.low)
 
 
-FIT_DRAWS_SEED = 0  # the fit's draws are seeded apart from the elliptical ones: same rows each time
-
-
 def fit_interval_of(estimate: BaselineEstimate, fit: FitResult,
                     frame_width_px: int) -> FitInterval | None:
     """The fit's Monte Carlo beside the estimate's (module doc), its outline SD that of a frame
     ``frame_width_px`` wide; None when the estimate has none or the fit has no positive
     volume and length. Loads torch: worker only."""
-    from core.measure.hw_from_model import station_extents
-    from core.model.template import load_template
+    from core.fit.interval import result_interval
 
     if estimate.interval is None or not (fit.volume_m3 > 0 and fit.length_m > 0):
         return None
-    widths, heights = station_extents(fit.rest_verts, load_template().station_rings)
-    return fit_interval(fit.length_m, fit.volume_m3, widths, heights, estimate.m_per_px,
-                        estimate.errors, estimate.settings.hw,
-                        np.random.default_rng(FIT_DRAWS_SEED), outline_sd_px(frame_width_px),
-                        mass_model=estimate.settings.mass_model,
-                        num_draws=estimate.interval.num_draws)
+    return result_interval(fit, estimate.m_per_px, estimate.errors, estimate.settings.hw,
+                           outline_sd_px(frame_width_px), estimate.settings.mass_model,
+                           estimate.interval.num_draws)
 
 
 @dataclass(frozen=True)
@@ -76,6 +67,20 @@ class MethodValue:
     value: float
     low: float | None = None
     high: float | None = None
+
+    def text(self, fmt: str) -> str:
+        """The value in ``fmt``, with its interval in brackets when it has one."""
+        value = format(self.value, fmt)
+        if self.low is None or self.high is None:
+            return value
+        return f"{value} ({format(self.low, fmt)}–{format(self.high, fmt)})"
+
+
+def method_value(value: float, summary: Summary | None) -> MethodValue:
+    """A value with the 95 % interval of ``summary`` (None: without one)."""
+    if summary is None:
+        return MethodValue(value)
+    return MethodValue(value, float(summary.low), float(summary.high))
 
 
 @dataclass(frozen=True)
@@ -112,17 +117,11 @@ def compare(estimate: BaselineEstimate, fit: FitResult,
     its 95 % interval when the estimate has a Monte Carlo (``frame_width_px``: the clip's)."""
     fitted = fit_interval_of(estimate, fit, frame_width_px)
     return [ComparisonRow(key, label, unit,
-                          _with_interval(_elliptical_value(estimate, key),
-                                         interval_of(estimate, key)),
-                          _with_interval(float(getattr(fit, key)),
-                                         None if fitted is None else getattr(fitted, key)))
+                          method_value(_elliptical_value(estimate, key),
+                                       interval_of(estimate, key)),
+                          method_value(float(getattr(fit, key)),
+                                       None if fitted is None else getattr(fitted, key)))
             for key, label, unit in QUANTITIES]
-
-
-def _with_interval(value: float, summary: Summary | None) -> MethodValue:
-    if summary is None:
-        return MethodValue(value)
-    return MethodValue(value, float(summary.low), float(summary.high))
 
 
 def comparison_csv_row(image: str, animal_id: str, fit_status: str,
