@@ -8,6 +8,7 @@
                          [--json]
   dolphinfit bench app [--repeats N] [--json]
   dolphinfit bench batch [--clips N] [--quick] [--json]
+  dolphinfit bench real [--data DIR] [--seeds S,…] [--backend B] [--outlines N] [--json]
 
 render: forward+backward time of the differentiable renderer per frame at the paper's setting
 (a full 720×480 frame) and for a batch of 256×256 ROI crops of 1920×1080 footage at 20 m,
@@ -49,6 +50,11 @@ under xvfb-run on a server).
 batch: throughput of `dolphinfit batch` (clips per hour) on a LocalCluster of 1 worker and of
 2 workers, on the same 4 short synthetic clips (640×360, 1.5 s, 3 frames fitted, quick
 quality); --quick fits one step per stage (a smoke test).
+
+real: the product against people on real drone images and measurements (core/bench/
+real_bench.py): MedidoR's clicks replayed, our masks' length and widths against two people's
+on a minke whale and against the clicks on a right whale with foam and a calf, our midline and
+widths on 639 real whale outlines with hand points.
 """
 
 import argparse
@@ -57,6 +63,7 @@ import os
 import statistics
 import sys
 
+from app.commands import bench_real
 from app.commands.masks import add_sam2_argument, sam2_checkpoint
 from core.bench.batch_bench import bench_batch
 from core.bench.fit_bench import DEFAULT_VARIANTS, VARIANTS, bench_speed, bench_suite
@@ -125,10 +132,14 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     batch.add_argument("--clips", type=int, default=4, help="synthetic clips (default 4)")
     batch.add_argument("--quick", action="store_true", help="tiny fits for smoke tests")
     batch.add_argument("--json", action="store_true", help="one JSON object on stdout")
+    bench_real.add_arguments(suites.add_parser(
+        "real", help="masks, midlines and widths against people on real drone images"))
 
 
 def run(args: argparse.Namespace) -> int:
     """Run the chosen benchmark and print its figures."""
+    if args.suite_name == "real":
+        return bench_real.run(args)
     if args.suite_name == "app":
         figures = bench_app(max(1, args.repeats))
         print(json.dumps(figures, indent=2) if args.json else format_app(figures))

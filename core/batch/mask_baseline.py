@@ -14,10 +14,10 @@ from core.batch.task import MaskMeasurement
 from core.camera_presets import DEFAULT_PRESET, CameraPreset, get_preset
 from core.fit.pipeline import CameraChoice, FitRun
 from core.io.annotation_json import AnnotationFile
-from core.measure.annotation import Annotation, Calibration, place_stations, suggest_edges
+from core.measure.annotation import Calibration
 from core.measure.baseline import BaselineEstimate, BaselineSettings, estimate_baseline
 from core.measure.hw_ratios import resolve_hw
-from core.measure.mask_midline import midline_from_mask
+from core.measure.mask_midline import annotation_from_mask
 from core.measure.records import (
     default_error_model, measured_image_from_annotation, result_record, write_exports,
 )
@@ -51,9 +51,7 @@ def mask_baseline(run: FitRun, choice: CameraChoice, measurement: MaskMeasuremen
     and STEM_wide.csv; the summary's elliptical values and the estimate."""
     frame_idx = largest_mask_frame(run)
     mask = run.masks.mask(frame_idx)
-    midline = midline_from_mask(mask)
-    annotation = Annotation(frame_idx=frame_idx, midline_px=midline,
-                            edges_px=suggest_edges(mask, place_stations(midline)))
+    annotation = annotation_from_mask(mask, frame_idx)
     clip = run.clip
     camera, preset_name = clip_camera(choice, clip.width_px, clip.height_px)
     calibration = Calibration(camera, preset_name, frame_altitude(run.telemetry, frame_idx),

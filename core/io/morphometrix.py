@@ -12,6 +12,7 @@ Formats (reference/ecosystem.md §6.1, the real files in tests/data/morphometrix
 - **v1, blocks**: ``key,value`` metadata rows; an ``Object,Length (m),…`` block whose width
   columns are headed ``10.00% Width`` (on the header row or on the row below it), one row per
   length in metres; then ``Object,Angle`` and ``Object,Area (m²)`` blocks. Metres only.
+  Some v1 files head the blocks ``Object Name,Length,…`` instead.
 
 Scale: metres per pixel = pixel dimension (mm/px) × altitude (m) / focal length (mm), the same
 as altitude / focal_px.
@@ -27,7 +28,7 @@ import numpy as np
 
 from core.errors import InputError
 from core.io.atomic import atomic_path
-from core.io.text_input import cell_number, csv_rows
+from core.io.text_input import MISSING_CELLS, cell_number, csv_rows
 from core.limits import ALTITUDE_M, FOCAL_MM, PIXEL_DIMENSION_MM, body_measurements, in_range
 from core.measure.annotation import PixelMeasurements
 from core.measure.stations import STATION_PCT
@@ -45,6 +46,7 @@ METADATA_FIELDS = {"Image ID": "image_id", "Image Path": "image_path",
 NUMERIC_FIELDS = {"focal_mm": FOCAL_MM, "altitude_m": ALTITUDE_M,
                   "pixel_dimension_mm": PIXEL_DIMENSION_MM}  # and their plausible ranges
 WIDTH_NAME = re.compile(r"^(?P<length>.+)_w(?P<pct>\d+(?:\.\d*)?)$")
+V1_BLOCK_HEADS = ("Object", "Object Name")  # both in MorphoMetriX v1's own demo files
 V1_WIDTH_HEADER = re.compile(r"^(?P<pct>\d+(?:\.\d*)?)\s*%\s*Width$")
 
 
@@ -161,7 +163,7 @@ def _read_v1(rows: list[tuple[int, list[str]]], path: Path) -> MorphoMetrixRecor
     lengths, widths, others = {}, {}, []
     for line_no, cells in rows:
         first, second = cells[0], (cells + [""])[1]
-        if first == "Object":
+        if first in V1_BLOCK_HEADS:
             block = second.split(" ")[0].lower()
             if block not in ("length", "angle", "area"):
                 raise InputError(f"{path}, line {line_no}: unknown block {second!r}")
@@ -174,7 +176,7 @@ def _read_v1(rows: list[tuple[int, list[str]]], path: Path) -> MorphoMetrixRecor
             lengths[first] = _float(second, path, line_no, first)
             widths[first] = {pct: _float(cells[col], path, line_no, f"{first} {pct:g}% width")
                              for col, pct in width_columns.items()
-                             if col < len(cells) and cells[col]}
+                             if col < len(cells) and cells[col].lower() not in MISSING_CELLS}
         else:
             unit = DEGREES if block == "angle" else SQUARE_METERS
             others.append((first, _float(second, path, line_no, first), unit))

@@ -18,6 +18,12 @@ Geometry (reference/morphometrics.md §1, reference/ecosystem.md §1):
   the normal n = (−t_v, t_u) of the unit tangent t (rostrum → notch), which is the walker's
   right on screen (v down); side B is the other side. Mirror mode measures one side and
   doubles its distance from the midline.
+
+Reference tools read the same clicks differently (:class:`Geometry`): MedidoR (de Oliveira
+et al.) takes the body length along straight segments between the clicks and a width as the
+straight distance between its two clicks, wherever they lie. ``MEDIDOR`` replays its
+measurements to the hundredth of a pixel (``dolphinfit bench real``); the app and the CLI
+measure with ``DEFAULT_GEOMETRY``.
 """
 
 from dataclasses import dataclass
@@ -44,6 +50,32 @@ ARC_INTERVALS_PER_SPAN = 256
 # bilinearly interpolated mask through MASK_LEVEL (the boundary of a binary mask).
 MASK_STEP_PX = 0.25
 MASK_LEVEL = 0.5
+
+MIDLINES = ("spline", "polyline")
+WIDTH_RULES = ("perpendicular", "chord")
+
+
+@dataclass(frozen=True)
+class Geometry:
+    """How length and widths are read off the clicks.
+
+    ``midline``: "spline" (the interpolating spline, module doc) or "polyline" (straight
+    segments between the clicks). ``widths``: "perpendicular" (both edge points projected
+    onto the station's perpendicular) or "chord" (the straight distance between them).
+    """
+
+    midline: str = "spline"
+    widths: str = "perpendicular"
+
+    def __post_init__(self) -> None:
+        if self.midline not in MIDLINES:
+            raise ValueError(f"midline must be one of {MIDLINES}, got {self.midline!r}")
+        if self.widths not in WIDTH_RULES:
+            raise ValueError(f"widths must be one of {WIDTH_RULES}, got {self.widths!r}")
+
+
+DEFAULT_GEOMETRY = Geometry()
+MEDIDOR = Geometry(midline="polyline", widths="chord")
 
 
 @dataclass(frozen=True, eq=False)
@@ -149,12 +181,15 @@ def midline_spline(midline_px: np.ndarray) -> CubicSpline:
     return CubicSpline(knots, midline_px, axis=0, bc_type="not-a-knot")
 
 
-def place_stations(midline_px: np.ndarray,
-                   fractions: np.ndarray = STATION_FRACTIONS) -> Stations:
-    """Stations at equal arc length along the midline spline, with their perpendiculars.
+def place_stations(midline_px: np.ndarray, fractions: np.ndarray = STATION_FRACTIONS,
+                   midline: str = "spline") -> Stations:
+    """Stations at equal arc length along the midline, with their perpendiculars.
 
-    midline_px: (N, 2) clicks rostrum → notch; fractions: (S,) arc-length fractions in (0, 1).
+    midline_px: (N, 2) clicks rostrum → notch; fractions: (S,) arc-length fractions in (0, 1);
+    midline: "spline" or "polyline" (``Geometry.midline``).
     """
+    if midline == "polyline":
+        return _polyline_stations(midline_px, fractions)
     spline = midline_spline(midline_px)
     knots = spline.x
     grid = np.concatenate([
@@ -165,10 +200,28 @@ def place_stations(midline_px: np.ndarray,
     length_px = float(arc[-1])
     params = np.interp(np.asarray(fractions) * length_px, arc, grid)
     tangents = spline(params, 1)
-    tangents /= np.linalg.norm(tangents, axis=1, keepdims=True)
+    return _stations(length_px, fractions, spline(params), tangents)
+
+
+def _polyline_stations(midline_px: np.ndarray, fractions: np.ndarray) -> Stations:
+    """``place_stations`` along straight segments between the clicks; a station on a click
+    takes the direction of the segment after it."""
+    chords = np.diff(midline_px, axis=0)
+    arc = np.concatenate([[0.0], np.cumsum(np.linalg.norm(chords, axis=1))])
+    at = np.asarray(fractions) * arc[-1]
+    segment = np.clip(np.searchsorted(arc, at, side="right") - 1, 0, len(chords) - 1)
+    share = (at - arc[segment]) / (arc[segment + 1] - arc[segment])
+    points = midline_px[segment] + share[:, None] * chords[segment]
+    return _stations(float(arc[-1]), fractions, points, chords[segment])
+
+
+def _stations(length_px: float, fractions: np.ndarray, points_px: np.ndarray,
+              tangents: np.ndarray) -> Stations:
+    """Stations from their points and (unnormalised) tangents rostrum → notch."""
+    tangents = tangents / np.linalg.norm(tangents, axis=1, keepdims=True)
     normals = np.stack([-tangents[:, 1], tangents[:, 0]], axis=1)
     return Stations(length_px=length_px, fractions=np.asarray(fractions, dtype=np.float64),
-                    points_px=spline(params), normals=normals)
+                    points_px=points_px, normals=normals)
 
 
 def edge_offsets(stations: Stations, edges_px: np.ndarray) -> np.ndarray:
@@ -181,25 +234,33 @@ def edge_offsets(stations: Stations, edges_px: np.ndarray) -> np.ndarray:
     return np.einsum("ski,si->sk", rel, stations.normals)  # sum over the pixel axis (u, v)
 
 
-def station_widths(stations: Stations, edges_px: np.ndarray,
-                   mirror_side: str | None = None) -> np.ndarray:
+def station_widths(stations: Stations, edges_px: np.ndarray, mirror_side: str | None = None,
+                   widths: str = "perpendicular") -> np.ndarray:
     """(S,) width at each station in pixels; NaN where a needed side is not marked.
 
-    Both sides: the distance between the two projections on the perpendicular. Mirror mode
-    ("A" or "B"): twice the distance of that side's projection from the midline.
+    Both sides: the distance between the two projections on the perpendicular, or with
+    ``widths="chord"`` between the two points themselves. Mirror mode ("A" or "B"): twice the
+    distance of that side's projection (or point) from the station point.
     """
+    if widths == "chord":
+        if mirror_side is None:
+            return np.linalg.norm(edges_px[:, 0] - edges_px[:, 1], axis=1)
+        side = edges_px[:, SIDES.index(mirror_side)]
+        return 2.0 * np.linalg.norm(side - stations.points_px, axis=1)
     offsets = edge_offsets(stations, edges_px)
     if mirror_side is None:
         return np.abs(offsets[:, 0] - offsets[:, 1])
     return 2.0 * np.abs(offsets[:, SIDES.index(mirror_side)])
 
 
-def pixel_measurements(annotation: Annotation) -> PixelMeasurements:
-    """Length and station widths of an annotation, in pixels."""
-    stations = place_stations(annotation.midline_px)
+def pixel_measurements(annotation: Annotation,
+                       geometry: Geometry = DEFAULT_GEOMETRY) -> PixelMeasurements:
+    """Length and station widths of an annotation, in pixels, read by ``geometry``."""
+    stations = place_stations(annotation.midline_px, midline=geometry.midline)
     return PixelMeasurements(
         length_px=stations.length_px,
-        widths_px=station_widths(stations, annotation.edges_px, annotation.mirror_side),
+        widths_px=station_widths(stations, annotation.edges_px, annotation.mirror_side,
+                                 geometry.widths),
         is_mirrored=annotation.mirror_side is not None,
     )
 

@@ -10,6 +10,8 @@ user moves the last point onto the notch.
 
 import numpy as np
 
+from core.measure.annotation import Annotation, place_stations, suggest_edges
+
 END_FRACTION = 0.06   # share of the body whose cross-section width tells the ends apart
 SLICE_HALF_PX = 1.0   # pixels within this distance of a cross-section belong to it
 
@@ -47,3 +49,11 @@ def midline_from_mask(mask: np.ndarray, num_points: int = 7) -> np.ndarray:
         if offset is not None:
             midline.append(centre + at * axis + offset * normal)
     return np.asarray(midline)
+
+
+def annotation_from_mask(mask: np.ndarray, frame_idx: int = 0) -> Annotation:
+    """The length midline and the 19 widths that a mask suggests, as "suggest edges" places
+    them in the app; nobody has reviewed them."""
+    midline = midline_from_mask(mask)
+    return Annotation(frame_idx=frame_idx, midline_px=midline,
+                      edges_px=suggest_edges(mask, place_stations(midline)))

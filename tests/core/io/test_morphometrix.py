@@ -15,6 +15,7 @@ from core.measure.annotation import PixelMeasurements
 DATA = Path(__file__).resolve().parents[2] / "data" / "morphometrix"
 V2_DEMO = DATA / "mmx_v2_demo-annotated.csv"
 V1_WHALE = DATA / "mmx_v1_Whale1_170816_A_F2_DSC04215.csv"
+MINKE = DATA.parent / "real" / "minke"
 PERCENTS = [10.0, 20.0, 30.0, 40.0, 50.0, 60.0, 70.0, 80.0, 90.0]
 
 
@@ -58,6 +59,17 @@ def test_v1_whale_blocks():
     assert list(record.widths_m["TL"].values()) == [2.48, 3.24, 3.13, 2.8, 2.21, 2.07, 1.52,
                                                     0.94, 0.42]
     assert sorted(record.widths_m["TL"]) == PERCENTS and "Fluke" not in record.widths_m
+
+
+def test_v1_blocks_headed_object_name_with_nan_cells():
+    """MorphoMetriX v1's own demo measurement of its minke image heads its blocks
+    ``Object Name,Length,…`` and writes ``nan`` for widths not measured."""
+    record = read_morphometrix(MINKE / "test-image.csv")
+    assert record.lengths_m == {"Total Length": 7.547, "Fluke_span": 2.225}
+    assert record.widths_m["Total Length"][40.0] == 1.257
+    assert sorted(record.widths_m["Total Length"]) == PERCENTS
+    assert "Fluke_span" not in record.widths_m
+    assert record.others == (("Fluke_leadedge", 26.848, "Degrees"),)
 
 
 def test_v1_pixels_are_derived_from_metres():

@@ -7,7 +7,7 @@ import pytest
 
 from core.camera_presets import CameraPreset
 from core.measure.annotation import (
-    Annotation, Calibration, midline_spline, pixel_measurements, place_stations,
+    Annotation, Calibration, Geometry, midline_spline, pixel_measurements, place_stations,
     station_widths, suggest_edges,
 )
 from core.measure.stations import STATION_FRACTIONS
@@ -159,3 +159,34 @@ def test_calibration_scales_by_altitude_over_focal_px():
     assert calibration.m_per_px == pytest.approx(0.0146376, abs=1e-7)
     with pytest.raises(ValueError, match="altitude_source"):
         Calibration(camera, None, 20.0, "guess")
+
+
+def test_polyline_stations_lie_on_the_segments_at_equal_arc_length():
+    """Clicks (0, 0) → (300, 0) → (300, 100): length 400, station 50 % at (200, 0) with the
+    first segment's normal, station 80 % at (300, 20) with the second's."""
+    clicks = np.array([[0.0, 0.0], [300.0, 0.0], [300.0, 100.0]])
+    stations = place_stations(clicks, midline="polyline")
+    assert stations.length_px == pytest.approx(400.0, abs=1e-12)
+    np.testing.assert_allclose(stations.points_px[9], [200.0, 0.0], atol=1e-12)
+    np.testing.assert_allclose(stations.points_px[15], [300.0, 20.0], atol=1e-12)
+    np.testing.assert_allclose(stations.normals[9], [0.0, 1.0], atol=1e-12)
+    np.testing.assert_allclose(stations.normals[15], [-1.0, 0.0], atol=1e-12)
+
+
+def test_chord_widths_are_the_distance_between_the_clicks():
+    """A pair 30 px along the body and 40 px across: 50 px as a chord, 40 px projected; a
+    mirrored side is twice its distance from the station point."""
+    stations = place_stations(np.array([[0.0, 0.0], [400.0, 0.0]]))
+    edges = np.full((19, 2, 2), np.nan)
+    edges[4] = [[100.0, 20.0], [130.0, -20.0]]
+    assert station_widths(stations, edges, widths="chord")[4] == pytest.approx(50.0)
+    assert station_widths(stations, edges)[4] == pytest.approx(40.0)
+    mirrored = station_widths(stations, edges, mirror_side="B", widths="chord")[4]
+    assert mirrored == pytest.approx(2 * np.hypot(30.0, 20.0))
+
+
+def test_unknown_geometry_is_refused():
+    with pytest.raises(ValueError, match="midline must be one of"):
+        Geometry(midline="bezier")
+    with pytest.raises(ValueError, match="widths must be one of"):
+        Geometry(widths="diagonal")

@@ -1,0 +1,130 @@
+"""``dolphinfit bench real``: the product against people on real drone images (the parts are
+described in core/bench/real_bench.py).
+
+  dolphinfit bench real [--data DIR] [--parts P,…] [--seeds click,auto] [--backend B]
+                        [--outlines N] [--json]
+"""
+
+import argparse
+import json
+import math
+import sys
+from pathlib import Path
+
+from core.bench.real_bench import PARTS, SEEDS, bench_real
+from core.limits import count, one_of
+from core.segment.backends import ALWAYS_AVAILABLE, DEFAULT_BACKEND, make_segmenter
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    """The data folder, the seeds and back-end of the masks, how many outlines."""
+    parser.add_argument("--data", type=Path, default=None, metavar="DIR",
+                        help="the real data sets (default: the clone's tests/data/real)")
+    parser.add_argument("--parts", default=",".join(PARTS),
+                        help=f"comma-separated, of {', '.join(PARTS)} (default all)")
+    parser.add_argument("--seeds", default=",".join(SEEDS),
+                        help=f"comma-separated, of {', '.join(SEEDS)} (default all)")
+    parser.add_argument("--backend", choices=ALWAYS_AVAILABLE, default=DEFAULT_BACKEND,
+                        help=f"mask back-end (default {DEFAULT_BACKEND})")
+    parser.add_argument("--outlines", type=int, default=None, metavar="N",
+                        help="score only the first N whale outlines (default all)")
+    parser.add_argument("--json", action="store_true", help="one JSON object on stdout")
+
+
+def run(args: argparse.Namespace) -> int:
+    """Score the product against people and print the table."""
+    parts, seeds = tuple(args.parts.split(",")), tuple(args.seeds.split(","))
+    for part in parts:
+        one_of(part, PARTS, "--parts")
+    for kind in seeds:
+        one_of(kind, SEEDS, "--seeds")
+    limit = None if args.outlines is None else count(args.outlines, 1, "--outlines")
+    make_segmenter(args.backend)  # its weights missing: refused before any work
+    figures = bench_real(args.data, parts, seeds, args.backend, limit,
+                         progress=lambda line: print(line, file=sys.stderr, flush=True))
+    print(json.dumps(figures, indent=2) if args.json else format_real(figures))
+    return 0
+
+
+def _px(offset: float) -> str:
+    return "—" if math.isnan(offset) else f"{offset:+.0f}"
+
+
+def _pct(share: float) -> str:
+    return f"{100 * share:+.1f} %"
+
+
+def format_real(figures: dict) -> str:
+    """One table per part, the people's spread beside our error."""
+    lines: list[str] = []
+    if "medidor_replay" in figures:
+        lines += _replay_lines(figures["medidor_replay"])
+    if "minke" in figures:
+        lines += _minke_lines(figures["minke"])
+    if "right_whale" in figures:
+        lines += _right_whale_lines(figures["right_whale"])
+    if "outlines" in figures:
+        lines += _outline_lines(figures["outlines"])
+    return "\n".join(lines).rstrip("\n")
+
+
+def _replay_lines(replay: dict) -> list[str]:
+    return ["MedidoR's test clicks replayed (right whale, 2.7K): body length "
+             f"{replay['length_px']:.2f} px against its sheet's {replay['sheet_length_px']:.2f};"
+             f" largest difference of length and 9 widths {replay['max_abs_difference_px']:.2g}"
+             f" px with MedidoR's geometry, {replay['default_max_abs_difference_px']:.2f} px "
+             "with ours (spline, perpendicular widths)", ""]
+
+
+def _minke_lines(minke: dict) -> list[str]:
+    spread = minke["human_spread"]
+    lengths = " / ".join(f"{h['length_m']:.3f}" for h in minke["humans"])
+    lines = [f"Minke whale (28.4 m, 3.2 mm/px), two people: length {lengths} m (spread "
+              f"{spread['length_m']:.3f} m, {100 * spread['length_share']:.1f} %); widths at "
+              f"{len(spread['stations_pct'])} stations differ by {100 * spread['median_width_share']:.1f}"
+              f" % median, {100 * spread['worst_width_share']:.1f} % worst",
+              "seed   length m  vs people  widths: median |error|  worst   within spread  s"]
+    for kind, s in minke["seeds"].items():
+        if s["error"]:
+            lines.append(f"{kind:6s} no mask: {s['error']}")
+            continue
+        lines.append(f"{kind:6s} {s['length_m']:8.3f}  {_pct(s['length_error_share']):>9s}  "
+                     f"{100 * s['median_width_error_share']:14.1f} %  "
+                     f"{100 * s['worst_width_error_share']:6.1f} %  "
+                     f"{s['widths_within_spread']:6d} of {len(s['width_error_m'])}  "
+                     f"{s['seconds']:5.1f}")
+    return lines + [""]
+
+
+def _right_whale_lines(whale: dict) -> list[str]:
+    lines = [f"Right whale with calf (MedidoR's test clicks, not an expert's; length "
+             f"{whale['sheet_length_px']:.1f} px)",
+              "seed   length px  vs clicks  outline − each clicked edge point, px, 10 … 90 % "
+             "(first/second click of the pair; + outside)"]
+    for kind, s in whale["seeds"].items():
+        if s["error"]:
+            lines.append(f"{kind:6s} no mask: {s['error']}")
+            continue
+        offsets = " ".join(f"{_px(first)}/{_px(second)}" for second, first in s["offset_px"])
+        lines.append(f"{kind:6s} {s['length_px']:9.1f}  "
+                     f"{_pct(s['length_px'] / whale['sheet_length_px'] - 1):>9s}"
+                     f"  {offsets}  (median |offset| {s['median_abs_offset_px']:.1f} px)")
+    return lines + [""]
+
+
+def _outline_lines(out: dict) -> list[str]:
+    lines = [f"Whale outlines with hand points ({out['outlines']} outlines, rostrum to "
+              f"peduncle, no flippers or flukes; {len(out['left_out'])} left out): our "
+              f"midline starts at the rostrum on {out['ends_told_apart']}; its ends lie "
+              f"{out['ends']['rostrum']['median_px']:.1f} px (worst "
+              f"{out['ends']['rostrum']['worst_px']:.0f}) from the rostrum point and "
+              f"{out['ends']['peduncle']['median_px']:.1f} px (worst "
+              f"{out['ends']['peduncle']['worst_px']:.0f}) from the peduncle point",
+              "pair            ours − person          outline − person       ours − outline",
+              "                median  worst (px, %)  median  worst          median  worst"]
+    for pair, p in out["pairs"].items():
+        cells = "  ".join(f"{v['median_px']:5.1f} {100 * v['median_share']:4.1f}%  "
+                          f"{v['worst_px']:5.0f} {100 * v['worst_share']:3.0f}%"
+                          for v in p.values())
+        lines.append(f"{pair:15s} {cells}")
+    return lines

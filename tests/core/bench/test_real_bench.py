@@ -1,0 +1,103 @@
+"""``dolphinfit bench real`` on the shipped real data: the MedidoR replay to the hundredth of
+a pixel, the data sets as their sources describe them, the outline geometry on analytic
+shapes and on real outlines, and the command."""
+
+import json
+
+import cv2
+import numpy as np
+import pytest
+
+from app.cli import main
+from core.bench.real_bench import (
+    edge_point_offsets, outline_scores, replay_medidor, score_outline,
+)
+from core.bench.real_data import (
+    OUTLINE_PAIRS, load_medidor, load_minke, load_outlines, real_data_dir,
+)
+from core.errors import InputError
+
+
+def test_medidor_clicks_through_its_geometry_give_its_sheet_to_a_hundredth_of_a_pixel():
+    """The 3 length clicks and 9 width pairs of MedidoR's GUI test: length and widths equal
+    the spreadsheet it wrote; our own geometry (spline, perpendicular) differs by 0.65 px."""
+    score = replay_medidor(load_medidor())
+    assert score.max_abs_difference_px < 0.01
+    assert score.length_px == pytest.approx(1171.55663356342, abs=0.01)
+    assert score.default_max_abs_difference_px == pytest.approx(0.652, abs=0.001)
+
+
+def test_the_data_sets_are_what_their_sources_say():
+    """Minke: two people, 7.593 m with 19 widths and 7.547 m with 9, at 3.178 mm/px;
+    MedidoR: 23 clicks; outlines: 639, one with a point outside its image left out."""
+    minke = load_minke()
+    assert [h.length_m for h in minke.humans] == [7.593, 7.547]
+    assert [len(h.widths_m) for h in minke.humans] == [19, 9]
+    assert minke.calibration.m_per_px == pytest.approx(28.4 * 0.00391667 / 35, rel=1e-6)
+    medidor = load_medidor()
+    np.testing.assert_allclose(medidor.length_clicks_px[0], [775.4, 810.9])
+    np.testing.assert_allclose(medidor.fluke_clicks_px[1], [2045.1, 1055.9])
+    outlines = load_outlines()
+    assert outlines.outlines.shape == (639, 2, 301)
+    assert [index for index, _ in outlines.left_out] == [144]
+
+
+def test_a_folder_without_the_data_is_refused(tmp_path):
+    with pytest.raises(InputError, match="no real data sets here"):
+        real_data_dir(tmp_path)
+
+
+def test_edge_point_offsets_along_each_pair_on_a_disc():
+    """A disc of radius 50: points clicked at radius 40 lie 10 px inside the outline (+10),
+    points at radius 55 5 px outside it (−5), whatever the pair's direction."""
+    mask = np.zeros((201, 201), np.uint8)
+    cv2.circle(mask, (100, 100), 50, 1, -1)
+    centre = np.array([100.0, 100.0])
+    directions = np.array([[1.0, 0.0], [0.6, 0.8]])
+    for radius, expected in ((40.0, 10.0), (55.0, -5.0)):
+        offsets = edge_point_offsets(mask.astype(bool), centre - radius * directions,
+                                     centre + radius * directions)
+        np.testing.assert_allclose(offsets, expected, atol=0.6)
+
+
+def _ellipse_outline(a: float, b: float, points: int = 301) -> np.ndarray:
+    angle = np.linspace(0, 2 * np.pi, points)
+    return np.stack([600 + a * np.cos(angle), 400 + b * np.sin(angle)])
+
+
+def test_an_ellipse_scores_its_own_widths():
+    """An ellipse 800 × 160 px with the hand pairs placed on it across the body: our widths
+    at those stations equal the people's within a pixel and the midline's ends lie at the
+    tips; the tips are told apart only by where the rostrum point is."""
+    outline = _ellipse_outline(400.0, 80.0)
+    xs = np.linspace(-300, 300, len(OUTLINE_PAIRS))
+    half = 80.0 * np.sqrt(1 - (xs / 400.0) ** 2)
+    points = {"rostrum": np.array([1000.0, 400.0]), "peduncle": np.array([200.0, 400.0])}
+    for x, h, pair in zip(xs, half, OUTLINE_PAIRS):
+        points[f"side1_{pair}"] = np.array([600 + x, 400 - h])
+        points[f"side2_{pair}"] = np.array([600 + x, 400 + h])
+    score = score_outline(outline, points)
+    np.testing.assert_allclose(score["ours_px"], score["human_px"], atol=1.0)
+    np.testing.assert_allclose(score["outline_px"], score["human_px"], atol=1.0)
+    assert score["rostrum_px"] < 3 and score["peduncle_px"] < 3
+
+
+def test_real_outlines_body_widths_agree_with_the_outline():
+    """On the first 40 real outlines, our widths at the pairs across the widest part of the
+    body lie within 1.5 px (median) of the outline's own width along the person's line."""
+    figures = outline_scores(load_outlines(), limit=40)
+    assert figures["outlines"] == 40
+    for pair in ("eye", "body1", "body2"):
+        assert figures["pairs"][pair]["ours_vs_outline"]["median_px"] < 1.5
+
+
+def test_bench_real_command_prints_the_parts_asked_for(capsys):
+    assert main(["bench", "real", "--parts", "replay,outlines", "--outlines", "5",
+                 "--json"]) == 0
+    figures = json.loads(capsys.readouterr().out)
+    assert set(figures) == {"medidor_replay", "outlines"}
+    assert figures["outlines"]["outlines"] == 5
+    assert main(["bench", "real", "--parts", "replay"]) == 0
+    assert "largest difference of length and 9 widths" in capsys.readouterr().out
+    assert main(["bench", "real", "--parts", "fit"]) == 2
+    assert "--parts" in capsys.readouterr().err
