@@ -114,8 +114,8 @@ def _right_whale_lines(whale: dict) -> list[str]:
 
 def _outline_lines(out: dict) -> list[str]:
     lines = [f"Whale outlines with hand points ({out['outlines']} outlines, rostrum to "
-              f"peduncle, no flippers or flukes; {len(out['left_out'])} left out): our "
-              f"midline starts at the rostrum on {out['ends_told_apart']}; its ends lie "
+             f"peduncle, no flippers or flukes; {len(out['left_out'])} left out): our "
+             f"midline (its head end given) ends "
               f"{out['ends']['rostrum']['median_px']:.1f} px (worst "
               f"{out['ends']['rostrum']['worst_px']:.0f}) from the rostrum point and "
               f"{out['ends']['peduncle']['median_px']:.1f} px (worst "

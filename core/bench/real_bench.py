@@ -202,11 +202,14 @@ def right_whale_offsets(mask: np.ndarray, data: MedidorImage) -> dict:
 
 
 def _signed_summary(offsets: np.ndarray) -> dict:
-    """Median |offset| and the largest offset (signed) of the finite ones; NaN if none."""
+    """Median, median |offset| and the largest offset (signed) of the finite ones; NaN if
+    none."""
     finite = offsets[np.isfinite(offsets)]
     if not finite.size:
-        return {"median_abs_offset_px": float("nan"), "worst_offset_px": float("nan")}
-    return {"median_abs_offset_px": float(np.median(np.abs(finite))),
+        return {"median_offset_px": float("nan"), "median_abs_offset_px": float("nan"),
+                "worst_offset_px": float("nan")}
+    return {"median_offset_px": float(np.median(finite)),
+            "median_abs_offset_px": float(np.median(np.abs(finite))),
             "worst_offset_px": float(finite[np.argmax(np.abs(finite))])}
 
 
@@ -236,22 +239,25 @@ def score_outline(outline: np.ndarray, points: dict[str, np.ndarray]) -> dict:
     """One whale: our midline's ends and widths against its hand points (px)."""
     mask, origin = rasterised(outline)
     local = {name: p - origin for name, p in points.items()}
-    midline = midline_from_mask(mask >= 0.5)
-    rostrum_first = (np.linalg.norm(midline[0] - local["rostrum"])
-                     <= np.linalg.norm(midline[-1] - local["rostrum"]))
-    if not rostrum_first:
-        midline = midline[::-1]
+    midline = midline_from_mask(mask, head_near=local["rostrum"])
     first = np.array([local[f"side1_{pair}"] for pair in OUTLINE_PAIRS])
     second = np.array([local[f"side2_{pair}"] for pair in OUTLINE_PAIRS])
     fractions = np.clip(arc_fraction(midline, (first + second) / 2), 0.005, 0.995)
     ours = suggest_edges(mask, place_stations(midline, fractions))
     along_chord = suggest_edges(mask, chord_stations(first, second))
-    return {"rostrum_first": bool(rostrum_first),
-            "rostrum_px": float(np.linalg.norm(midline[0] - local["rostrum"])),
-            "peduncle_px": float(np.linalg.norm(midline[-1] - local["peduncle"])),
+    return {"rostrum_px": float(_beyond(midline[0], midline[1], local["rostrum"])),
+            "peduncle_px": float(_beyond(midline[-1], midline[-2], local["peduncle"])),
             "human_px": np.linalg.norm(second - first, axis=1),
             "ours_px": np.linalg.norm(ours[:, 0] - ours[:, 1], axis=1),
             "outline_px": np.linalg.norm(along_chord[:, 0] - along_chord[:, 1], axis=1)}
+
+
+def _beyond(end: np.ndarray, inner: np.ndarray, point: np.ndarray) -> float:
+    """How far the midline's ``end`` lies beyond a person's ``point`` along the midline's
+    end direction (from ``inner``), px; + where the midline runs further: what the length
+    follows."""
+    direction = (end - inner) / np.linalg.norm(end - inner)
+    return float((end - point) @ direction)
 
 
 def _abs_summary(differences: np.ndarray, widths: np.ndarray) -> dict:
@@ -278,11 +284,9 @@ def outline_scores(data: WhaleOutlines, limit: int | None = None) -> dict:
                     "outline_vs_human": _abs_summary(outline[:, k] - human[:, k], human[:, k]),
                     "ours_vs_outline": _abs_summary(ours[:, k] - outline[:, k], human[:, k])}
              for k, pair in enumerate(OUTLINE_PAIRS)}
-    ends = {name: {"median_px": float(np.median([s[f"{name}_px"] for s in scores])),
-                   "worst_px": float(np.max([s[f"{name}_px"] for s in scores]))}
+    ends = {name: _signed_summary(np.array([s[f"{name}_px"] for s in scores]))
             for name in ("rostrum", "peduncle")}
     return {"outlines": len(scores), "left_out": [list(item) for item in data.left_out],
-            "ends_told_apart": int(sum(s["rostrum_first"] for s in scores)),
             "ends": ends, "pairs": pairs}
 
 

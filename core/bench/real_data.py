@@ -33,6 +33,7 @@ MEDIDOR_CLICK_PX = (1300.0, 860.0)
 CLICK = re.compile(r"list\(x = (?P<x>-?[\d.]+), y = (?P<y>-?[\d.]+)\)")
 # The hand points of the outline set: pairs across the body, rostrum to peduncle
 OUTLINE_PAIRS = ("head1", "head2", "eye", "body1", "body2", "body3", "peduncle_width")
+OFF_OUTLINE_SHARE = 0.03  # a rostrum or peduncle point further off the outline (× length)
 
 
 def real_data_dir(folder: Path | None = None) -> Path:
@@ -167,6 +168,50 @@ def load_outlines(folder: Path | None = None) -> WhaleOutlines:
     points = {name: np.array([[float(r[f"{name}_x"]), float(r[f"{name}_y"])] for r in rows])
               for name in names}
     size = np.array([[float(r["Image.Width"]), float(r["Image.Length"])] for r in rows])
-    left_out = tuple((i, "outline points outside the image") for i in range(len(outlines))
-                     if (outlines[i].min() < 0 or np.any(outlines[i].max(axis=1) > size[i])))
+    left_out = tuple((i, why) for i in range(len(outlines))
+                     if (why := _unusable(outlines[i], size[i], points["rostrum"][i],
+                                          points["peduncle"][i])))
     return WhaleOutlines(outlines, points, left_out)
+
+
+def _unusable(outline: np.ndarray, image_size: np.ndarray, rostrum: np.ndarray,
+              peduncle: np.ndarray) -> str:
+    """Why an outline (2, P) cannot be scored against its hand points; "" if it can."""
+    if outline.min() < 0 or np.any(outline.max(axis=1) > image_size):
+        return "outline points outside the image"
+    if crossings(outline):
+        return "the outline crosses itself"
+    length = np.linalg.norm(rostrum - peduncle)
+    for name, point in (("rostrum", rostrum), ("peduncle", peduncle)):
+        if distance_to_outline(point, outline) > OFF_OUTLINE_SHARE * length:
+            return f"the {name} point lies off the outline"
+    return ""
+
+
+def _segments(outline: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(P, 2) start and end points of a closed outline's segments."""
+    start = outline.T
+    return start, np.roll(start, -1, axis=0)
+
+
+def crossings(outline: np.ndarray) -> int:
+    """How many pairs of non-adjacent segments of a closed outline (2, P) cross."""
+    start, end = _segments(outline)
+
+    def turn(p, q, r):   # the sign of the turn p → q → r
+        return np.sign((q[..., 0] - p[..., 0]) * (r[..., 1] - p[..., 1])
+                       - (q[..., 1] - p[..., 1]) * (r[..., 0] - p[..., 0]))
+
+    a, b, c, d = start[:, None], end[:, None], start[None], end[None]
+    cross = (turn(a, b, c) * turn(a, b, d) < 0) & (turn(c, d, a) * turn(c, d, b) < 0)
+    first, second = np.nonzero(np.triu(cross, 2))
+    return int(np.sum(~((first == 0) & (second == len(start) - 1))))
+
+
+def distance_to_outline(point: np.ndarray, outline: np.ndarray) -> float:
+    """The distance (px) from a point (2,) to a closed outline (2, P)."""
+    start, end = _segments(outline)
+    along = end - start
+    share = np.clip(np.sum((point - start) * along, axis=1)
+                    / np.maximum(np.sum(along * along, axis=1), 1e-12), 0.0, 1.0)
+    return float(np.min(np.linalg.norm(start + share[:, None] * along - point, axis=1)))

@@ -13,7 +13,8 @@ from core.bench.real_bench import (
     edge_point_offsets, outline_scores, replay_medidor, score_outline,
 )
 from core.bench.real_data import (
-    OUTLINE_PAIRS, load_medidor, load_minke, load_outlines, real_data_dir,
+    OUTLINE_PAIRS, crossings, distance_to_outline, load_medidor, load_minke, load_outlines,
+    real_data_dir,
 )
 from core.errors import InputError
 
@@ -29,7 +30,9 @@ def test_medidor_clicks_through_its_geometry_give_its_sheet_to_a_hundredth_of_a_
 
 def test_the_data_sets_are_what_their_sources_say():
     """Minke: two people, 7.593 m with 19 widths and 7.547 m with 9, at 3.178 mm/px;
-    MedidoR: 23 clicks; outlines: 639, one with a point outside its image left out."""
+    MedidoR: 23 clicks; outlines: 639, of which 99 cannot be scored: one with a point outside
+    its image, 96 that cross themselves (most across the head), two whose rostrum point lies
+    off the outline."""
     minke = load_minke()
     assert [h.length_m for h in minke.humans] == [7.593, 7.547]
     assert [len(h.widths_m) for h in minke.humans] == [19, 9]
@@ -39,7 +42,21 @@ def test_the_data_sets_are_what_their_sources_say():
     np.testing.assert_allclose(medidor.fluke_clicks_px[1], [2045.1, 1055.9])
     outlines = load_outlines()
     assert outlines.outlines.shape == (639, 2, 301)
-    assert [index for index, _ in outlines.left_out] == [144]
+    reasons = [why for _, why in outlines.left_out]
+    assert (reasons.count("outline points outside the image"),
+            reasons.count("the outline crosses itself"),
+            reasons.count("the rostrum point lies off the outline")) == (1, 96, 2)
+    assert (144, "outline points outside the image") in outlines.left_out
+
+
+def test_crossings_and_distances_of_outlines():
+    """A square has no crossing; a figure of eight has one; a point's distance to an
+    outline is to its nearest segment."""
+    square = np.array([[0.0, 10, 10, 0], [0, 0, 10, 10]])
+    eight = np.array([[0.0, 10, 10, 0], [0, 10, 0, 10]])
+    assert (crossings(square), crossings(eight)) == (0, 1)
+    assert distance_to_outline(np.array([5.0, -3.0]), square) == pytest.approx(3.0)
+    assert distance_to_outline(np.array([13.0, 14.0]), square) == pytest.approx(5.0)
 
 
 def test_a_folder_without_the_data_is_refused(tmp_path):
