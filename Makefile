@@ -7,6 +7,7 @@ VENV ?= .venv
 PY := $(VENV)/bin/python
 STAMP := $(VENV)/.installed
 THREADS ?= 2
+TEST_WORKERS ?= 2   # pytest-xdist processes, one torch thread each
 
 .PHONY: run test demo screenshot clean-venv
 
@@ -28,7 +29,7 @@ screenshot: $(STAMP)
 	  $(VENV)/bin/dolphinfit --threads $(THREADS) gui --sample --screenshot docs/app.png
 
 test: $(STAMP)
-	OMP_NUM_THREADS=1 DOLPHINFIT_THREADS=1 $(PY) -m pytest -q
+	OMP_NUM_THREADS=1 DOLPHINFIT_THREADS=1 $(PY) -m pytest -q -n $(TEST_WORKERS)
 
 clean-venv:
 	rm -rf $(VENV)

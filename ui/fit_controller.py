@@ -55,12 +55,12 @@ def _make_comparison() -> "ComparisonPanel":
 
 
 def describe_fit(result: FitResult) -> str:
-    """One line on a fit: its status in words, its mean IoU and figures."""
+    """One line on a fit: its status in words, its mean IoU and figures, then its warnings."""
     head = ("3D fit complete" if result.status == "complete"
             else f"3D fit {result.status} (partial result): {result.status_message}")
     return (f"{head}. {len(result.frame_idx)} frames, mean IoU {float(result.iou.mean()):.3f}; "
             f"length {result.length_m:.3f} m, volume {result.volume_m3:.4f} m³, "
-            f"mass {result.mass_kg:.1f} kg")
+            f"mass {result.mass_kg:.1f} kg" + "".join(f"\n⚠ {w}" for w in result.warnings))
 
 
 class FitController(QObject):

@@ -2,7 +2,7 @@
 described in core/bench/real_bench.py).
 
   dolphinfit bench real [--data DIR] [--parts P,…] [--seeds click,auto] [--backend B]
-                        [--outlines N] [--json]
+                        [--outlines N] [--overlays DIR] [--json]
 """
 
 import argparse
@@ -28,6 +28,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help=f"mask back-end (default {DEFAULT_BACKEND})")
     parser.add_argument("--outlines", type=int, default=None, metavar="N",
                         help="score only the first N whale outlines (default all)")
+    parser.add_argument("--overlays", type=Path, default=None, metavar="DIR",
+                        help="write a picture of our mask, midline and widths over each "
+                             "image there")
     parser.add_argument("--json", action="store_true", help="one JSON object on stdout")
 
 
@@ -41,7 +44,8 @@ def run(args: argparse.Namespace) -> int:
     limit = None if args.outlines is None else count(args.outlines, 1, "--outlines")
     make_segmenter(args.backend)  # its weights missing: refused before any work
     figures = bench_real(args.data, parts, seeds, args.backend, limit,
-                         progress=lambda line: print(line, file=sys.stderr, flush=True))
+                         progress=lambda line: print(line, file=sys.stderr, flush=True),
+                         overlays=args.overlays)
     print(json.dumps(figures, indent=2) if args.json else format_real(figures))
     return 0
 

@@ -30,6 +30,7 @@ from pathlib import Path
 import cv2
 import numpy as np
 
+from core.bench.real_overlay import overlay, write_overlay
 from core.bench.real_data import (
     OUTLINE_PAIRS, HumanMeasurement, MedidorImage, MinkeImage, WhaleOutlines, load_medidor,
     load_minke, load_outlines,
@@ -296,8 +297,10 @@ PARTS = ("replay", "minke", "right-whale", "outlines")
 def bench_real(folder: Path | None = None, parts: tuple[str, ...] = PARTS,
                seeds: tuple[str, ...] = SEEDS, backend: str = DEFAULT_BACKEND,
                outlines_limit: int | None = None,
-               progress: Callable[[str], None] | None = None) -> dict:
-    """The chosen ``parts`` of the module doc (1–4), as one JSON-ready dict."""
+               progress: Callable[[str], None] | None = None,
+               overlays: Path | None = None) -> dict:
+    """The chosen ``parts`` of the module doc (1–4), as one JSON-ready dict; with
+    ``overlays``, a picture per image and seed there (``real_overlay``)."""
     def say(line: str) -> None:
         if progress is not None:
             progress(line)
@@ -307,9 +310,10 @@ def bench_real(folder: Path | None = None, parts: tuple[str, ...] = PARTS,
         figures["medidor_replay"] = asdict(replay_medidor(load_medidor(folder)))
         say("MedidoR replay done")
     if "minke" in parts:
-        figures["minke"] = minke_figures(load_minke(folder), seeds, backend, say)
+        figures["minke"] = minke_figures(load_minke(folder), seeds, backend, say, overlays)
     if "right-whale" in parts:
-        figures["right_whale"] = right_whale_figures(load_medidor(folder), seeds, backend, say)
+        figures["right_whale"] = right_whale_figures(load_medidor(folder), seeds, backend, say,
+                                                     overlays)
     if "outlines" in parts:
         figures["outlines"] = outline_scores(load_outlines(folder), outlines_limit)
         say("outlines done")
@@ -317,21 +321,24 @@ def bench_real(folder: Path | None = None, parts: tuple[str, ...] = PARTS,
 
 
 def minke_figures(minke: MinkeImage, seeds: tuple[str, ...], backend: str,
-                  say: Callable[[str], None]) -> dict:
+                  say: Callable[[str], None], overlays: Path | None = None) -> dict:
     """Part 2: the people's spread and our masks' measurements against them."""
     rgb = load_rgb(minke.image)
     figures: dict = {"humans": [asdict(h) for h in minke.humans],
                      "human_spread": human_spread(minke.humans), "seeds": {}}
     for kind in seeds:
-        measure, _, _ = measure_still(rgb, kind, minke.click_px, minke.calibration.m_per_px,
-                                      backend)
+        measure, mask, annotation = measure_still(rgb, kind, minke.click_px,
+                                                  minke.calibration.m_per_px, backend)
+        if overlays is not None and mask is not None:
+            write_overlay(overlays / f"minke_{kind}.png", overlay(
+                rgb, mask, annotation, click_px=minke.click_px if kind == "click" else None))
         figures["seeds"][kind] = {**asdict(measure), **against_humans(measure, minke.humans)}
         say(f"minke from the {kind}: {measure.error or 'measured'}")
     return figures
 
 
 def right_whale_figures(medidor: MedidorImage, seeds: tuple[str, ...], backend: str,
-                        say: Callable[[str], None]) -> dict:
+                        say: Callable[[str], None], overlays: Path | None = None) -> dict:
     """Part 3: our masks' length and outline against MedidoR's test clicks."""
     rgb = load_rgb(medidor.image)
     figures: dict = {"sheet_length_px": medidor.sheet.length_px, "seeds": {}}
@@ -342,6 +349,12 @@ def right_whale_figures(medidor: MedidorImage, seeds: tuple[str, ...], backend: 
         if mask is not None:
             entry["length_px"] = pixel_measurements(annotation).length_px
             entry.update(right_whale_offsets(mask, medidor))
+            if overlays is not None:
+                clicks = np.concatenate([medidor.length_clicks_px,
+                                         medidor.width_clicks_px.reshape(-1, 2)])
+                write_overlay(overlays / f"right_whale_{kind}.png", overlay(
+                    rgb, mask, annotation, clicks,
+                    medidor.click_px if kind == "click" else None))
         figures["seeds"][kind] = entry
         say(f"right whale from the {kind}: {measure.error or 'measured'}")
     return figures

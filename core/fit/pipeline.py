@@ -8,8 +8,10 @@ raises core.progress.Cancelled.
 """
 
 import threading
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
+
+import numpy as np
 
 from core.camera_presets import DEFAULT_PRESET, get_preset
 from core.errors import InputError
@@ -25,6 +27,9 @@ from core.io.video import Clip, VideoReader, frame_range, open_clip, step_for_fp
 from core.progress import ProgressCallback
 from core.segment.backends import DEFAULT_BACKEND, make_segmenter
 from core.segment.segmenter import AutoSeed, Seed
+
+# Bottlenose dolphins from calf to the largest adult: what the automatic seed looks for
+DOLPHIN_LENGTH_M = (1.0, 4.0)
 
 
 @dataclass(frozen=True)
@@ -78,6 +83,16 @@ def fit_clip(frames: FrameSource, telemetry: Telemetry, masks: MaskTrack,
     return FitRun(clip=frames.clip, telemetry=telemetry, masks=masks, data=data, result=result)
 
 
+def expected_length_px(focal_px: float, altitudes_m: np.ndarray,
+                       length_m: tuple[float, float]) -> tuple[float, float] | None:
+    """(shortest, longest) length in pixels of an animal ``length_m`` long seen from the
+    clip's altitudes (its lowest and highest); None without a valid altitude."""
+    valid = altitudes_m[np.isfinite(altitudes_m) & (altitudes_m > 0)]
+    if not valid.size:
+        return None
+    return length_m[0] * focal_px / valid.max(), length_m[1] * focal_px / valid.min()
+
+
 def run_fit(clip_path: Path, altitude: str | Path | float | None, masks_path: Path | None,
             camera: CameraChoice, config: FitConfig, launch_height_m: float = 0.0,
             progress: ProgressCallback | None = None,
@@ -85,7 +100,8 @@ def run_fit(clip_path: Path, altitude: str | Path | float | None, masks_path: Pa
             time_offset_s: float = 0.0, backend: str = DEFAULT_BACKEND) -> FitRun:
     """Fit the clip; without ``masks_path`` the mask ``backend`` (core.segment.backends)
     finds the dolphin from ``seed`` on the frames the fit will look at, reporting its own
-    "track" stage first."""
+    "track" stage first. An automatic seed looks for an animal ``DOLPHIN_LENGTH_M`` long at
+    the clip's altitudes (``expected_length_px``)."""
     clip = open_clip(clip_path)
     telemetry = load_telemetry(clip, altitude, launch_height_m, time_offset_s)
     intrinsics = camera.intrinsics(clip)
@@ -97,6 +113,9 @@ def run_fit(clip_path: Path, altitude: str | Path | float | None, masks_path: Pa
         else:
             fit_frames = frame_range(clip, config.start_s, config.end_s,
                                      step_for_fps(clip, config.fps))
+            if isinstance(seed, AutoSeed) and seed.length_px is None:
+                seed = replace(seed, length_px=expected_length_px(
+                    intrinsics.focal_px, telemetry.altitude_m, DOLPHIN_LENGTH_M))
             masks = make_segmenter(backend, only_frames=fit_frames).segment(
                 frames, seed, progress=progress, cancel=cancel)
         return fit_clip(frames, telemetry, masks, intrinsics, config, progress, cancel)

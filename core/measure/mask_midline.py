@@ -10,15 +10,17 @@ body:
    midline inside it), and the points are smoothed along the body. A point whose
    cross-section does not start inside the mask (beside a bent tail, or between the fluke
    lobes behind the notch) keeps its place.
-3. **The ends**: from the middle of the body, along the midline and then straight on along its
-   end direction, to where it first leaves the mask. Towards the head that is the rostrum tip;
-   towards the tail it is the fluke notch, where the midline meets the trailing edge between
-   the lobes, not the fluke tips behind it.
+3. **The ends**: towards the head, from the middle of the body along the midline (straight
+   on where it ends inside the mask) to where it leaves the mask, and there the mask's point
+   furthest forward along the head's direction: the rostrum tip. Towards the tail, along the
+   midline to the peduncle (its narrowest cross-section), then straight on in the tail
+   stock's direction to where that line leaves the mask: the fluke notch, where the body's
+   line meets the trailing edge between the lobes, not the fluke tips behind it.
 
-The ends are told apart by their width: the flukes span about a quarter of the body length
-while the rostrum is a few centimetres across, so the narrower end is the rostrum (an outline
-without flukes would be read backwards). Measured by ``dolphinfit bench real`` on 638 real
-whale outlines with hand points.
+The ends are told apart by the tail stock: 10–30 % of the body from the tail the peduncle
+narrows to a fifth or less of the body's greatest width, while the same share from the
+rostrum the head has broadened to half of it or more, with or without the flukes showing.
+Measured by ``dolphinfit bench real`` on real whale outlines with hand points and images.
 
 Widths at the flipper stations: a person measures the body there, not the flipper tips, so
 stations in ``FLIPPER_ZONE`` are measured on the mask opened with a disc ``FLIPPER_OPENING``
@@ -35,11 +37,13 @@ from core.measure.annotation import (
 )
 from core.measure.stations import STATION_FRACTIONS
 
-END_FRACTION = 0.06   # share of the body whose cross-section width tells the ends apart
+WAIST_ZONE = (0.1, 0.3)   # shares of the body from an end where the tail stock is narrowest
 SLICES = 41           # midline points while it is found
 ROUNDS = 3            # re-centrings
 SMOOTHING = 5         # points averaged along the body after each re-centring
 SUGGESTED_POINTS = 7  # clicks of the suggested midline, ends included
+STOCK_POINTS = 4      # the tail stock's direction: over this many midline points (~10 %)
+FLUKE_JUMP = 1.8      # widths this many × the peduncle's: the flukes
 HEAD_AXIS = (0.03, 0.15)     # the head's direction: the midline between these shares
 FLIPPER_ZONE = (0.2, 0.4)    # stations measured without the flippers (share of length)
 FLIPPER_OPENING = 0.08       # the opening's diameter, × body length
@@ -61,13 +65,14 @@ def midline_from_mask(mask: np.ndarray, num_points: int = SUGGESTED_POINTS,
     points = first_guess(np.stack([u, v], axis=1).astype(np.float64))
     for _ in range(ROUNDS):
         points = recentred(coverage, points)
-    midline = between_ends(coverage, points)
     if head_near is not None:
-        if (np.linalg.norm(midline[-1] - head_near)
-                < np.linalg.norm(midline[0] - head_near)):
-            midline = midline[::-1]
-    elif _end_width(coverage, midline[::-1]) < _end_width(coverage, midline):
-        midline = midline[::-1]   # the narrower end is the rostrum
+        if np.linalg.norm(points[-1] - head_near) < np.linalg.norm(points[0] - head_near):
+            points = points[::-1]
+    elif _waist(coverage, points) < _waist(coverage, points[::-1]):
+        points = points[::-1]   # the narrow tail stock is at the other end
+    middle = len(points) // 2
+    midline = np.concatenate([_walk(coverage, points[middle::-1])[::-1],
+                              to_notch(coverage, points[middle:])[1:]])
     midline[0] = head_tip(coverage >= MASK_LEVEL, midline)
     return resampled(midline, num_points)
 
@@ -115,14 +120,36 @@ def polyline_stations(points: np.ndarray, reach_px: float | None = None) -> Stat
                     points_px=points, normals=np.stack([-tangents[:, 1], tangents[:, 0]], 1))
 
 
-def between_ends(coverage: np.ndarray, points: np.ndarray) -> np.ndarray:
-    """The polyline cut where it first leaves the mask on each side of its middle, carried
-    straight on along its end direction where it ends inside the mask, and at the head end
-    met by its tip (module doc, 3); either end may be the head here."""
-    middle = len(points) // 2
-    forward = _walk(coverage, points[middle:])
-    backward = _walk(coverage, points[middle::-1])
-    return np.concatenate([backward[::-1], forward[1:]])
+def peduncle_index(widths: np.ndarray) -> int | None:
+    """The index of the peduncle in a tail half's widths (from the middle of the body): the
+    narrowest cross-section before the widths first jump to ``FLUKE_JUMP`` × the narrowest so
+    far (the flukes' span), at least ``STOCK_POINTS`` in; None without a width."""
+    narrowest = None
+    for index in range(STOCK_POINTS, len(widths)):
+        width = widths[index]
+        if not np.isfinite(width):
+            continue
+        if narrowest is not None and width > FLUKE_JUMP * widths[narrowest]:
+            break
+        if narrowest is None or width < widths[narrowest]:
+            narrowest = index
+    return narrowest
+
+
+def to_notch(coverage: np.ndarray, tail: np.ndarray) -> np.ndarray:
+    """The tail half of the midline (from the middle of the body) to the fluke notch: along
+    it to the peduncle (its narrowest cross-section), then straight on in the tail stock's
+    direction to where that line leaves the mask (module doc, 3). Between the fluke lobes
+    the cross-sections' middles follow the larger lobe, not the line of the body."""
+    reach = float(np.sum(np.linalg.norm(np.diff(tail, axis=0), axis=1)))
+    edges = suggest_edges(coverage, polyline_stations(tail, reach_px=2 * reach))
+    widths = np.linalg.norm(edges[:, 0] - edges[:, 1], axis=1)
+    peduncle = peduncle_index(widths)
+    if peduncle is None:
+        return _walk(coverage, tail)
+    direction = tail[peduncle] - tail[peduncle - STOCK_POINTS]
+    return _walk(coverage, np.concatenate([tail[:peduncle + 1],
+                                           tail[peduncle:peduncle + 1] + direction]))
 
 
 def head_tip(mask: np.ndarray, midline: np.ndarray) -> np.ndarray:
@@ -177,19 +204,17 @@ def _densified(path: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
                       np.interp(arc, vertices, path[:, 1])], axis=1), arc)
 
 
-def _end_width(coverage: np.ndarray, midline: np.ndarray) -> float:
-    """The widest cross-section within ``END_FRACTION`` of the body from the midline's first
-    point."""
-    vertices = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(midline, axis=0),
+def _waist(coverage: np.ndarray, points: np.ndarray) -> float:
+    """The narrowest cross-section between ``WAIST_ZONE`` of the body from the first point:
+    the tail stock when it starts at the tail, the broadening head when it starts there."""
+    vertices = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(points, axis=0),
                                                                 axis=1))])
-    near = np.linspace(0.005, END_FRACTION, 8) * vertices[-1]
-    points = np.stack([np.interp(near, vertices, midline[:, 0]),
-                       np.interp(near, vertices, midline[:, 1])], axis=1)
-    ends = np.concatenate([midline[:1], points, points[-1:] + (points[-1] - points[-2])])
-    stations = polyline_stations(ends, reach_px=vertices[-1])
-    edges = suggest_edges(coverage, stations)[1:-1]
+    near = np.linspace(*WAIST_ZONE, 9) * vertices[-1]
+    zone = np.stack([np.interp(near, vertices, points[:, 0]),
+                     np.interp(near, vertices, points[:, 1])], axis=1)
+    edges = suggest_edges(coverage, polyline_stations(zone, reach_px=vertices[-1]))
     widths = np.linalg.norm(edges[:, 0] - edges[:, 1], axis=1)
-    return float(np.nanmax(widths)) if np.isfinite(widths).any() else 0.0
+    return float(np.nanmin(widths)) if np.isfinite(widths).any() else 0.0
 
 
 def resampled(midline: np.ndarray, num_points: int) -> np.ndarray:

@@ -35,11 +35,18 @@ built-in tracker, on every frame or only on chosen ones (the frames a fit will u
 **Seed**: a click takes the salient component under it in a first window
 (``first_window_fraction`` of the frame) or the built-in detector's dark blob there, whichever
 looks more like a lone dolphin (``dolphin_unlikeness``: a dark animal over light sand is
-hardly an object to the network). A box looks in a window around it; the automatic seed takes
-the most salient dolphin-like blob in tiles over the frame and looks again around it. Then,
-for up to ``seed_rounds``, the mask is looked at again in a window around itself, wider while
-it is cut by its window's edge, as long as that makes it more elongated: a dark animal beside
-seagrass otherwise grows into the seagrass round after round.
+hardly an object to the network), or the lone animal the network sees under it in the whole
+frame where that holds the pick and more (a click on a whale's back). A box looks in a window
+around it; the automatic seed (``auto_seed``) takes the best animal it finds in the seed's
+frame or, where there is none, in the first of up to ``AUTO_SEED_FRAMES`` frames spread over
+the clip that has one, and looks again around it. Then, for up to ``seed_rounds``, the mask is
+looked at again in a window around itself, wider while it is cut by its window's edge, as long
+as that makes it more elongated: a dark animal beside seagrass otherwise grows into the
+seagrass round after round.
+
+**Working scale**: an animal longer than ``max_length_px`` (a whale near the drone) is
+tracked in frames downscaled until it fits (``working_scale``), its masks brought back to the
+frame's size.
 """
 
 import threading
@@ -55,6 +62,10 @@ from core.io.masks import MaskTrack
 from core.iou import mask_iou
 from core.limits import one_of
 from core.progress import Progress, ProgressCallback, check_cancel
+from core.segment.auto_seed import (
+    PAIR_MAX_ELONGATION, Candidate, cut_by_window, describe, find_animals, is_animal_shaped,
+    is_lone, scan_order,
+)
 from core.segment.colour import ColourModel, coverage, separation, to_lab
 from core.segment.regions import (
     MaskCrop,
@@ -66,11 +77,6 @@ from core.segment.regions import (
 )
 from core.segment.salient import SalientNet
 from core.segment.seed import (
-    MAX_AREA_FRACTION,
-    MAX_ELONGATION,
-    MIN_AREA_FRACTION,
-    MIN_ELONGATION,
-    MIN_FILL,
     POINT_SEARCH_FRACTION,
     colour_models,
     dilate,
@@ -87,6 +93,9 @@ from core.segment.segmenter import (
     Seed,
 )
 from core.segment.tracker import TrackerSettings, colour_follow
+from core.segment.working_scale import (
+    ScaledFrames, downscaled, resized, scaled_seed, scaled_size, upscaled,
+)
 
 BACKEND_NAME = "network (U²-Net small)"
 EDGE_STEPS = ("network", "colour")
@@ -96,8 +105,11 @@ MIN_WINDOW_PX = 48    # smallest window: the colour models need a ring of water 
 CORE_LEVELS = (0.9, 0.99, 0.999)  # stricter probability levels where touching bodies part
 MIN_CORE_SHARE = 0.25  # a second core this large (× the largest) is a second animal
 DOLPHIN_ELONGATION = 5.0  # a lone dolphin's moment elongation: 4.2–6.1 on the bench suite
-PAIR_MAX_ELONGATION = 3.5  # below this a component may be two animals side by side
 PAIR_AREA_RATIO = 1.6      # or when it is this much larger than the animal was
+AUTO_SEED_FRAMES = 12      # frames the automatic seed looks at before it gives up
+WHOLE_SHARE = 0.8          # the whole frame's component must hold this much of a click's pick
+SCALE_ROUNDS = 3           # looks at a large animal, each at the scale the last one asked for
+SCALE_MARGIN = 0.9         # the working scale leaves the animal this much under the limit
 
 
 @dataclass(frozen=True)
@@ -127,6 +139,9 @@ class NetSettings:
     follow_iou: float = 0.8          # below this overlap with its prediction, look again
     max_area_ratio: float = PAIR_AREA_RATIO  # larger than this × its area: merged with another
     edges: str = "network"           # the outline step (module doc, step 3): EDGE_STEPS
+    # longer than this, the animal is tracked downscaled (``working_scale``): the bench
+    # suite's dolphins are 100–500 px long at 1080p and 4K, a whale near the drone thousands
+    max_length_px: int = 640
 
 
 @dataclass
@@ -146,12 +161,13 @@ class _State:
 
 def square_window(center_xy: np.ndarray, side_px: float, height_px: int,
                   width_px: int) -> tuple[slice, slice]:
-    """A square of ``side_px`` centred on ``center_xy``, moved (and cut only where it must
-    be) to lie inside the frame."""
-    side = int(min(round(side_px), height_px, width_px))
-    col0 = int(np.clip(round(center_xy[0] - side / 2), 0, width_px - side))
-    row0 = int(np.clip(round(center_xy[1] - side / 2), 0, height_px - side))
-    return slice(row0, row0 + side), slice(col0, col0 + side)
+    """A square of ``side_px`` centred on ``center_xy``, moved to lie inside the frame; cut
+    to the frame's height or width where it is larger (an animal longer than the frame is
+    high still fits along it)."""
+    rows, cols = (int(min(round(side_px), limit)) for limit in (height_px, width_px))
+    col0 = int(np.clip(round(center_xy[0] - cols / 2), 0, width_px - cols))
+    row0 = int(np.clip(round(center_xy[1] - rows / 2), 0, height_px - rows))
+    return slice(row0, row0 + rows), slice(col0, col0 + cols)
 
 
 def longer_side(mask: np.ndarray) -> int:
@@ -229,13 +245,6 @@ def faded(crop_rgb: np.ndarray, keep: np.ndarray, width_px: float) -> np.ndarray
     return (crop_rgb * (1.0 - weight) + median * weight).astype(crop_rgb.dtype)
 
 
-def _tile_starts(length_px: int, side_px: int) -> list[int]:
-    """Starts of the fewest tiles of ``side_px`` that cover ``length_px`` with overlap."""
-    count = int(np.ceil(length_px / side_px))
-    return [round(i * (length_px - side_px) / max(count - 1, 1)) for i in range(count)] \
-        if count > 1 else [0]
-
-
 def nearer_to(region: np.ndarray, own: np.ndarray, other: np.ndarray) -> np.ndarray:
     """The pixels of ``region`` at least as close to ``own`` as to ``other`` (both non-empty
     bool masks): a Voronoi split of two touching animals between what is known of each."""
@@ -295,22 +304,6 @@ def _split(component: np.ndarray, hint: np.ndarray, cores: np.ndarray,
     return attached(nearer_to(component, own, body_cores & ~own), own, 1)
 
 
-def _touches_inner_edge(mask: np.ndarray, rows: slice, cols: slice) -> bool:
-    """Whether ``mask`` reaches a side of the window that is not the frame's edge (so the
-    window cut the animal off)."""
-    height, width = mask.shape
-    sides = []
-    if rows.start > 0:
-        sides.append(mask[rows.start, cols])
-    if rows.stop < height:
-        sides.append(mask[rows.stop - 1, cols])
-    if cols.start > 0:
-        sides.append(mask[rows, cols.start])
-    if cols.stop < width:
-        sides.append(mask[rows, cols.stop - 1])
-    return any(side.any() for side in sides)
-
-
 class NetTracker:
     """The network tracker (implements ``Segmenter``); see the module doc."""
 
@@ -337,13 +330,20 @@ class NetTracker:
                              f"(0…{num_frames - 1})")
         chosen = range(num_frames) if self.only_frames is None else \
             [t for t in self.only_frames if 0 <= t < num_frames]
+        check_cancel(cancel)
+        found, note = None, ""
+        if isinstance(seed, AutoSeed):
+            seed, animals = self._scan(frames, seed, chosen, cancel)
+            found, note = animals[0].mask, "; " + describe(animals, seed.frame_idx)
         forward = [t for t in chosen if t > seed.frame_idx]
         backward = [t for t in reversed(chosen) if t < seed.frame_idx]
         total = 1 + len(forward) + len(backward)
-        check_cancel(cancel)
         first = frames[seed.frame_idx]
         height, width = first.shape[:2]
-        mask = self._seed_mask(first, seed)
+        scale, mask = self._seed_at_working_scale(first, seed, found)
+        if scale < 1.0:
+            frames = ScaledFrames(frames, scale, height, width)
+            first = frames[seed.frame_idx]
         crops: dict[int, MaskCrop] = {seed.frame_idx: crop_of(mask)}
         done = 1
         if progress is not None:
@@ -361,9 +361,75 @@ class NetTracker:
                 if progress is not None:
                     progress(Progress(TRACK_STAGE, done, total))
         is_visible = np.array([t in crops for t in range(num_frames)])
-        return MaskTrack(is_visible, width, height,
-                         f"{BACKEND_NAME}, {self.edges.name}, from {seed}",
+        seen_height, seen_width = first.shape[:2]
+        source = f"{BACKEND_NAME}, {self.edges.name}, from {seed}{note}" + (
+            f"; tracked at {scale:.3g}× (the animal is longer than "
+            f"{self.settings.max_length_px} px)" if scale < 1.0 else "")
+        if scale < 1.0:
+            return MaskTrack(is_visible, width, height, source, lambda t: upscaled(
+                crops[t].paste(seen_height, seen_width), height, width))
+        return MaskTrack(is_visible, width, height, source,
                          lambda t: crops[t].paste(height, width))
+
+    def _scan(self, frames: Frames, seed: AutoSeed, chosen: Sequence[int],
+              cancel: threading.Event | None) -> tuple[AutoSeed, list[Candidate]]:
+        """The automatic seed on the first frame where it finds an animal, of the seed's
+        frame and then up to ``AUTO_SEED_FRAMES`` others spread over the chosen frames (an
+        animal under water or out of the frame at the start is found where it shows);
+        InputError naming the frames searched when there is none in any."""
+        tried = scan_order(chosen, seed.frame_idx, AUTO_SEED_FRAMES)
+        for frame_idx in tried:
+            check_cancel(cancel)
+            animals = self._animals(frames[frame_idx], seed)
+            if animals:
+                return AutoSeed(frame_idx, seed.length_px), animals
+        expected = ("" if seed.length_px is None else
+                    f" {seed.length_px[0]:.0f}–{seed.length_px[1]:.0f} px long")
+        raise InputError(f"the automatic seed found no animal{expected} in {len(tried)} frames "
+                         f"searched ({', '.join(str(t) for t in tried)}): click on the "
+                         f"animal or draw a box around it instead")
+
+    def _seed_at_working_scale(self, frame_rgb: np.ndarray, seed: Seed,
+                               found: np.ndarray | None = None) -> tuple[float, np.ndarray]:
+        """The working scale (``working_scale``; 1 for an animal up to ``max_length_px``
+        long) and the seed mask at it. The animal's length comes from its mask, which a
+        window may have cut short, so it is looked at again until it fits. ``found``: the
+        automatic seed's animal in this frame."""
+        height, width = frame_rgb.shape[:2]
+        scale = self._scale_for(found if found is not None
+                                else self._first_look(frame_rgb, seed))
+        for _ in range(SCALE_ROUNDS):
+            seen = frame_rgb if scale == 1.0 else resized(frame_rgb,
+                                                          scaled_size(height, width, scale))
+            mask = self._seed_mask(seen, seed if scale == 1.0 else scaled_seed(seed, scale),
+                                   None if found is None else
+                                   found if scale == 1.0 else downscaled(found, seen.shape[:2]))
+            if longer_side(mask) <= self.settings.max_length_px:
+                break
+            scale *= self._scale_for(mask)
+        return scale, mask
+
+    def _first_look(self, frame_rgb: np.ndarray, seed: Seed) -> np.ndarray:
+        """A cheap first idea of the animal's extent, to pick the working scale before the
+        seed's full look: the lone animal the network sees under a click in the whole
+        frame, or a box."""
+        whole_frame = (slice(0, frame_rgb.shape[0]), slice(0, frame_rgb.shape[1]))
+        extent = np.zeros(frame_rgb.shape[:2], bool)
+        if isinstance(seed, PointSeed) and 0 <= seed.x_px < frame_rgb.shape[1] and \
+                0 <= seed.y_px < frame_rgb.shape[0]:
+            extent = self._salient_at(frame_rgb, *whole_frame, seed, lone=True)
+        elif isinstance(seed, BoxSeed):
+            extent[seed.y_px:seed.y_px + seed.height_px,
+                   seed.x_px:seed.x_px + seed.width_px] = True
+        return extent
+
+    def _scale_for(self, mask: np.ndarray) -> float:
+        """The downscale that brings an animal of this mask under ``max_length_px``, with a
+        margin; 1 when it is under it already (or unknown: an empty mask)."""
+        length = longer_side(mask) if mask.any() else 0
+        if length <= self.settings.max_length_px:
+            return 1.0
+        return SCALE_MARGIN * self.settings.max_length_px / length
 
     def masked_in(self, frame_rgb: np.ndarray, rows: slice, cols: slice,
                   prediction: np.ndarray, near: bool = True,
@@ -418,7 +484,8 @@ class NetTracker:
         side = window_side(longer_side(mask), self.settings, growth)
         return square_window(centroid(mask), side, *frame_rgb.shape[:2])
 
-    def _seed_mask(self, frame_rgb: np.ndarray, seed: Seed) -> np.ndarray:
+    def _seed_mask(self, frame_rgb: np.ndarray, seed: Seed,
+                   found: np.ndarray | None = None) -> np.ndarray:
         """The animal in the seed frame: a click, a box or the automatic search finds it in
         a first window; then it is looked at again around itself (wider while cut by the
         window's edge), a new look kept where the mask was cut or where it is no less
@@ -437,7 +504,9 @@ class NetTracker:
             mask = self.masked_in(frame_rgb, rows, cols, box) & \
                 dilate(box, self.settings.min_near_px)
         else:  # the tile shows the animal small: look again in a window around what it found
-            mask = self._found(frame_rgb)
+            animals = [] if found is not None else self._animals(frame_rgb, seed)
+            mask = found if found is not None else (
+                animals[0].mask if animals else np.zeros(frame_rgb.shape[:2], bool))
             rows, cols = self._around(frame_rgb, mask) if mask.any() else (slice(0), slice(0))
             again = self.masked_in(frame_rgb, rows, cols, mask, near=False)
             mask = again if again.any() else mask
@@ -445,7 +514,7 @@ class NetTracker:
         for _ in range(self.settings.seed_rounds):
             if not mask.any():
                 break
-            cut_off = _touches_inner_edge(mask, rows, cols)
+            cut_off = cut_by_window(mask, rows, cols)
             if cut_off:
                 growth *= self.settings.search_growth
             rows, cols = self._around(frame_rgb, mask, growth)
@@ -465,49 +534,10 @@ class NetTracker:
                              f"({seed})")
         return mask
 
-    def _found(self, frame_rgb: np.ndarray) -> np.ndarray:
-        """An automatic seed: the most salient blob as elongated as a lone dolphin
-        (``_salient_blobs``); else the built-in detector's best blob (``seed.seed_mask``: a
-        dark animal over sand, which the network hardly sees); else the most salient of the
-        less elongated blobs (a part of an animal in glitter); else nothing. A seagrass patch
-        or a glitter field the network marks is wider than a dolphin."""
-        lone, others = [], []
-        for score, blob in self._salient_blobs(frame_rgb):
-            (lone if shape_of(blob)[1] >= PAIR_MAX_ELONGATION else others).append((score, blob))
-        if lone:
-            return max(lone, key=lambda scored: scored[0])[1]
-        try:
-            return seed_mask(frame_rgb, AutoSeed())
-        except InputError:
-            pass
-        if others:
-            return max(others, key=lambda scored: scored[0])[1]
-        return np.zeros(frame_rgb.shape[:2], bool)
-
-    def _salient_blobs(self, frame_rgb: np.ndarray) -> list[tuple[float, np.ndarray]]:
-        """(score, (H, W) mask) of the salient blobs that pass the shape tests of
-        ``seed.find_blobs`` in overlapping square tiles over the frame, each
-        ``tile_fraction`` of its shorter side; the score is the mean saliency × √area."""
-        height, width = frame_rgb.shape[:2]
-        side = round(self.settings.tile_fraction * min(height, width))
-        blobs = []
-        for row0 in _tile_starts(height, side):
-            for col0 in _tile_starts(width, side):
-                rows, cols = slice(row0, row0 + side), slice(col0, col0 + side)
-                saliency = self.net.saliency(np.ascontiguousarray(frame_rgb[rows, cols]))
-                count, labels = cv2.connectedComponents(
-                    (saliency >= self.settings.threshold).astype(np.uint8), connectivity=8)
-                for label in range(1, count):
-                    blob = labels == label
-                    area, elongation, fill = shape_of(blob)
-                    if (MIN_AREA_FRACTION * height * width <= area
-                            <= MAX_AREA_FRACTION * height * width
-                            and MIN_ELONGATION <= elongation <= MAX_ELONGATION
-                            and fill >= MIN_FILL):
-                        mask = np.zeros((height, width), bool)
-                        mask[rows, cols] = blob
-                        blobs.append((float(saliency[blob].mean() * np.sqrt(area)), mask))
-        return blobs
+    def _animals(self, frame_rgb: np.ndarray, seed: AutoSeed) -> list[Candidate]:
+        """The animals the automatic seed finds in a frame, best first (``auto_seed``)."""
+        return find_animals(frame_rgb, self.net.saliency, self.settings.tile_fraction,
+                            self.settings.threshold, seed.length_px)
 
     def _clicked(self, frame_rgb: np.ndarray, rows: slice, cols: slice,
                  seed: PointSeed) -> tuple[np.ndarray, tuple[slice, slice]]:
@@ -515,19 +545,27 @@ class NetTracker:
         under (or nearest to) it in the first window or the built-in detector's blob there
         (``seed.seed_mask``, in the whole frame: a dark animal over light sand, which the
         network may hardly see), whichever looks more like a lone dolphin
-        (``dolphin_unlikeness``)."""
-        salient = self._salient_at(frame_rgb, rows, cols, seed)
+        (``dolphin_unlikeness``); but the animal the network sees in the whole frame under the
+        click where that holds most of the pick and more (the first window lay inside a
+        large animal, and each pick was a part of it)."""
+        whole_frame = (slice(0, frame_rgb.shape[0]), slice(0, frame_rgb.shape[1]))
+        pick, window = self._salient_at(frame_rgb, rows, cols, seed), (rows, cols)
         try:
             by_colour = seed_mask(frame_rgb, seed)
         except InputError:  # no dark, elongated blob there
-            return salient, (rows, cols)
-        if dolphin_unlikeness(by_colour) < dolphin_unlikeness(salient):
-            return by_colour, (slice(0, frame_rgb.shape[0]), slice(0, frame_rgb.shape[1]))
-        return salient, (rows, cols)
+            by_colour = None
+        if by_colour is not None and dolphin_unlikeness(by_colour) < dolphin_unlikeness(pick):
+            pick, window = by_colour, whole_frame
+        whole = self._salient_at(frame_rgb, *whole_frame, seed, lone=True)
+        if (whole.any() and np.count_nonzero(whole) > np.count_nonzero(pick)
+                and np.count_nonzero(whole & pick) >= WHOLE_SHARE * np.count_nonzero(pick)):
+            return whole, whole_frame
+        return pick, window
 
     def _salient_at(self, frame_rgb: np.ndarray, rows: slice, cols: slice,
-                    seed: PointSeed) -> np.ndarray:
-        """The salient component under (or nearest to) a click, in the first window."""
+                    seed: PointSeed, lone: bool = False) -> np.ndarray:
+        """The salient component under (or nearest to) a click, in a window; with ``lone``
+        only one shaped like a lone animal (``is_lone_animal``), else nothing."""
         crop = np.ascontiguousarray(frame_rgb[rows, cols])
         col, row = int(seed.x_px) - cols.start, int(seed.y_px) - rows.start
         clicked = np.zeros(crop.shape[:2], bool)
@@ -546,7 +584,11 @@ class NetTracker:
             if gaps[nearest] > POINT_SEARCH_FRACTION * np.hypot(*frame_rgb.shape[:2]):
                 return mask
             label = labels[found_rows[nearest], found_cols[nearest]]
-        mask[rows, cols] = own_body(labels == label, clicked, saliency)
+        component = labels == label
+        if lone and not (is_animal_shaped(component, frame_rgb.shape[0] * frame_rgb.shape[1])
+                         and is_lone(component)):
+            return mask
+        mask[rows, cols] = own_body(component, clicked, saliency)
         return mask
 
     def _next(self, frame_rgb: np.ndarray, state: _State) -> np.ndarray | None:

@@ -48,9 +48,13 @@ class BoxSeed:
 
 @dataclass(frozen=True)
 class AutoSeed:
-    """Find the most dolphin-like blob in frame ``frame_idx`` by itself."""
+    """Find the animal by itself, in frame ``frame_idx`` or, where it is not seen there, in
+    later or earlier frames. ``length_px``: the (shortest, longest) length in pixels an
+    animal can have in the clip, where the camera and altitude say (``expected_length_px``);
+    None: any."""
 
     frame_idx: int = 0
+    length_px: tuple[float, float] | None = None
 
 
 Seed = PointSeed | BoxSeed | AutoSeed

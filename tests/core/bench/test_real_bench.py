@@ -10,13 +10,15 @@ import pytest
 
 from app.cli import main
 from core.bench.real_bench import (
-    edge_point_offsets, outline_scores, replay_medidor, score_outline,
+    edge_point_offsets, minke_figures, outline_scores, replay_medidor, right_whale_figures,
+    score_outline,
 )
 from core.bench.real_data import (
     OUTLINE_PAIRS, crossings, distance_to_outline, load_medidor, load_minke, load_outlines,
     real_data_dir,
 )
 from core.errors import InputError
+from core.segment.backends import DEFAULT_BACKEND
 
 
 def test_medidor_clicks_through_its_geometry_give_its_sheet_to_a_hundredth_of_a_pixel():
@@ -118,3 +120,26 @@ def test_bench_real_command_prints_the_parts_asked_for(capsys):
     assert "largest difference of length and 9 widths" in capsys.readouterr().out
     assert main(["bench", "real", "--parts", "fit"]) == 2
     assert "--parts" in capsys.readouterr().err
+
+
+def test_a_click_on_the_minke_measures_it_near_the_two_people():
+    """A click on the minke's back: the whole whale, flukes included, is found (at a working
+    scale: it is longer than the frame is high); its suggested length lies within 3 % of the
+    people's mean (they differ by 0.6 %) and its widths within 5 % (median) of theirs."""
+    minke = load_minke()
+    figures = minke_figures(minke, ("click",), DEFAULT_BACKEND, lambda line: None)
+    click = figures["seeds"]["click"]
+    assert click["error"] == ""
+    assert abs(click["length_error_share"]) < 0.03
+    assert click["median_width_error_share"] < 0.05
+
+
+def test_the_automatic_seed_takes_the_right_whale_not_the_caption():
+    """The right whale frame carries a burned-in caption, salient and elongated: the
+    automatic seed takes the whale (its mask's length within 10 % of the clicked one)."""
+    medidor = load_medidor()
+    figures = right_whale_figures(medidor, ("auto",), DEFAULT_BACKEND, lambda line: None)
+    auto = figures["seeds"]["auto"]
+    assert auto["error"] == ""
+    assert auto["length_px"] == pytest.approx(medidor.sheet.length_px, rel=0.1)
+    assert auto["offsets_found"] == 18

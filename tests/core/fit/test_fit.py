@@ -311,9 +311,19 @@ def test_without_masks_the_tracker_finds_the_dolphin(clip_dir):
     run = run_fit(clip_dir / "clip.mkv", clip_dir / "altitude.csv", None,
                   CameraChoice(sensor_width_mm=17.27, focal_mm=12.29), TINY)
     assert run.masks.source.startswith(BACKEND_NAME)
+    assert "automatic seed, frame 0: 1 animal seen" in run.masks.source
     assert run.masks.is_visible.sum() >= 6
     assert set(run.result.frame_idx) <= set(np.flatnonzero(run.masks.is_visible))
     assert run.result.iou.mean() > 0.6
+
+
+def test_the_automatic_seed_looks_for_a_dolphins_length_at_the_clips_altitudes():
+    """1–4 m at 15–25 m with a 1000 px focal length: 40–267 px; no altitude: any length."""
+    from core.fit.pipeline import DOLPHIN_LENGTH_M, expected_length_px
+
+    low, high = expected_length_px(1000.0, np.array([15.0, np.nan, 25.0]), DOLPHIN_LENGTH_M)
+    assert (low, high) == pytest.approx((40.0, 4000.0 / 15.0))
+    assert expected_length_px(1000.0, np.array([np.nan]), DOLPHIN_LENGTH_M) is None
 
 
 def test_a_fit_that_explains_its_masks_poorly_is_flagged():
@@ -325,3 +335,24 @@ def test_a_fit_that_explains_its_masks_poorly_is_flagged():
     (warning,) = quality_warnings(np.array([0.7, 0.6, 0.55]))
     assert "poor fit" in warning and "0.62" in warning
     assert quality_warnings(np.array([])) != ()
+
+
+def test_an_animal_too_few_pixels_wide_is_warned_about():
+    """Ellipses 13 and 31 px across at their widest: the narrow one gets a warning that names
+    its width and what a tenth of a pixel costs; widest_px reads a disc's diameter."""
+    import cv2
+
+    from core.fit.data import narrow_animal_warnings, widest_px
+
+    def ellipses(width_px: int) -> np.ndarray:
+        mask = np.zeros((3, 120, 240), np.uint8)
+        for frame in mask:
+            cv2.ellipse(frame, (120, 60), (90, width_px // 2), 15, 0, 360, 1, -1)
+        return mask.astype(bool)
+
+    disc = np.zeros((100, 100), np.uint8)
+    cv2.circle(disc, (50, 50), 20, 1, -1)
+    assert widest_px(disc.astype(bool)) == pytest.approx(41.0, abs=1.5)
+    (warning,) = narrow_animal_warnings(ellipses(12))
+    assert "only 13 px wide" in warning and "about 3 %" in warning
+    assert narrow_animal_warnings(ellipses(30)) == []

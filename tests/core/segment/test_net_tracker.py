@@ -115,10 +115,14 @@ def test_cancel_stops_before_the_next_frame(synthetic_clips, net):
 
 
 def test_square_windows_stay_inside_the_frame():
+    """Moved inside the frame; larger than the frame in one direction, cut to it there only
+    (an animal longer than the frame is high still fits along it)."""
     rows, cols = square_window(np.array([5.0, 230.0]), 100, 240, 320)
     assert (rows, cols) == (slice(140, 240), slice(0, 100))
+    rows, cols = square_window(np.array([160.0, 120.0]), 280, 240, 320)
+    assert (rows, cols) == (slice(0, 240), slice(20, 300))
     rows, cols = square_window(np.array([160.0, 120.0]), 500, 240, 320)
-    assert (rows.stop - rows.start, cols.stop - cols.start) == (240, 240)
+    assert (rows, cols) == (slice(0, 240), slice(0, 320))
 
 
 def test_missing_or_altered_weights_say_how_to_install(tmp_path, monkeypatch):
@@ -271,3 +275,56 @@ def test_where_the_network_sees_nothing_the_automatic_seed_takes_the_dark_blob()
     frame, animal = _animal_frame((160, 120))
     mask = NetTracker(net=_Reddish())._seed_mask(frame, AutoSeed(0))
     assert mask_iou(mask, animal) > 0.9
+
+
+def test_the_automatic_seed_looks_on_where_the_animal_is_under_water(synthetic_clips, net):
+    """Asked to start in frame 30, where the animal is out of sight, the automatic seed finds
+    it in the first later frame where it shows (42), says so, and tracks from there."""
+    track, truth, only = _run(synthetic_clips["rough-dive"], net, seed=AutoSeed(30),
+                              only=[30, 34, 42, 44])
+    assert "automatic seed, frame 42: 1 animal seen" in track.source
+    assert not track.is_visible[[30, 34]].any()
+    assert _ious(track, truth, [42, 44]).min() >= 0.85
+
+
+def test_an_automatic_seed_for_another_size_finds_nothing_and_says_where_it_looked(
+        synthetic_clips, net):
+    """An animal 110 px long is no candidate for one 20–30 px long: the error names the size
+    and the frames searched."""
+    with pytest.raises(InputError, match=r"no animal 20–30 px long in 3 frames searched "
+                                         r"\(0, 8, 16\)"):
+        _run(synthetic_clips["calm"], net, seed=AutoSeed(0, (20.0, 30.0)), only=[0, 8, 16])
+
+
+class _Enlarged:
+    """Frames of a clip enlarged ``factor`` times (a whale near the drone)."""
+
+    def __init__(self, frames, factor: int) -> None:
+        self.frames, self.factor = frames, factor
+
+    def __len__(self) -> int:
+        return len(self.frames)
+
+    def __getitem__(self, frame_idx: int) -> np.ndarray:
+        return cv2.resize(self.frames[frame_idx], None, fx=self.factor, fy=self.factor,
+                          interpolation=cv2.INTER_CUBIC)
+
+
+def test_an_animal_longer_than_the_limit_is_tracked_downscaled(synthetic_clips, net):
+    """The calm clip enlarged 7× (the animal 770 px long, more than the frame's third):
+    tracked at a working scale under 640 px, its masks at the frame's size as good as at
+    the clip's own size."""
+    clip_path, masks_dir = synthetic_clips["calm"]
+    clip = open_clip(clip_path)
+    truth = read_png_folder(masks_dir, clip)
+    rows, cols = np.nonzero(truth.mask(0))
+    factor = 7
+    click = PointSeed((cols.mean() + 0.5) * factor - 0.5, (rows.mean() + 0.5) * factor - 0.5)
+    with VideoReader(clip) as frames:
+        track = NetTracker(only_frames=[0, 8], net=net).segment(_Enlarged(frames, factor),
+                                                                 click)
+    assert "tracked at" in track.source and (track.width_px, track.height_px) == (2240, 1680)
+    for frame_idx in (0, 8):
+        big_truth = cv2.resize(truth.mask(frame_idx).astype(np.uint8), None, fx=factor,
+                               fy=factor, interpolation=cv2.INTER_NEAREST).astype(bool)
+        assert mask_iou(track.mask(frame_idx), big_truth) >= 0.88
