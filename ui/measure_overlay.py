@@ -21,8 +21,8 @@ from PySide6.QtCore import QEvent, QObject, QPointF, QRectF, Qt, Signal
 from PySide6.QtGui import QKeyEvent
 
 from core.errors import InputError
-from core.measure import annotation
 from core.measure.annotation import SIDES, Stations
+from core.measure.mask_midline import suggested_edges
 from core.measure.stations import NUM_STATIONS, STATION_PCT
 from core.project import edits
 from core.project.model import Measurement
@@ -351,7 +351,7 @@ class MeasureOverlay(QObject):
         if np.shape(mask) != frame_shape:
             raise InputError(f"mask: {'×'.join(map(str, np.shape(mask)[::-1]))} px, but the "
                              f"frame is {frame_shape[1]}×{frame_shape[0]} px (width×height)")
-        suggested = annotation.suggest_edges(np.asarray(mask), stations)
+        suggested = suggested_edges(np.asarray(mask), stations)
         placed = np.isfinite(m.offsets_px).sum()
         if self._edit(lambda m: edits.offsets_from_edges(m, suggested),
                       "Suggest edges from the mask"):

@@ -117,13 +117,15 @@ def _right_whale_lines(whale: dict) -> list[str]:
 
 
 def _outline_lines(out: dict) -> list[str]:
+    ends = out["ends"]
     lines = [f"Whale outlines with hand points ({out['outlines']} outlines, rostrum to "
              f"peduncle, no flippers or flukes; {len(out['left_out'])} left out): our "
-             f"midline (its head end given) ends "
-              f"{out['ends']['rostrum']['median_px']:.1f} px (worst "
-              f"{out['ends']['rostrum']['worst_px']:.0f}) from the rostrum point and "
-              f"{out['ends']['peduncle']['median_px']:.1f} px (worst "
-              f"{out['ends']['peduncle']['worst_px']:.0f}) from the peduncle point",
+             f"midline (its head end given) ends beyond the person's rostrum point by "
+             f"{ends['rostrum']['median_offset_px']:+.1f} px (median; worst "
+             f"{ends['rostrum']['worst_offset_px']:+.0f}) and their peduncle point by "
+             f"{ends['peduncle']['median_offset_px']:+.1f} px (median |·| "
+             f"{ends['peduncle']['median_abs_offset_px']:.1f}, worst "
+             f"{ends['peduncle']['worst_offset_px']:+.0f}), along the body",
               "pair            ours − person          outline − person       ours − outline",
               "                median  worst (px, %)  median  worst          median  worst"]
     for pair, p in out["pairs"].items():

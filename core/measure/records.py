@@ -26,12 +26,11 @@ from core.io.morphometrix import (
     write_morphometrix_v2,
 )
 from core.io.morphometrix import pixel_measurements as record_pixels
-from core.measure.annotation import (
-    PixelMeasurements, pixel_measurements, place_stations, suggest_edges,
-)
+from core.measure.annotation import PixelMeasurements, pixel_measurements, place_stations
 from core.measure.baseline import SUMMARISED, BaselineEstimate
 from core.measure.condition import MassModel
 from core.measure.elliptical import TAIL_EXTRAPOLATED, TAIL_MEASURED, fill_skipped
+from core.measure.mask_midline import suggested_edges
 from core.measure.stations import STATION_PCT
 from core.measure.uncertainty import ErrorModel
 
@@ -78,9 +77,10 @@ def annotated_frame_mask(masks: Path, doc: AnnotationFile) -> np.ndarray:
 
 
 def with_mask_widths(doc: AnnotationFile, mask: np.ndarray) -> AnnotationFile:
-    """``doc`` with each station's edges where its perpendicular leaves ``mask`` (H, W)."""
+    """``doc`` with each station's edges where its perpendicular leaves ``mask`` (H, W), the
+    flipper stations' without the flippers (``mask_midline.suggested_edges``)."""
     annotation = doc.annotation
-    edges = suggest_edges(mask, place_stations(annotation.midline_px))
+    edges = suggested_edges(mask, place_stations(annotation.midline_px))
     return replace(doc, annotation=replace(annotation, edges_px=edges))
 
 

@@ -39,7 +39,9 @@ hardly an object to the network), or the lone animal the network sees under it i
 frame where that holds the pick and more (a click on a whale's back). A box looks in a window
 around it; the automatic seed (``auto_seed``) takes the best animal it finds in the seed's
 frame or, where there is none, in the first of up to ``AUTO_SEED_FRAMES`` frames spread over
-the clip that has one, and looks again around it. Then, for up to ``seed_rounds``, the mask is
+the clip that has one, and looks again around it (a new look that loses more than
+``KEPT_SHARE`` of it is not taken: on a real minke whale the edge network dropped the tail
+stock). Then, for up to ``seed_rounds``, the mask is
 looked at again in a window around itself, wider while it is cut by its window's edge, as long
 as that makes it more elongated: a dark animal beside seagrass otherwise grows into the
 seagrass round after round.
@@ -106,6 +108,7 @@ CORE_LEVELS = (0.9, 0.99, 0.999)  # stricter probability levels where touching b
 MIN_CORE_SHARE = 0.25  # a second core this large (× the largest) is a second animal
 DOLPHIN_ELONGATION = 5.0  # a lone dolphin's moment elongation: 4.2–6.1 on the bench suite
 PAIR_AREA_RATIO = 1.6      # or when it is this much larger than the animal was
+KEPT_SHARE = 0.85          # the automatic seed's redraw keeps this much of what it found
 AUTO_SEED_FRAMES = 12      # frames the automatic seed looks at before it gives up
 WHOLE_SHARE = 0.8          # the whole frame's component must hold this much of a click's pick
 SCALE_ROUNDS = 3           # looks at a large animal, each at the scale the last one asked for
@@ -509,7 +512,8 @@ class NetTracker:
                 animals[0].mask if animals else np.zeros(frame_rgb.shape[:2], bool))
             rows, cols = self._around(frame_rgb, mask) if mask.any() else (slice(0), slice(0))
             again = self.masked_in(frame_rgb, rows, cols, mask, near=False)
-            mask = again if again.any() else mask
+            if np.count_nonzero(again & mask) >= KEPT_SHARE * np.count_nonzero(mask):
+                mask = again   # a redraw that lost part of the animal is not taken
         growth = 1.0
         for _ in range(self.settings.seed_rounds):
             if not mask.any():

@@ -116,8 +116,10 @@ def test_bench_real_command_prints_the_parts_asked_for(capsys):
     figures = json.loads(capsys.readouterr().out)
     assert set(figures) == {"medidor_replay", "outlines"}
     assert figures["outlines"]["outlines"] == 5
-    assert main(["bench", "real", "--parts", "replay"]) == 0
-    assert "largest difference of length and 9 widths" in capsys.readouterr().out
+    assert main(["bench", "real", "--parts", "replay,outlines", "--outlines", "5"]) == 0
+    out = capsys.readouterr().out
+    assert "largest difference of length and 9 widths" in out
+    assert "Whale outlines with hand points (5 outlines" in out and "peduncle_width" in out
     assert main(["bench", "real", "--parts", "fit"]) == 2
     assert "--parts" in capsys.readouterr().err
 
