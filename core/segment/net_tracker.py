@@ -388,9 +388,10 @@ class NetTracker:
                 return AutoSeed(frame_idx, seed.length_px), animals
         expected = ("" if seed.length_px is None else
                     f" {seed.length_px[0]:.0f}–{seed.length_px[1]:.0f} px long")
-        raise InputError(f"the automatic seed found no animal{expected} in {len(tried)} frames "
-                         f"searched ({', '.join(str(t) for t in tried)}): click on the "
-                         f"animal or draw a box around it instead")
+        raise InputError(f"the automatic seed found no animal{expected} in {len(tried)} "
+                         f"frame{'s' if len(tried) > 1 else ''} searched "
+                         f"({', '.join(str(t) for t in tried)}): click on the animal or draw "
+                         f"a box around it instead")
 
     def _seed_at_working_scale(self, frame_rgb: np.ndarray, seed: Seed,
                                found: np.ndarray | None = None) -> tuple[float, np.ndarray]:

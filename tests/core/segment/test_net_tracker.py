@@ -281,9 +281,9 @@ def test_the_automatic_seed_looks_on_where_the_animal_is_under_water(synthetic_c
     """Asked to start in frame 30, where the animal is out of sight, the automatic seed finds
     it in the first later frame where it shows (42), says so, and tracks from there."""
     track, truth, only = _run(synthetic_clips["rough-dive"], net, seed=AutoSeed(30),
-                              only=[30, 34, 42, 44])
+                              only=[30, 42, 44])
     assert "automatic seed, frame 42: 1 animal seen" in track.source
-    assert not track.is_visible[[30, 34]].any()
+    assert not track.is_visible[30]
     assert _ious(track, truth, [42, 44]).min() >= 0.85
 
 
@@ -291,9 +291,9 @@ def test_an_automatic_seed_for_another_size_finds_nothing_and_says_where_it_look
         synthetic_clips, net):
     """An animal 110 px long is no candidate for one 20–30 px long: the error names the size
     and the frames searched."""
-    with pytest.raises(InputError, match=r"no animal 20–30 px long in 3 frames searched "
-                                         r"\(0, 8, 16\)"):
-        _run(synthetic_clips["calm"], net, seed=AutoSeed(0, (20.0, 30.0)), only=[0, 8, 16])
+    with pytest.raises(InputError, match=r"no animal 20–30 px long in 2 frames searched "
+                                         r"\(0, 16\)"):
+        _run(synthetic_clips["calm"], net, seed=AutoSeed(0, (20.0, 30.0)), only=[0, 16])
 
 
 class _Enlarged:
