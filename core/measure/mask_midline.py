@@ -156,10 +156,8 @@ def head_tip(mask: np.ndarray, midline: np.ndarray) -> np.ndarray:
     """(2,) the rostrum tip: the mask's point furthest forward along the head's direction
     (the midline from ``HEAD_AXIS[1]`` to ``HEAD_AXIS[0]`` of its length), in the middle of
     the pixels within a pixel of the front, half a pixel beyond their centres."""
-    vertices = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(midline, axis=0),
-                                                                axis=1))])
-    ends = [np.array([np.interp(share * vertices[-1], vertices, midline[:, k])
-                      for k in (0, 1)]) for share in HEAD_AXIS]
+    vertices = arc_lengths(midline)
+    ends = at_arc(midline, vertices, np.asarray(HEAD_AXIS) * vertices[-1])
     forward = (ends[0] - ends[1]) / max(np.linalg.norm(ends[0] - ends[1]), 1e-12)
     v, u = np.nonzero(mask)
     pixels = np.stack([u, v], axis=1).astype(np.float64)
@@ -188,42 +186,44 @@ def _walk(coverage: np.ndarray, points: np.ndarray) -> np.ndarray:
     inner, outer = values[exit_idx - 1], values[exit_idx]
     share = (inner - MASK_LEVEL) / (inner - outer) if inner != outer else 0.0
     at = arc[exit_idx - 1] + share * (arc[exit_idx] - arc[exit_idx - 1])
-    vertices = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(path, axis=0),
-                                                                axis=1))])
+    vertices = arc_lengths(path)
     kept = path[vertices < at]
-    end = np.array([np.interp(at, vertices, path[:, 0]), np.interp(at, vertices, path[:, 1])])
-    return np.concatenate([kept, end[None, :]])
+    return np.concatenate([kept, at_arc(path, vertices, np.array([at]))])
 
 
 def _densified(path: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Points every ``MASK_STEP_PX`` along a polyline and their arc lengths."""
-    vertices = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(path, axis=0),
-                                                                axis=1))])
+    vertices = arc_lengths(path)
     arc = np.arange(0.0, vertices[-1], MASK_STEP_PX)
-    return (np.stack([np.interp(arc, vertices, path[:, 0]),
-                      np.interp(arc, vertices, path[:, 1])], axis=1), arc)
+    return (at_arc(path, vertices, arc), arc)
 
 
 def _waist(coverage: np.ndarray, points: np.ndarray) -> float:
     """The narrowest cross-section between ``WAIST_ZONE`` of the body from the first point:
     the tail stock when it starts at the tail, the broadening head when it starts there."""
-    vertices = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(points, axis=0),
-                                                                axis=1))])
+    vertices = arc_lengths(points)
     near = np.linspace(*WAIST_ZONE, 9) * vertices[-1]
-    zone = np.stack([np.interp(near, vertices, points[:, 0]),
-                     np.interp(near, vertices, points[:, 1])], axis=1)
+    zone = at_arc(points, vertices, near)
     edges = suggest_edges(coverage, polyline_stations(zone, reach_px=vertices[-1]))
     widths = np.linalg.norm(edges[:, 0] - edges[:, 1], axis=1)
     return float(np.nanmin(widths)) if np.isfinite(widths).any() else 0.0
 
 
+def arc_lengths(points: np.ndarray) -> np.ndarray:
+    """(N,) arc length (px) at each point of a polyline (N, 2), 0 at the first."""
+    return np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(points, axis=0), axis=1))])
+
+
+def at_arc(points: np.ndarray, arc: np.ndarray, at: np.ndarray) -> np.ndarray:
+    """(M, 2) points of a polyline (N, 2) with arc lengths ``arc`` at arc lengths ``at``."""
+    return np.stack([np.interp(at, arc, points[:, 0]), np.interp(at, arc, points[:, 1])], 1)
+
+
 def resampled(midline: np.ndarray, num_points: int) -> np.ndarray:
     """(num_points, 2) points at equal arc length along a polyline, ends included."""
-    vertices = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(midline, axis=0),
-                                                                axis=1))])
+    vertices = arc_lengths(midline)
     at = np.linspace(0.0, vertices[-1], num_points)
-    return np.stack([np.interp(at, vertices, midline[:, 0]),
-                     np.interp(at, vertices, midline[:, 1])], axis=1)
+    return at_arc(midline, vertices, at)
 
 
 def without_flippers(mask: np.ndarray, length_px: float) -> np.ndarray:

@@ -41,10 +41,9 @@ around it; the automatic seed (``auto_seed``) takes the best animal it finds in 
 frame or, where there is none, in the first of up to ``AUTO_SEED_FRAMES`` frames spread over
 the clip that has one, and looks again around it (a new look that loses more than
 ``KEPT_SHARE`` of it is not taken: on a real minke whale the edge network dropped the tail
-stock). Then, for up to ``seed_rounds``, the mask is
-looked at again in a window around itself, wider while it is cut by its window's edge, as long
-as that makes it more elongated: a dark animal beside seagrass otherwise grows into the
-seagrass round after round.
+stock). Then, for up to ``seed_rounds``, the mask is looked at again in a window around
+itself, wider while it is cut by its window's edge, as long as that makes it more elongated:
+a dark animal beside seagrass otherwise grows into the seagrass round after round.
 
 **Working scale**: an animal longer than ``max_length_px`` (a whale near the drone) is
 tracked in frames downscaled until it fits (``working_scale``), its masks brought back to the
