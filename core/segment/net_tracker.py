@@ -399,14 +399,14 @@ class NetTracker:
         window may have cut short, so it is looked at again until it fits. ``found``: the
         automatic seed's animal in this frame."""
         height, width = frame_rgb.shape[:2]
-        scale = self._scale_for(found if found is not None
-                                else self._first_look(frame_rgb, seed))
+        first = found if found is not None else self._first_look(frame_rgb, seed)
+        scale = self._scale_for(first)
         for _ in range(SCALE_ROUNDS):
             seen = frame_rgb if scale == 1.0 else resized(frame_rgb,
                                                           scaled_size(height, width, scale))
             mask = self._seed_mask(seen, seed if scale == 1.0 else scaled_seed(seed, scale),
-                                   None if found is None else
-                                   found if scale == 1.0 else downscaled(found, seen.shape[:2]))
+                                   first if scale == 1.0 else None if found is None
+                                   else downscaled(found, seen.shape[:2]))
             if longer_side(mask) <= self.settings.max_length_px:
                 break
             scale *= self._scale_for(mask)
@@ -492,14 +492,15 @@ class NetTracker:
         """The animal in the seed frame: a click, a box or the automatic search finds it in
         a first window; then it is looked at again around itself (wider while cut by the
         window's edge), a new look kept where the mask was cut or where it is no less
-        elongated (module doc, **Seed**)."""
+        elongated (module doc, **Seed**). ``found``: what a first look at this frame found
+        (the automatic seed's animal; for a click ``_first_look``'s, not looked for again)."""
         height, width = frame_rgb.shape[:2]
         if isinstance(seed, PointSeed):
             if not (0 <= seed.x_px < width and 0 <= seed.y_px < height):
                 raise InputError(f"seed {seed}: outside the {width}x{height} px frame")
             side = max(MIN_WINDOW_PX, self.settings.first_window_fraction * min(height, width))
             rows, cols = square_window(np.array([seed.x_px, seed.y_px]), side, height, width)
-            mask, (rows, cols) = self._clicked(frame_rgb, rows, cols, seed)
+            mask, (rows, cols) = self._clicked(frame_rgb, rows, cols, seed, found)
         elif isinstance(seed, BoxSeed):
             box = np.zeros((height, width), bool)
             box[seed.y_px:seed.y_px + seed.height_px, seed.x_px:seed.x_px + seed.width_px] = True
@@ -543,15 +544,16 @@ class NetTracker:
         return find_animals(frame_rgb, self.net.saliency, self.settings.tile_fraction,
                             self.settings.threshold, seed.length_px)
 
-    def _clicked(self, frame_rgb: np.ndarray, rows: slice, cols: slice,
-                 seed: PointSeed) -> tuple[np.ndarray, tuple[slice, slice]]:
+    def _clicked(self, frame_rgb: np.ndarray, rows: slice, cols: slice, seed: PointSeed,
+                 whole: np.ndarray | None = None) -> tuple[np.ndarray, tuple[slice, slice]]:
         """The animal under a click and the window it was found in: the salient component
         under (or nearest to) it in the first window or the built-in detector's blob there
         (``seed.seed_mask``, in the whole frame: a dark animal over light sand, which the
         network may hardly see), whichever looks more like a lone dolphin
         (``dolphin_unlikeness``); but the animal the network sees in the whole frame under the
         click where that holds most of the pick and more (the first window lay inside a
-        large animal, and each pick was a part of it)."""
+        large animal, and each pick was a part of it; ``whole``: that animal where it was
+        looked for already)."""
         whole_frame = (slice(0, frame_rgb.shape[0]), slice(0, frame_rgb.shape[1]))
         pick, window = self._salient_at(frame_rgb, rows, cols, seed), (rows, cols)
         try:
@@ -560,7 +562,8 @@ class NetTracker:
             by_colour = None
         if by_colour is not None and dolphin_unlikeness(by_colour) < dolphin_unlikeness(pick):
             pick, window = by_colour, whole_frame
-        whole = self._salient_at(frame_rgb, *whole_frame, seed, lone=True)
+        if whole is None:
+            whole = self._salient_at(frame_rgb, *whole_frame, seed, lone=True)
         if (whole.any() and np.count_nonzero(whole) > np.count_nonzero(pick)
                 and np.count_nonzero(whole & pick) >= WHOLE_SHARE * np.count_nonzero(pick)):
             return whole, whole_frame
