@@ -1,9 +1,9 @@
 """Measure speed (and later accuracy) side by side in one run.
 
   dolphinfit bench render [--json] [--repeats N] [--quick]
-  dolphinfit bench fit (--suite [--clips N] [--shapes S] [--frame-size F] [--variants V,…]
-                       | --speed) [--json]
-  dolphinfit bench masks [--clips N | --only NAME,…] [--shapes S] [--frame-size F]
+  dolphinfit bench fit (--suite [--split P] [--clips N] [--shapes S] [--frame-size F]
+                       [--variants V,…] | --speed) [--json]
+  dolphinfit bench masks [--split P] [--clips N | --only NAME,…] [--shapes S] [--frame-size F]
                          [--backends B,…] [--seeds S,…] [--sam2-checkpoint PATH] [--stride K]
                          [--json]
   dolphinfit bench app [--repeats N] [--json]
@@ -27,7 +27,9 @@ per clip, their median and worst, and the fit's IoU per frame. --shapes varied (
 gives the animals heights drawn from the default HW table and cross-sections from lean to
 full (the animals someone else built); --shapes template keeps the template's heights and
 elliptical sections (the suite before); --frame-size 4k renders the same scenes at 3840×2160
-(default 1080p). fit --speed: a 10 s, 25 fps,
+(default 1080p). --split held-out takes instead the eight clips nothing was tuned on
+(core/bench/held_out.py: foreign bodies, other waters, foam wash, 5K delivered at 720p,
+H.264), reported apart from the tuning split. fit --speed: a 10 s, 25 fps,
 1920×1080 clip fitted with the defaults and exhaustively (every face in the soft mask, every
 frame in every step, native resolution: the fit before its speed work), side by side: wall
 time, seconds of fit per second of video, time by stage, peak memory, errors against the
@@ -69,9 +71,10 @@ from core.bench.batch_bench import bench_batch
 from core.bench.fit_bench import DEFAULT_VARIANTS, VARIANTS, bench_speed, bench_suite
 from core.bench.mask_bench import DEFAULT_STRIDE, SEED_KINDS, bench_masks
 from core.bench.render_bench import RenderBench, bench_render, bench_to_json
+from core.bench.scenario import ensure_scenario
 from core.bench.suites import (
-    DEFAULT_FRAME_SIZE, DEFAULT_SHAPES, FRAME_SIZES, SHAPES, SUITE, ensure_scenario, scenarios,
-    scenarios_named,
+    DEFAULT_FRAME_SIZE, DEFAULT_SHAPES, DEFAULT_SPLIT, FRAME_SIZES, SHAPES, SPLITS, SUITE,
+    scenarios, scenarios_named,
 )
 from core.bench.timing import command_seconds
 from core.errors import InputError
@@ -96,8 +99,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     which = fit.add_mutually_exclusive_group(required=True)
     which.add_argument("--suite", action="store_true", help="accuracy over the clip suite")
     which.add_argument("--speed", action="store_true", help="speed on a 10 s clip")
+    _add_split_argument(fit)
     fit.add_argument("--clips", type=int, default=len(SUITE),
-                     help=f"suite clips to use (1–{len(SUITE)})")
+                     help="the split's first N clips (default all)")
     fit.add_argument("--shapes", choices=SHAPES, default=DEFAULT_SHAPES,
                      help=f"the suite's animals (default {DEFAULT_SHAPES}; see above)")
     fit.add_argument("--frame-size", choices=tuple(FRAME_SIZES), default=DEFAULT_FRAME_SIZE,
@@ -107,8 +111,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                           f"(default {','.join(DEFAULT_VARIANTS)})")
     fit.add_argument("--json", action="store_true", help="one JSON object on stdout")
     masks = suites.add_parser("masks", help="mask back-ends against the truth on the suite")
+    _add_split_argument(masks)
     masks.add_argument("--clips", type=int, default=len(SUITE),
-                       help=f"suite clips to use (1–{len(SUITE)})")
+                       help="the split's first N clips (default all)")
     masks.add_argument("--only", default="",
                        help="comma-separated suite clip names to run instead (e.g. "
                             "grey_green,dark_sandy)")
@@ -156,16 +161,16 @@ def run(args: argparse.Namespace) -> int:
         seeds = tuple(args.seeds.split(","))
         for kind in seeds:
             one_of(kind, SEED_KINDS, "--seeds")
-        chosen = (scenarios_named(args.only.split(","), args.shapes, args.frame_size)
-                  if args.only else
-                  scenarios(args.shapes, args.frame_size)[:count(args.clips, 1, "--clips")])
+        chosen = (scenarios_named(args.only.split(","), args.shapes, args.frame_size,
+                                  args.split)
+                  if args.only else _first_clips(args))
         figures = bench_masks({sc.name: ensure_scenario(sc) for sc in chosen}, backends,
                               count(args.stride, 1, "--stride"), seeds,
                               progress=_print_mask_score, checkpoint=checkpoint)
         print(json.dumps(figures, indent=2) if args.json else format_masks(figures))
         return 0
     if args.suite_name == "fit":
-        chosen = scenarios(args.shapes, args.frame_size)[:count(args.clips, 1, "--clips")]
+        chosen = _first_clips(args)
         figures = (bench_suite(chosen, variants=tuple(args.variants.split(",")),
                                progress=_print_score)
                    if args.suite else bench_speed())
@@ -175,6 +180,16 @@ def run(args: argparse.Namespace) -> int:
     result = bench_render(repeats=max(1, args.repeats), quick=args.quick)
     print(json.dumps(bench_to_json(result), indent=2) if args.json else format_render(result))
     return 0
+
+
+def _add_split_argument(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("--split", choices=SPLITS, default=DEFAULT_SPLIT,
+                        help="the tuning split (default) or the held-out one, never tuned on")
+
+
+def _first_clips(args: argparse.Namespace):
+    """The first --clips scenarios of the chosen split."""
+    return scenarios(args.shapes, args.frame_size, args.split)[:count(args.clips, 1, "--clips")]
 
 
 def bench_app(repeats: int) -> dict:

@@ -21,8 +21,8 @@ from dataclasses import asdict, dataclass, replace
 import numpy as np
 
 from core.bench.hidden_heights import TruthSections, hidden_height_floor, truth_sections
-from core.bench.mask_bench import click_seed
-from core.bench.suites import Scenario, ensure_scenario
+from core.bench.mask_bench import AUTO, CLICK, click_seed
+from core.bench.scenario import Scenario, ensure_scenario
 from core.bench.timing import run_with_peak_rss_mb
 from core.errors import InputError
 from core.fit.config import FitConfig, LossWeights
@@ -31,6 +31,7 @@ from core.fit.pipeline import CameraChoice, run_fit
 from core.io.json_file import read_json
 from core.measure.uncertainty import ErrorModel
 from core.segment.backends import DEFAULT_BACKEND, NETWORK_COLOUR_EDGES
+from core.segment.segmenter import AutoSeed, Seed
 from core.synth.config import SynthConfig
 from core.synth.files import ClipFiles
 from core.synth.sample import cache_dir, ensure_clip
@@ -43,35 +44,49 @@ EXHAUSTIVE = {"soft_primitives": "faces", "heading_max_frames": 0, "shape_max_fr
 FREE_DEPTH = {"weights": LossWeights(depth=0.0)}
 # the soft targets' edge scale set before the depth prior
 EDGE_BEFORE_DEPTH_PRIOR = {"target_edge_scale": 0.78}
-VARIANTS: dict[str, tuple[str | None, dict]] = {
-    # name: (mask back-end, None for the clip's true masks; fit options over the defaults)
-    "true_masks": (None, {}),
-    "true_masks_exhaustive": (None, EXHAUSTIVE),
-    "product_masks": (DEFAULT_BACKEND, {}),
-    "product_masks_exhaustive": (DEFAULT_BACKEND, EXHAUSTIVE),
+
+
+@dataclass(frozen=True)
+class Variant:
+    """One way of fitting a suite clip."""
+
+    backend: str | None   # the mask back-end; None for the clip's true masks
+    options: dict         # fit options over the defaults
+    seed: str = CLICK     # how the back-end starts (core.bench.mask_bench.SEED_KINDS)
+
+
+VARIANTS: dict[str, Variant] = {
+    "true_masks": Variant(None, {}),
+    "true_masks_exhaustive": Variant(None, EXHAUSTIVE),
+    "product_masks": Variant(DEFAULT_BACKEND, {}),
+    # the product's masks with no click: the automatic seed finds the animal, as `dolphinfit
+    # fit` does without --masks
+    "product_masks_auto_seed": Variant(DEFAULT_BACKEND, {}, seed=AUTO),
+    "product_masks_exhaustive": Variant(DEFAULT_BACKEND, EXHAUSTIVE),
     # the network's masks with the outline placed by colour (the default before the edge net)
-    "product_masks_colour_edges": (NETWORK_COLOUR_EDGES, {}),
-    "true_masks_refraction": (None, {"use_refraction": True}),
-    "true_masks_no_roi": (None, {"use_roi": False, "use_refraction": True}),
-    "true_masks_colour_all_stages": (None, {"colour_geometry": "all_stages"}),
-    "true_masks_colour_pose_stages": (None, {"colour_geometry": "pose_stages"}),
-    "true_masks_paper_pose_prior": (None, {"weights": LossWeights(pose=2.0)}),
+    "product_masks_colour_edges": Variant(NETWORK_COLOUR_EDGES, {}),
+    "true_masks_refraction": Variant(None, {"use_refraction": True}),
+    "true_masks_no_roi": Variant(None, {"use_roi": False, "use_refraction": True}),
+    "true_masks_colour_all_stages": Variant(None, {"colour_geometry": "all_stages"}),
+    "true_masks_colour_pose_stages": Variant(None, {"colour_geometry": "pose_stages"}),
+    "true_masks_paper_pose_prior": Variant(None, {"weights": LossWeights(pose=2.0)}),
     # the shape stage on every frame, pitched and rolled ones included (none set aside)
-    "true_masks_all_shape_frames": (None, {"shape_iou_margin": 1.0}),
+    "true_masks_all_shape_frames": Variant(None, {"shape_iou_margin": 1.0}),
     # the axes prior (each part's axes scale together) off, and ten times the default
-    "true_masks_no_axes_prior": (None, {"weights": LossWeights(scale_axes=0.0)}),
-    "true_masks_strong_axes_prior": (None, {"weights": LossWeights(scale_axes=1.0)}),
+    "true_masks_no_axes_prior": Variant(None, {"weights": LossWeights(scale_axes=0.0)}),
+    "true_masks_strong_axes_prior": Variant(None, {"weights": LossWeights(scale_axes=1.0)}),
     # the parts' scales alone, without the profile field along the body
-    "true_masks_no_profile_field": (None, {"profile_field": False}),
+    "true_masks_no_profile_field": Variant(None, {"profile_field": False}),
     # the hidden heights from the template's own height/width ratios, not the HW table's
-    "true_masks_template_heights": (None, {"hw_table": None}),
+    "true_masks_template_heights": Variant(None, {"hw_table": None}),
     # the fit before both: the parts' scales alone and the template's heights
-    "true_masks_before_field_and_table": (None, {"profile_field": False, "hw_table": None}),
-    "true_masks_free_depth": (None, FREE_DEPTH),
-    "true_masks_edge_078": (None, EDGE_BEFORE_DEPTH_PRIOR),
-    "true_masks_before_depth_prior": (None, {**FREE_DEPTH, **EDGE_BEFORE_DEPTH_PRIOR}),
-    "product_masks_free_depth": (DEFAULT_BACKEND, FREE_DEPTH),
-    "product_masks_edge_078": (DEFAULT_BACKEND, EDGE_BEFORE_DEPTH_PRIOR),
+    "true_masks_before_field_and_table": Variant(None, {"profile_field": False,
+                                                         "hw_table": None}),
+    "true_masks_free_depth": Variant(None, FREE_DEPTH),
+    "true_masks_edge_078": Variant(None, EDGE_BEFORE_DEPTH_PRIOR),
+    "true_masks_before_depth_prior": Variant(None, {**FREE_DEPTH, **EDGE_BEFORE_DEPTH_PRIOR}),
+    "product_masks_free_depth": Variant(DEFAULT_BACKEND, FREE_DEPTH),
+    "product_masks_edge_078": Variant(DEFAULT_BACKEND, EDGE_BEFORE_DEPTH_PRIOR),
 }
 DEFAULT_VARIANTS = ("true_masks", "product_masks")
 SUITE_FIT_FPS = 2.5
@@ -109,7 +124,7 @@ class ClipScore:
 def _score(files: ClipFiles, config: SynthConfig, fit_config: FitConfig, name: str,
            variant: str, sections: TruthSections) -> ClipScore:
     truth = read_json(files.truth_json, "the clip's truth")
-    backend = VARIANTS[variant][0]
+    backend = VARIANTS[variant].backend
     camera = CameraChoice(sensor_width_mm=config.sensor_width_mm, focal_mm=config.focal_mm)
     try:
         if backend is None:
@@ -117,7 +132,8 @@ def _score(files: ClipFiles, config: SynthConfig, fit_config: FitConfig, name: s
                           config.launch_height_m)
         else:
             run = run_fit(files.video, files.srt, None, camera, fit_config,
-                          config.launch_height_m, seed=click_seed(files), backend=backend)
+                          config.launch_height_m, seed=_seed(files, VARIANTS[variant].seed),
+                          backend=backend)
     except InputError as exc:  # e.g. masks that leave no frame to fit: a failed clip
         nan = float("nan")
         return ClipScore(clip=name, variant=variant, volume_error=nan, length_error=nan,
@@ -135,6 +151,11 @@ def _score(files: ClipFiles, config: SynthConfig, fit_config: FitConfig, name: s
                      mean_iou=float(result.iou.mean()), min_iou=float(result.iou.min()),
                      frames=len(result.frame_idx), seconds=result.timings_s["total"],
                      frame_iou=tuple(float(v) for v in result.iou))
+
+
+def _seed(files: ClipFiles, kind: str) -> Seed:
+    """A click on the target, or the automatic seed from frame 0 (it scans on by itself)."""
+    return click_seed(files) if kind == CLICK else AutoSeed(frame_idx=0)
 
 
 def summarize(scores: list[ClipScore]) -> dict[str, dict[str, float]]:
@@ -187,7 +208,7 @@ def bench_suite(chosen: Sequence[Scenario], variants: tuple[str, ...] = DEFAULT_
         sections = truth_sections(scenario.config)
         for variant in variants:
             scores.append(_score(files, scenario.config,
-                                 replace(base, **VARIANTS[variant][1]), scenario.name,
+                                 replace(base, **VARIANTS[variant].options), scenario.name,
                                  variant, sections))
             if progress is not None:
                 progress(scores[-1])

@@ -17,34 +17,24 @@ Clips are rendered once into the cache (``cache_dir()/<suite>/NAME``) and reused
 recorded configuration matches.
 """
 
-from dataclasses import dataclass, replace
+from dataclasses import replace
 
+from core.bench.held_out import HELD_OUT
+from core.bench.scenario import SUITE_NAME, Scenario
 from core.limits import one_of
 from core.measure.hw_ratios import DEFAULT_PRESET
-from core.progress import ProgressCallback
 from core.synth.config import Effects, SynthConfig
-from core.synth.files import ClipFiles
-from core.synth.sample import cache_dir, ensure_clip
 from core.synth.water import with_water
 
-SUITE_NAME = "bench-suite-v2"          # the template's shapes
 VARIED_SUITE_NAME = "bench-suite-v3-shapes"
+SPLITS = ("tuning", "held-out")    # held-out: core.bench.held_out, never tuned on
+DEFAULT_SPLIT = "tuning"
 SHAPES = ("varied", "template")
 DEFAULT_SHAPES = "varied"
 FRAME_SIZES = {"1080p": (1920, 1080), "4k": (3840, 2160)}   # name: (width, height) px
 DEFAULT_FRAME_SIZE = "1080p"
 # one per scenario, in order; mean 2 (the ellipse), so no net bias in volume
 SECTION_EXPONENTS = (2.0, 2.15, 1.9, 2.2, 1.95, 2.1, 1.85, 2.05, 2.0, 1.9, 2.1, 1.8)
-
-
-@dataclass(frozen=True)
-class Scenario:
-    """A named clip of the suite, what it shows, and the cache folder of its suite."""
-
-    name: str
-    config: SynthConfig
-    shows: str
-    suite: str = SUITE_NAME
 
 
 _BASE = SynthConfig(width_px=1920, height_px=1080, fps=10.0, duration_s=3.0, shape_sd=0.05,
@@ -96,11 +86,15 @@ SUITE: tuple[Scenario, ...] = (
 )
 
 
-def scenarios(shapes: str = DEFAULT_SHAPES,
-              frame_size: str = DEFAULT_FRAME_SIZE) -> tuple[Scenario, ...]:
-    """The suite's scenarios with the animals of ``shapes`` at ``frame_size`` (module doc)."""
+def scenarios(shapes: str = DEFAULT_SHAPES, frame_size: str = DEFAULT_FRAME_SIZE,
+              split: str = DEFAULT_SPLIT) -> tuple[Scenario, ...]:
+    """The tuning split's scenarios with the animals of ``shapes`` at ``frame_size`` (module
+    doc), or the held-out split's (which has its own animals and frame sizes)."""
     one_of(shapes, SHAPES, "suite shapes")
     one_of(frame_size, tuple(FRAME_SIZES), "suite frame size")
+    one_of(split, SPLITS, "suite split")
+    if split == "held-out":
+        return HELD_OUT
     chosen = SUITE if shapes == "template" else tuple(
         replace(scenario, suite=VARIED_SUITE_NAME,
                 config=replace(scenario.config, hw_table=DEFAULT_PRESET,
@@ -115,17 +109,11 @@ def scenarios(shapes: str = DEFAULT_SHAPES,
 
 
 def scenarios_named(names: list[str], shapes: str = DEFAULT_SHAPES,
-                    frame_size: str = DEFAULT_FRAME_SIZE) -> tuple[Scenario, ...]:
-    """The suite's scenarios (with the animals of ``shapes``, at ``frame_size``) of these
-    names, in the order given; InputError on an unknown one."""
-    by_name = {scenario.name: scenario for scenario in scenarios(shapes, frame_size)}
+                    frame_size: str = DEFAULT_FRAME_SIZE,
+                    split: str = DEFAULT_SPLIT) -> tuple[Scenario, ...]:
+    """The scenarios of ``scenarios(shapes, frame_size, split)`` of these names, in the
+    order given; InputError on an unknown one."""
+    by_name = {scenario.name: scenario for scenario in scenarios(shapes, frame_size, split)}
     for name in names:
         one_of(name, tuple(by_name), "suite clip")
     return tuple(by_name[name] for name in names)
-
-
-def ensure_scenario(scenario: Scenario,
-                    progress: ProgressCallback | None = None) -> ClipFiles:
-    """One scenario's clip, rendered first if it is missing or was made from another
-    configuration (only rendering loads the model stack)."""
-    return ensure_clip(scenario.config, cache_dir() / scenario.suite / scenario.name, progress)

@@ -2,13 +2,13 @@
 
 import math
 import threading
+from dataclasses import replace
 from pathlib import Path
 
 import cv2
 import numpy as np
 import torch
 
-from core.errors import InputError
 from core.intrinsics import CameraIntrinsics
 from core.io.json_file import write_json
 from core.measure.condition import body_condition
@@ -26,14 +26,14 @@ from core.synth.compose import (
     render_layer, ripple,
 )
 from core.synth.config import SynthConfig
-from core.synth.files import (
-    LOSSLESS_CODEC, LOSSY_CODEC, ClipFiles, clip_files, write_part_masks,
-)
+from core.synth.files import ClipFiles, clip_files, write_part_masks
+from core.synth.foreign import foreign_template
 from core.synth.motion import Motion, companion, swim
 from core.synth.parts import PART_NAMES, part_faces
 from core.synth.sea import Sea
 from core.synth.shape import draw_hw, random_betas, subdivide, warp_profiles
 from core.synth.telemetry import write_altitude, write_dji_srt
+from core.synth.video_out import open_clip_writer
 from core.synth.whitewater import Whitewater
 
 TRUTH_SCHEMA_VERSION = 1
@@ -42,7 +42,9 @@ RENDER_STAGE = "render"
 
 def make_clip(config: SynthConfig, out_dir: Path, progress: ProgressCallback | None = None,
               cancel: threading.Event | None = None) -> ClipFiles:
-    """Render ``config`` into ``out_dir``; deterministic for ``config.seed``.
+    """Render ``config`` into ``out_dir``; deterministic for ``config.seed``. The scene is
+    rendered at ``config.supersample`` times the frame size; the video and the true masks are
+    downscaled from it by area.
 
     Reports ``Progress(RENDER_STAGE, frames done, frames)``; once ``cancel`` is set it raises
     core.progress.Cancelled, leaving the folder without truth.json (an unfinished clip).
@@ -58,11 +60,12 @@ def make_clip(config: SynthConfig, out_dir: Path, progress: ProgressCallback | N
         verts = model(betas, torch.as_tensor(motion.pose_aa),
                       torch.as_tensor(motion.transl)).verts.to(torch.float32)
     appearance = _appearance(template, config)
-    intrinsics = CameraIntrinsics.from_sensor(config.focal_mm, config.sensor_width_mm,
-                                              config.width_px, config.height_px)
+    scene = _rendered(config)
+    intrinsics = CameraIntrinsics.from_sensor(scene.focal_mm, scene.sensor_width_mm,
+                                              scene.width_px, scene.height_px)
     scattering = ((np.asarray(config.water_rgb), np.asarray(config.clarity_per_m))
                   if config.effects.scattering else None)
-    sea = Sea(config, rng)
+    sea = Sea(scene, rng)
     noise_rng = np.random.default_rng([config.seed, 1])
     extra_rng = np.random.default_rng([config.seed, 3])      # new effects keep the streams above
     mate_motion, mate_verts = _companion(config, model, motion, extra_rng)
@@ -71,7 +74,7 @@ def make_clip(config: SynthConfig, out_dir: Path, progress: ProgressCallback | N
     highlight = (Highlight(config.sun_direction(), config.wet_specular)
                  if config.wet_specular > 0 else None)
     gsd = float(config.altitude_m) / intrinsics.focal_px
-    whitewater = Whitewater(config, extra_rng, gsd) if config.splash > 0 else None
+    whitewater = Whitewater(scene, extra_rng, gsd) if config.splash > 0 else None
 
     def layer_at(t: int, verts_t: torch.Tensor, slope: np.ndarray,
                  with_parts: bool) -> DolphinLayer | None:
@@ -84,7 +87,7 @@ def make_clip(config: SynthConfig, out_dir: Path, progress: ProgressCallback | N
 
     files = clip_files(out_dir, config)
     files.masks_dir.mkdir(parents=True, exist_ok=True)
-    writer = _open_writer(files.video, config)
+    writer = open_clip_writer(files.video, config)
     visible = []
     seeds: list[list[int] | None] = []
     packed: dict[str, list[np.ndarray]] = {name: [] for name in PART_NAMES}
@@ -106,16 +109,21 @@ def make_clip(config: SynthConfig, out_dir: Path, progress: ProgressCallback | N
             glints = sea_frame.glints if config.effects.glints else np.zeros_like(sea_frame.glints)
             if sea_frame.glitter is not None:
                 glints = glints + sea_frame.glitter
-            writer.write(finish(frame, glints, config.blur_px, config.noise_sd, noise_rng))
-            mask = layer_mask(layer if is_visible else None, config.height_px, config.width_px)
+            delivered = (config.width_px, config.height_px)
+            writer.write(_downscaled(finish(frame, glints, config.blur_px, config.noise_sd,
+                                            noise_rng), delivered))
+            fine_mask = layer_mask(layer if is_visible else None, scene.height_px,
+                                   scene.width_px)
+            mask = _downscaled_mask(fine_mask, delivered)
             cv2.imwrite(str(files.masks_dir / f"{t:06d}.png"), mask)
             seeds.append(_seed_px(mask))
             for k, name in enumerate(PART_NAMES):
-                packed[name].append(np.packbits(_part_mask(layer, k, mask), axis=-1))
+                part = _downscaled_mask(_part_mask(layer, k, fine_mask), delivered) > 0
+                packed[name].append(np.packbits(part & (mask > 0), axis=-1))
             if progress is not None:
                 progress(Progress(RENDER_STAGE, t + 1, config.num_frames))
     finally:
-        writer.release()
+        writer.close()
 
     write_altitude(files.altitude_csv, motion.time_s, altitude)
     write_dji_srt(files.srt, motion.time_s, altitude, config.fps, config.launch_height_m)
@@ -130,7 +138,7 @@ def synth_animal(config: SynthConfig, rng: np.random.Generator
                  ) -> tuple[Template, DolphinModel, torch.Tensor]:
     """The clip's animal: its template (heights, sections, warp, finer mesh as configured),
     the model of it and its part scales; draws from ``rng`` first, as ``make_clip`` does."""
-    template = _body(config)
+    template = foreign_template(_body(config), config.body)
     if config.effects.profile_warp:
         template = warp_profiles(template, rng, tie_heights=config.hw_table is not None)
     if config.effects.finer_mesh:
@@ -185,14 +193,24 @@ def _part_mask(layer: DolphinLayer | None, part: int, mask: np.ndarray) -> np.nd
     return region & (mask > 0)
 
 
-def _open_writer(path: Path, config: SynthConfig) -> cv2.VideoWriter:
-    codec = (LOSSY_CODEC if config.effects.compression else LOSSLESS_CODEC)[0]
-    path.parent.mkdir(parents=True, exist_ok=True)
-    writer = cv2.VideoWriter(str(path), cv2.VideoWriter_fourcc(*codec), config.fps,
-                             (config.width_px, config.height_px))
-    if not writer.isOpened():
-        raise InputError(f"{path}: OpenCV cannot write {codec} video here")
-    return writer
+def _rendered(config: SynthConfig) -> SynthConfig:
+    """The configuration of the scene as rendered: ``config`` at its supersampled size."""
+    k = config.supersample
+    return replace(config, width_px=config.width_px * k, height_px=config.height_px * k,
+                   supersample=1)
+
+
+def _downscaled(image: np.ndarray, size: tuple[int, int]) -> np.ndarray:
+    """``image`` at ``size`` (width, height) by pixel area; itself when already that size."""
+    if image.shape[1::-1] == size:
+        return image
+    return cv2.resize(image, size, interpolation=cv2.INTER_AREA)
+
+
+def _downscaled_mask(mask: np.ndarray, size: tuple[int, int]) -> np.ndarray:
+    """(H, W) uint8 mask at ``size``: 255 where the fine mask covers at least half a pixel."""
+    coverage = _downscaled(mask.astype(np.uint8) * (255 // max(int(mask.max()), 1)), size)
+    return np.where(coverage >= 128, 255, 0).astype(np.uint8)
 
 
 def _appearance(template, config: SynthConfig) -> Appearance:

@@ -25,6 +25,11 @@ MINIMUMS = {name: 0.0 for name in ("seed", "altitude_drift_m", "shape_sd", "spee
                                    "dive_depth_m", "noise_sd", "blur_px")}
 
 COLOURATIONS = ("dark", "light_grey")
+CODECS = ("mp4v", "h264")        # lossy video: OpenCV's MPEG-4 part 2, or H.264 as drones record
+TEMPLATE_BODY = "template"
+# the template's family, or a foreign body (core.synth.foreign.FOREIGN_BODIES, in this order)
+BODIES = (TEMPLATE_BODY, "robust", "slender", "keeled")
+SUPERSAMPLE = (1, 8)             # rendered at up to 8× the delivered frame size
 SECTION_EXPONENT = (1.5, 3.0)   # cross-sections from lean lozenges to near-rectangles
 
 
@@ -90,6 +95,14 @@ class SynthConfig:
     # section_exponent (2: ellipses, as the template's; larger fuller, smaller leaner).
     hw_table: str | None = None
     section_exponent: float = 2.0
+    # "template", or one of core.synth.foreign's bodies: animals not of the template's family
+    # (another width profile, beak, heights and fins), for a split the fit was never tuned on
+    body: str = TEMPLATE_BODY
+    # the frame rendered at this many times width_px × height_px and downscaled by area, as a
+    # 5K camera's video delivered at 720p (the camera's focal length in mm is unchanged)
+    supersample: int = 1
+    codec: str = "mp4v"                     # lossy codec (CODECS) when effects.compression
+    bitrate_mbps: float = 20.0              # H.264's target bit rate (mp4v has its own)
     effects: Effects = field(default_factory=Effects)
 
     def __post_init__(self) -> None:
@@ -108,6 +121,15 @@ class SynthConfig:
                 raise InputError(f"synth option {name}: must lie in [0, 1], "
                                  f"got {getattr(self, name)}")
         one_of(self.colouration, COLOURATIONS, "synth option colouration")
+        one_of(self.codec, CODECS, "synth option codec")
+        one_of(self.body, BODIES, "synth option body")
+        if not (isinstance(self.supersample, int)
+                and SUPERSAMPLE[0] <= self.supersample <= SUPERSAMPLE[1]):
+            raise InputError(f"synth option supersample: a whole number in "
+                             f"{SUPERSAMPLE[0]}–{SUPERSAMPLE[1]}, got {self.supersample!r}")
+        if not self.bitrate_mbps > 0:
+            raise InputError(f"synth option bitrate_mbps: must be positive, "
+                             f"got {self.bitrate_mbps!r}")
         if self.hw_table is not None:
             one_of(self.hw_table, tuple(preset_names()), "synth option hw_table")
         if not SECTION_EXPONENT[0] <= self.section_exponent <= SECTION_EXPONENT[1]:

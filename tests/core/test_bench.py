@@ -72,7 +72,7 @@ def test_bench_render_quick_reports_consistent_ratios(capsys):
 def tiny_scenario(tmp_path_factory):
     """A one-scenario suite of a small light-grey clip over green water, rendered once into
     a cache of this module's own."""
-    from core.bench import suites
+    from core.bench.scenario import Scenario, ensure_scenario
     from core.synth import sample
     from core.synth.config import SynthConfig
     from core.synth.water import with_water
@@ -83,20 +83,22 @@ def tiny_scenario(tmp_path_factory):
                                       duration_s=0.8, altitude_m=8.0, dive_depth_m=0.0,
                                       colouration="light_grey",
                                       hw_table="tursiops-provisional"), "green")
-        scenario = suites.Scenario("tiny", tiny, "a small light-grey clip")
-        suites.ensure_scenario(scenario)
+        scenario = Scenario("tiny", tiny, "a small light-grey clip")
+        ensure_scenario(scenario)
         yield scenario
 
 
 def test_fit_suite_scores_clips_against_their_truth(tiny_scenario):
-    """A one-clip suite with true masks and with the product's own masks reports per-clip
-    errors, per-frame IoU and a summary per variant."""
+    """A one-clip suite with true masks and with the product's own masks, from a click and
+    from the automatic seed, reports per-clip errors, per-frame IoU and a summary per
+    variant."""
     from core.bench import fit_bench
     from core.fit.config import FitConfig
 
     quick = FitConfig(heading_trial_steps=2, steps_global=3, steps_body=2, steps_shape=4)
-    figures = fit_bench.bench_suite((tiny_scenario,), base=quick)
-    assert [c["variant"] for c in figures["clips"]] == ["true_masks", "product_masks"]
+    variants = ("true_masks", "product_masks", "product_masks_auto_seed")
+    figures = fit_bench.bench_suite((tiny_scenario,), variants=variants, base=quick)
+    assert [c["variant"] for c in figures["clips"]] == list(variants)
     for clip in figures["clips"]:
         assert abs(clip["volume_error"]) < 0.5 and clip["frames"] >= 3
         # heights drawn from the table the fit assumes, elliptical sections
@@ -121,7 +123,7 @@ def test_mask_bench_scores_each_back_end_from_the_click_the_automatic_seed_and_a
     dark animal, finds none at the click nor by itself and scores 0 with the reason recorded,
     but follows it from a box (GrabCut finds it there)."""
     from core.bench.mask_bench import bench_masks
-    from core.bench.suites import ensure_scenario
+    from core.bench.scenario import ensure_scenario
 
     figures = bench_masks({"tiny": ensure_scenario(tiny_scenario)}, stride=2)
     network, colour_edges, colour = figures["clips"]
@@ -215,3 +217,19 @@ def test_bench_masks_checks_the_sam2_checkpoint_before_any_work(tmp_path, capsys
     (tmp_path / "sam2.1_hiera_tiny.pt").write_bytes(b"")
     assert main(["bench", "masks", *[a.format(tmp=tmp_path) for a in args]]) == 2
     assert problem.format(tmp=tmp_path) in capsys.readouterr().err
+
+
+def test_the_held_out_split_is_chosen_by_name_and_kept_apart(capsys):
+    from core.bench.suites import scenarios_named
+
+    assert [s.name for s in scenarios_named(["small_5k_pair"], split="held-out")] == \
+        ["small_5k_pair"]
+    with pytest.raises(InputError, match="suite clip: one of robust_turquoise, .*"
+                                         "got 'grey_green'"):
+        scenarios_named(["grey_green"], split="held-out")
+    with pytest.raises(InputError, match="suite split: one of tuning, held-out"):
+        scenarios_named(["grey_green"], split="test")
+    with pytest.raises(SystemExit) as exit_:
+        main(["bench", "masks", "--split", "test"])
+    assert exit_.value.code == 2
+    assert "--split: invalid choice: 'test'" in capsys.readouterr().err
