@@ -49,6 +49,9 @@ class LossWeights:
     # depth: without it the pose stages matched the first size estimate's error with depth
     # (roots up to 0.4 m above the water or 0.8 m down: 2–4 % in length, 6–12 % in volume).
     depth: float = 1.0
+    # ours: the root rises and sinks as its axis points (losses.glide_prior), so pitch cannot
+    # stand in for length
+    glide: float = 1.0
     # ours: the profile field's coefficients (core/model/profile_field.py) stay small and
     # vary smoothly from knot to knot
     profile: float = 0.001

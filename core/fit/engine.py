@@ -364,6 +364,7 @@ class _Problem:
             "smooth_rot": losses.rotation_smoothness(rotations, order, ratio),
             "smooth_pose": losses.smoothness(params.body_pose, order, ratio),
             "depth": losses.depth_prior(params.transl, self.config.init_depth_m),
+            "glide": losses.glide_prior(params.transl, rotations[:, :, 0], self.time_s),
         }
         if self.config.profile_field:
             terms["profile"] = losses.profile_prior(params.profile)

@@ -95,6 +95,24 @@ def vertical_motion(transl: torch.Tensor, forward_z: torch.Tensor, time_s: torch
     return ((step - speed * dt) ** 2).mean()
 
 
+def glide_prior(transl: torch.Tensor, forward: torch.Tensor,
+                time_s: torch.Tensor) -> torch.Tensor:
+    """Mean squared deviation ((m/s)²) of the root's vertical speed between adjacent frames
+    from a glide along the body axis: an animal swims where it points, so it rises or sinks
+    at its horizontal speed times the slope of its axis (``forward`` (T, 3), the root's
+    x axis; averaged over the two frames). A top view sees no pitch directly, and without
+    it the fit tilted a longer animal nose down at a level depth to match a short silhouette
+    (the tail 0.5–0.9 m above the water for three seconds)."""
+    if transl.shape[0] < 2:
+        return transl.sum() * 0.0
+    step = transl[1:] - transl[:-1]
+    axis = 0.5 * (forward[1:] + forward[:-1])
+    slope = axis[:, 2] / torch.linalg.vector_norm(axis[:, :2], dim=-1).clamp(min=1e-3)
+    horizontal = torch.linalg.vector_norm(step[:, :2], dim=-1)
+    dt = (time_s[1:] - time_s[:-1]).clamp(min=1e-6)
+    return (((step[:, 2] - horizontal * slope) / dt) ** 2).mean()
+
+
 def depth_prior(transl: torch.Tensor, depth_m: float) -> torch.Tensor:
     """Mean squared deviation (m²) of the root's depth below the surface (world z = 0) from
     ``depth_m``, over frames: silhouettes alone cannot tell a deeper animal from a larger
