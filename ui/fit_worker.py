@@ -1,11 +1,11 @@
 """The model-based fit of one animal in a worker (ui/job_worker.py): its own reader of the
 clip, the clip's masks and altitude, the engine configuration of the animal's fit settings and
 the project's HW table; the outputs are written into
-the animal's fit folder, replacing an older fit only once the new one is complete on disk.
+the animal's fit folder, replacing an older fit only once the new one is complete on disk
+(``core.fit.outputs.write_outputs`` writes the folder atomically).
 ``finished`` carries (FitResult, fit folder); a cancelled or diverged fit is a result too,
 with its status and the best state it reached."""
 
-import shutil
 import threading
 from dataclasses import dataclass
 from pathlib import Path
@@ -18,9 +18,6 @@ from core.io.telemetry import Telemetry
 from core.progress import Cancelled, ProgressCallback
 from core.fit.config import FitConfig
 from ui.job_worker import JobWorker
-
-PARTIAL_SUFFIX = ".partial"  # the folder a fit is written into before it replaces the old one
-OLD_SUFFIX = ".old"  # the replaced fit, until the new one is in place
 
 
 @dataclass(frozen=True, eq=False)
@@ -54,15 +51,7 @@ def run_fit_job(job: FitJob, progress: ProgressCallback, cancel: threading.Event
                        job.config, progress=progress, cancel=cancel)
     if job.discard.is_set():
         raise Cancelled()  # closing: an older complete fit is not replaced by a partial one
-    partial = job.out_dir.with_name(job.out_dir.name + PARTIAL_SUFFIX)
-    old = job.out_dir.with_name(job.out_dir.name + OLD_SUFFIX)
-    for leftover in (partial, old):
-        shutil.rmtree(leftover, ignore_errors=True)
-    write_outputs(run.result, run.data, load_template(), partial)
-    if job.out_dir.exists():
-        job.out_dir.rename(old)  # the old fit stays whole until the new one is in place
-    partial.rename(job.out_dir)
-    shutil.rmtree(old, ignore_errors=True)
+    write_outputs(run.result, run.data, load_template(), job.out_dir)
     return run.result, job.out_dir
 
 

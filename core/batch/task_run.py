@@ -1,5 +1,7 @@
 """One task on a Dask worker: skip it when its folder records the same inputs, else fit and
-measure the animal into a partial folder, record how it ended, and put the folder in place.
+measure the animal into a hidden folder beside it, record how it ended, and put the folder in
+place (``core.io.atomic.atomic_folder``: a kill at any moment leaves the old complete folder,
+or none, and a leftover that the task's next run removes).
 
 A failure of one method is recorded with the other's figures and does not stop the batch.
 """
@@ -9,7 +11,6 @@ from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
-from core.batch.folders import install_folder, partial_folder, remove_leftovers
 from core.batch.inputs import inputs_digest, task_inputs
 from core.batch.mask_baseline import NOTE, mask_baseline
 from core.batch.record import (
@@ -21,6 +22,7 @@ from core.errors import InputError
 from core.fit.outputs import write_outputs
 from core.fit.pipeline import FitRun, run_fit
 from core.fit.result import STATUS_COMPLETE as FIT_COMPLETE
+from core.io.atomic import atomic_folder
 from core.measure.baseline import BaselineEstimate
 from core.measure.records import write_exports
 from core.model.template import load_template
@@ -49,15 +51,13 @@ def run_task(task: BatchTask, out_dir: Path, retry_failed: bool = False) -> Task
     if (done is not None and done.inputs_digest == digest
             and (done.status == STATUS_COMPLETE or not retry_failed)):
         return replace(done, reused=True)
-    remove_leftovers(out_dir, task.name)
-    partial = partial_folder(out_dir, task.name)
-    values, errors, notes = _run_methods(task, partial)
-    values["notes"] = "; ".join(notes)
-    record = TaskRecord(task.name, task.clip, task.animal_id,
-                        STATUS_FAILED if errors else STATUS_COMPLETE, "; ".join(errors),
-                        digest, inputs, values, time.perf_counter() - start)
-    write_record(partial, record)
-    install_folder(partial, folder)
+    with atomic_folder(folder) as partial:
+        values, errors, notes = _run_methods(task, partial)
+        values["notes"] = "; ".join(notes)
+        record = TaskRecord(task.name, task.clip, task.animal_id,
+                            STATUS_FAILED if errors else STATUS_COMPLETE, "; ".join(errors),
+                            digest, inputs, values, time.perf_counter() - start)
+        write_record(partial, record)
     return record
 
 

@@ -3,6 +3,7 @@ kill at any moment leaves either the old or the new complete output."""
 
 import ctypes
 import os
+import re
 import shutil
 import sys
 import tempfile
@@ -73,6 +74,16 @@ def _carry_over(old: Path, new: Path, carry: Callable[[Path], bool]) -> None:
             _link_or_copy(str(entry), str(new / entry.name))
 
 
+def _remove_leftovers(path: Path) -> None:
+    """Delete the hidden temporary folders a killed ``atomic_folder(path)`` left beside it
+    (``.NAME.XXXXXXXX`` and ``.NAME.old.XXXXXXXX``, as ``tempfile.mkdtemp`` names them; a
+    folder of another name, or of another output's, is never matched)."""
+    pattern = re.compile(rf"\.{re.escape(path.name)}\.(old\.)?[a-z0-9_]{{8}}")
+    for entry in path.parent.iterdir():
+        if pattern.fullmatch(entry.name) and entry.is_dir() and not entry.is_symlink():
+            shutil.rmtree(entry, ignore_errors=True)
+
+
 @contextmanager
 def atomic_folder(path: Path, carry: Callable[[Path], bool] | None = None) -> Iterator[Path]:
     """A temporary folder beside ``path`` to fill; on success it replaces ``path``.
@@ -81,10 +92,12 @@ def atomic_folder(path: Path, carry: Callable[[Path], bool] | None = None) -> It
     links), unless the new folder has one of that name. The swap is one step where the system
     offers it (Linux); elsewhere the old folder is moved aside and removed after the new one
     is in place. On an exception the temporary folder is removed and ``path`` is left as it
-    was. A kill leaves at most a hidden temporary folder beside ``path``.
+    was. A kill leaves at most a hidden temporary folder beside ``path``, which the next
+    write of ``path`` removes.
     """
     path = check_output_folder(Path(path)).absolute()
     _make_parent(path)
+    _remove_leftovers(path)
     tmp = Path(tempfile.mkdtemp(prefix=f".{path.name}.", dir=path.parent))
     try:
         yield tmp

@@ -89,6 +89,19 @@ def test_failed_folder_write_leaves_the_old_folder(tmp_path):
     assert [p.name for p in tmp_path.iterdir()] == ["out"]
 
 
+def test_the_next_write_removes_what_a_killed_one_left_and_nothing_else(tmp_path):
+    """A kill leaves hidden temporary folders beside the output (the new one, or the old
+    one moved aside); the next write of that output removes them, but not another output's
+    (``out.b``'s) nor a folder of another name."""
+    for name in (".out.k3j_x9q2", ".out.old.a1b2c3d4", ".out.b.k3j_x9q2", ".out.notes",
+                 "out.b"):
+        (tmp_path / name).mkdir()
+    with atomic_folder(tmp_path / "out") as tmp:
+        (tmp / "new.txt").write_text("new")
+    assert sorted(p.name for p in tmp_path.iterdir()) == [".out.b.k3j_x9q2", ".out.notes",
+                                                          "out", "out.b"]
+
+
 def test_outputs_under_a_file_or_onto_a_folder_are_input_errors(tmp_path):
     """A file path that is a folder, or any path under a file, is refused naming it."""
     blocker = tmp_path / "blocker"
