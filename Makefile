@@ -29,6 +29,7 @@ screenshot: $(STAMP)
 	  $(VENV)/bin/dolphinfit --threads $(THREADS) gui --sample --screenshot docs/app.png
 
 test: $(STAMP)
+	$(VENV)/bin/lint-imports
 	OMP_NUM_THREADS=1 DOLPHINFIT_THREADS=1 $(PY) -m pytest -q -n $(TEST_WORKERS) --durations=25
 
 clean-venv:

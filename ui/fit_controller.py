@@ -24,12 +24,12 @@ from core.progress import Progress
 from core.project.fit_overlay import silhouette_outlines
 from core.project.fit_playback import posed_at
 from core.measure.hw_ratios import write_hw_csv
+from core.project.comparison_view import ComparisonView, comparison_view
 from core.project.fit_settings import FitSettings, fit_dir, hw_table_path
 from core.project.model import Animal, with_animal
 from core.project.project_file import media_path, relative_media_path
 from core.project.results import FrameResult, frame_altitude, project_fit_config
 from ui.commands import push_edit
-from ui.comparison_job import ComparisonView, comparison_view
 from ui.fit_panel import FitPanel
 from ui.fit_worker import FitJob, FitWorker
 from ui.lazy_widget import LazyWidget

@@ -1,5 +1,5 @@
-"""What the comparison panel and the 3D viewer show of both methods, computed off the GUI
-thread: the rows of core.project.comparison, the fitted model's station widths and heights
+"""What the comparison panel and the 3D viewer show of both methods (the app computes it off the
+GUI thread): the rows of core.project.comparison, the fitted model's station widths and heights
 beside the measured and HW-ratio ones, and the elliptical model as a solid."""
 
 from dataclasses import dataclass
