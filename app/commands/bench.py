@@ -71,7 +71,7 @@ from core.bench.batch_bench import bench_batch
 from core.bench.fit_bench import DEFAULT_VARIANTS, VARIANTS, bench_speed, bench_suite
 from core.bench.mask_bench import DEFAULT_STRIDE, SEED_KINDS, bench_masks
 from core.bench.render_bench import RenderBench, bench_render, bench_to_json
-from core.bench.scenario import ensure_scenario
+from core.bench.scenario import Scenario, ensure_scenario
 from core.bench.suites import (
     DEFAULT_FRAME_SIZE, DEFAULT_SHAPES, DEFAULT_SPLIT, FRAME_SIZES, SHAPES, SPLITS, SUITE,
     scenarios, scenarios_named,
@@ -187,7 +187,7 @@ def _add_split_argument(parser: argparse.ArgumentParser) -> None:
                         help="the tuning split (default) or the held-out one, never tuned on")
 
 
-def _first_clips(args: argparse.Namespace):
+def _first_clips(args: argparse.Namespace) -> tuple[Scenario, ...]:
     """The first --clips scenarios of the chosen split."""
     return scenarios(args.shapes, args.frame_size, args.split)[:count(args.clips, 1, "--clips")]
 

@@ -52,7 +52,7 @@ class Variant:
 
     backend: str | None   # the mask back-end; None for the clip's true masks
     options: dict         # fit options over the defaults
-    seed: str = CLICK     # how the back-end starts (core.bench.mask_bench.SEED_KINDS)
+    seed: str = CLICK     # how the back-end starts: CLICK on the target, or the AUTO seed
 
 
 VARIANTS: dict[str, Variant] = {

@@ -1,4 +1,6 @@
-"""The widened synthetic suite: clips where what fails on real water fails first.
+"""The widened synthetic suite: clips where what fails on real water fails first. This is
+the tuning split, where settings are chosen; ``core.bench.held_out`` holds the split that
+nothing is tuned on (``scenarios(split="held-out")``).
 
 Twelve named scenarios at 1920×1080, 3 s, 10 fps (shape SD 0.05, lengths 2.0–2.7 m,
 altitudes 15–25 m), each with every effect the fit does not model on (finer mesh, profile

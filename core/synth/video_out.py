@@ -1,9 +1,11 @@
 """A synthetic clip's video file: FFV1 (lossless) or mp4v through OpenCV, or H.264 through
 PyAV's libx264 at a drone's bit rate (OpenCV's wheels cannot encode H.264)."""
 
+from fractions import Fraction
 from pathlib import Path
 from typing import Protocol
 
+import av
 import cv2
 import numpy as np
 
@@ -38,8 +40,6 @@ class _OpenCVWriter:
 
 class _H264Writer:
     def __init__(self, path: Path, config: SynthConfig):
-        import av     # only rendering H.264 needs it
-        from fractions import Fraction
         self.container = av.open(str(path), mode="w")
         self.stream = self.container.add_stream(
             "libx264", rate=Fraction(config.fps).limit_denominator(1001),
@@ -47,10 +47,9 @@ class _H264Writer:
         self.stream.width, self.stream.height = config.width_px, config.height_px
         self.stream.pix_fmt = "yuv420p"
         self.stream.bit_rate = int(config.bitrate_mbps * 1e6)
-        self.frame_type = av.VideoFrame
 
     def write(self, frame: np.ndarray) -> None:
-        picture = self.frame_type.from_ndarray(np.ascontiguousarray(frame), format="bgr24")
+        picture = av.VideoFrame.from_ndarray(np.ascontiguousarray(frame), format="bgr24")
         for packet in self.stream.encode(picture):
             self.container.mux(packet)
 
