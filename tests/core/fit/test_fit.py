@@ -12,7 +12,7 @@ import torch
 
 from app.cli import main
 from core.errors import InputError
-from core.fit import engine
+from core.fit import losses
 from core.fit.config import FitConfig
 from core.fit.data import prepare_data
 from core.fit.engine import fit
@@ -189,7 +189,7 @@ def test_cancel_while_preparing_raises(clip_dir):
 
 def test_diverging_fit_keeps_its_best_state(clip_dir, monkeypatch):
     """A non-finite loss ends the fit with finite, best-so-far values and status "diverged"."""
-    real = engine.losses.soft_iou_loss
+    real = losses.soft_iou_loss
     calls = {"n": 0}
 
     def poisoned(soft, target):
@@ -197,7 +197,7 @@ def test_diverging_fit_keeps_its_best_state(clip_dir, monkeypatch):
         value = real(soft, target)
         return value * torch.nan if calls["n"] > 6 else value
 
-    monkeypatch.setattr(engine.losses, "soft_iou_loss", poisoned)
+    monkeypatch.setattr(losses, "soft_iou_loss", poisoned)
     result = fit(_data(clip_dir), QUICK)
     assert result.status == "diverged" and "non-finite" in result.status_message
     assert np.isfinite(result.volume_m3) and np.isfinite(result.transl).all()

@@ -6,10 +6,11 @@ import numpy as np
 import pytest
 import torch
 
-from core.fit import engine
+from core.fit import objective, scene, schedule
 from core.fit.config import FitConfig, LossWeights
 from core.fit.data import downscaled
-from core.fit.engine import equal_chunks, evenly_spaced, fit
+from core.fit.engine import fit
+from core.fit.objective import equal_chunks, evenly_spaced
 from core.fit.init import initial_state, silhouette_centroid_offset
 from core.fit.reporter import FitReporter
 from core.model.model import DolphinModel
@@ -62,13 +63,13 @@ def test_heading_and_shape_render_subsets_and_the_shape_ends_on_all(
                      shape_iou_margin=1.0, coarse_factor=coarse_factor, coarse_steps=3)
     data = _data(clip_dir, config)
     seen = []
-    original = engine._Problem.step_loss
+    original = objective.FitProblem.step_loss
 
     def record(problem, params, pyramid_weight, leaves, colour_geometry):
         seen.append((problem.num_used, problem.data.viewport.width_px, colour_geometry))
         return original(problem, params, pyramid_weight, leaves, colour_geometry)
 
-    monkeypatch.setattr(engine._Problem, "step_loss", record)
+    monkeypatch.setattr(objective.FitProblem, "step_loss", record)
     result = fit(data, config)
     stages = [h["stage"] for h in result.loss_history]
     native, coarse = data.viewport.width_px, data.viewport.width_px // coarse_factor
@@ -98,7 +99,7 @@ def test_new_work_options_are_validated():
     ("none", (False, False, False))])
 def test_colour_geometry_names_the_stages_where_colour_moves_the_geometry(choice, moves):
     config = FitConfig(colour_geometry=choice)
-    assert tuple(config.colour_moves_geometry(s) for s in engine.STAGES) == moves
+    assert tuple(config.colour_moves_geometry(s) for s in schedule.STAGES) == moves
 
 
 def test_colour_term_kept_off_the_geometry_fits_only_the_appearance(clip_dir):
@@ -109,13 +110,13 @@ def test_colour_term_kept_off_the_geometry_fits_only_the_appearance(clip_dir):
     template = load_template()
     model = DolphinModel(template)
     state = initial_state(data, model, 0.15)
-    params = engine._initial_params(data, model, template, FitConfig(), state.heading_rad,
+    params = scene.initial_params(data, model, template, FitConfig(), state.heading_rad,
                                     state, silhouette_centroid_offset(model))
     leaves = [params.betas, params.albedo, params.f_water, params.light_amplitude]
     chunk = torch.tensor([0, 2, 4])
 
     def gradients(config, colour_geometry):
-        problem = engine._Problem(data, model, template, config, FitReporter(1, None), None)
+        problem = objective.FitProblem(data, model, template, config, FitReporter(1, None), None)
         verts = problem.posed_verts(params, chunk).detach()
         _, vert_grad, grads, _ = problem.chunk_loss(params, chunk, verts, 2.0, leaves,
                                                     colour_geometry)
@@ -140,9 +141,9 @@ def test_colour_loss_at_covered_pixels_equals_the_whole_image_formula(clip_dir):
     config = FitConfig()
     template = load_template()
     model = DolphinModel(template)
-    problem = engine._Problem(data, model, template, config, FitReporter(1, None), None)
+    problem = objective.FitProblem(data, model, template, config, FitReporter(1, None), None)
     state = initial_state(data, model, config.init_depth_m)
-    params = engine._initial_params(data, model, template, config, state.heading_rad, state,
+    params = scene.initial_params(data, model, template, config, state.heading_rad, state,
                                     silhouette_centroid_offset(model))
     chunk = torch.tensor([3, 0, 5])
     with torch.no_grad():
