@@ -37,7 +37,8 @@ def make_segmenter(backend: str = DEFAULT_BACKEND, only_frames: Sequence[int] | 
     frames (the colour tracker is cheap enough to run on every frame and ignores it).
     ``checkpoint``: SAM-2's checkpoint file, required for it (the others ignore it)."""
     if backend in (NETWORK, NETWORK_COLOUR_EDGES):
-        from core.segment.net_tracker import NetSettings, NetTracker
+        from core.segment.net_settings import NetSettings
+        from core.segment.net_tracker import NetTracker
         edges = "network" if backend == NETWORK else "colour"
         return NetTracker(NetSettings(edges=edges), only_frames=only_frames)
     if backend == COLOUR:

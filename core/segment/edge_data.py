@@ -20,12 +20,12 @@ from core.io.atomic import atomic_path
 from core.io.masks import read_png_folder
 from core.io.video import VideoReader, open_clip
 from core.measure.hw_ratios import DEFAULT_PRESET
-from core.segment.net_tracker import (
-    NetSettings, NetTracker, longer_side, square_window, window_side,
-)
+from core.segment.net_settings import NetSettings
+from core.segment.net_tracker import NetTracker
 from core.segment.regions import centroid, shifted
 from core.segment.salient import SalientNet
 from core.segment.seed import dilate
+from core.segment.windows import longer_side, square_window, window_side
 from core.synth.config import Effects, SynthConfig
 from core.synth.files import ClipFiles
 from core.synth.sample import ensure_clip

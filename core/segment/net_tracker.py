@@ -53,7 +53,6 @@ frame's size.
 import threading
 from collections.abc import Sequence
 from dataclasses import dataclass, field
-from typing import Protocol
 
 import cv2
 import numpy as np
@@ -61,13 +60,14 @@ import numpy as np
 from core.errors import InputError
 from core.io.masks import MaskTrack
 from core.iou import mask_iou
-from core.limits import one_of
 from core.progress import Progress, ProgressCallback, check_cancel
 from core.segment.auto_seed import (
-    PAIR_MAX_ELONGATION, Candidate, cut_by_window, describe, find_animals, is_animal_shaped,
-    is_lone, scan_order,
+    Candidate, cut_by_window, describe, find_animals, is_animal_shaped, is_lone, scan_order,
 )
-from core.segment.colour import ColourModel, coverage, separation, to_lab
+from core.segment.bodies import dolphin_unlikeness, nearer_to, own_body
+from core.segment.colour import ColourModel, separation
+from core.segment.edge_steps import EdgeStep, make_edge_step
+from core.segment.net_settings import PAIR_AREA_RATIO, NetSettings
 from core.segment.regions import (
     MaskCrop,
     attached,
@@ -77,14 +77,7 @@ from core.segment.regions import (
     shifted,
 )
 from core.segment.salient import SalientNet
-from core.segment.seed import (
-    POINT_SEARCH_FRACTION,
-    colour_models,
-    dilate,
-    erode,
-    seed_mask,
-    shape_of,
-)
+from core.segment.seed import POINT_SEARCH_FRACTION, dilate, seed_mask, shape_of
 from core.segment.segmenter import (
     TRACK_STAGE,
     AutoSeed,
@@ -94,56 +87,18 @@ from core.segment.segmenter import (
     Seed,
 )
 from core.segment.tracker import TrackerSettings, colour_follow
+from core.segment.windows import MIN_WINDOW_PX, faded, longer_side, square_window, window_side
 from core.segment.working_scale import (
     ScaledFrames, downscaled, resized, scaled_seed, scaled_size, upscaled,
 )
 
 BACKEND_NAME = "network (U²-Net small)"
-EDGE_STEPS = ("network", "colour")
 COLOUR_SETTINGS = TrackerSettings()  # the colour tracker's, for frames the network misses
-MAX_CROP_COVER = 0.5  # a mask over more of its crop than this leaves no water to model
-MIN_WINDOW_PX = 48    # smallest window: the colour models need a ring of water around
-CORE_LEVELS = (0.9, 0.99, 0.999)  # stricter probability levels where touching bodies part
-MIN_CORE_SHARE = 0.25  # a second core this large (× the largest) is a second animal
-DOLPHIN_ELONGATION = 5.0  # a lone dolphin's moment elongation: 4.2–6.1 on the bench suite
-PAIR_AREA_RATIO = 1.6      # or when it is this much larger than the animal was
 KEPT_SHARE = 0.85          # the automatic seed's redraw keeps this much of what it found
 AUTO_SEED_FRAMES = 12      # frames the automatic seed looks at before it gives up
 WHOLE_SHARE = 0.8          # the whole frame's component must hold this much of a click's pick
 SCALE_ROUNDS = 3           # looks at a large animal, each at the scale the last one asked for
 SCALE_MARGIN = 0.9         # the working scale leaves the animal this much under the limit
-
-
-@dataclass(frozen=True)
-class NetSettings:
-    """Tuning of the network tracker (defaults measured with ``dolphinfit bench masks``)."""
-
-    context: float = 0.5             # crop margin on each side, × the mask's longer side
-    threshold: float = 0.5           # saliency from which a pixel is animal
-    near_fraction: float = 0.12      # kept within this × longer side of the prediction
-    min_near_px: int = 6
-    gap_px: int = 2                  # parts this close to the body belong to it
-    band_px: int = 3                 # outline band re-decided by colour
-    smoothing_sigma_px: float = 0.8  # Gaussian smoothing of the coverage map
-    min_separation: float = 2.0      # colour separation (pooled SDs) needed for the edge step
-    model_rate: float = 0.2          # running update of the reference area
-    lost_area_ratio: float = 0.4
-    lost_separation_ratio: float = 0.5
-    reacquire_area_range: tuple[float, float] = (0.5, 2.0)
-    search_growth: float = 1.6       # the window's growth per step while lost
-    first_window_fraction: float = 0.3   # a click's first window, × the frame's shorter side
-    seed_rounds: int = 3             # re-windowings around the clicked animal
-    # the automatic seed's tiles, × the frame's shorter side: in a whole-height tile a 2 m
-    # animal from 25 m (grey_green_high) was too small for the network to see
-    tile_fraction: float = 0.5
-    focus_fraction: float = 0.25     # faded out beyond this × its length from its prediction
-    fade_fraction: float = 0.15      # over this × its length
-    follow_iou: float = 0.8          # below this overlap with its prediction, look again
-    max_area_ratio: float = PAIR_AREA_RATIO  # larger than this × its area: merged with another
-    edges: str = "network"           # the outline step (module doc, step 3): EDGE_STEPS
-    # longer than this, the animal is tracked downscaled (``working_scale``): the bench
-    # suite's dolphins are 100–500 px long at 1080p and 4K, a whale near the drone thousands
-    max_length_px: int = 640
 
 
 @dataclass
@@ -159,151 +114,6 @@ class _State:
     velocity_px: np.ndarray = field(default_factory=lambda: np.zeros(2))
     moving: bool = False               # whether velocity_px was measured
     lost_steps: int = 0
-
-
-def square_window(center_xy: np.ndarray, side_px: float, height_px: int,
-                  width_px: int) -> tuple[slice, slice]:
-    """A square of ``side_px`` centred on ``center_xy``, moved to lie inside the frame; cut
-    to the frame's height or width where it is larger (an animal longer than the frame is
-    high still fits along it)."""
-    rows, cols = (int(min(round(side_px), limit)) for limit in (height_px, width_px))
-    col0 = int(np.clip(round(center_xy[0] - cols / 2), 0, width_px - cols))
-    row0 = int(np.clip(round(center_xy[1] - rows / 2), 0, height_px - rows))
-    return slice(row0, row0 + rows), slice(col0, col0 + cols)
-
-
-def longer_side(mask: np.ndarray) -> int:
-    """The longer side of a non-empty mask's bounding box, pixels."""
-    _, _, width, height = cv2.boundingRect(mask.astype(np.uint8))
-    return max(width, height)
-
-
-def window_side(length_px: float, settings: NetSettings, growth: float = 1.0) -> float:
-    """The side of the square window around an animal ``length_px`` long (module doc,
-    step 1), ``growth`` × the usual."""
-    return max(MIN_WINDOW_PX, length_px * (1.0 + 2.0 * settings.context) * growth)
-
-
-class EdgeStep(Protocol):
-    """The outline step (module doc, step 3): the animal that ``mask`` (the component chosen
-    from the saliency) marks in the window, outlined again."""
-
-    name: str
-
-    def __call__(self, crop_rgb: np.ndarray, saliency: np.ndarray,
-                 mask: np.ndarray) -> np.ndarray: ...
-
-
-class ColourEdges:
-    """The outline by colour coverage near the network's edge (``refine_edges``)."""
-
-    name = "colour edges"
-
-    def __init__(self, settings: NetSettings) -> None:
-        self.settings = settings
-
-    def __call__(self, crop_rgb: np.ndarray, saliency: np.ndarray,
-                 mask: np.ndarray) -> np.ndarray:
-        return refine_edges(crop_rgb, mask, self.settings)
-
-
-def make_edge_step(settings: NetSettings) -> EdgeStep:
-    """The outline step that ``settings.edges`` names."""
-    one_of(settings.edges, EDGE_STEPS, "network tracker edges")
-    if settings.edges == "colour":
-        return ColourEdges(settings)
-    from core.segment.edge_net import LearnedEdges
-    return LearnedEdges(gap_px=settings.gap_px)
-
-
-def refine_edges(crop_rgb: np.ndarray, mask: np.ndarray, settings: NetSettings) -> np.ndarray:
-    """``mask`` with the pixels within ``band_px`` of its outline re-decided by colour
-    coverage ≥ 0.5 (module doc, step 3); unchanged where the colours do not separate."""
-    if (settings.band_px <= 0 or min(mask.shape) < MIN_WINDOW_PX or not mask.any()
-            or mask.mean() > MAX_CROP_COVER):
-        return mask
-    lab = to_lab(crop_rgb)
-    animal, water = colour_models(lab, mask)
-    if separation(animal, water) < settings.min_separation:
-        return mask
-    inner = erode(mask, settings.band_px)
-    band = dilate(mask, settings.band_px) & ~inner
-    cover = cv2.GaussianBlur(coverage(lab, animal, water), (0, 0), settings.smoothing_sigma_px)
-    decided = inner | (band & (cover >= 0.5))
-    return attached(decided, mask, 1)
-
-
-def faded(crop_rgb: np.ndarray, keep: np.ndarray, width_px: float) -> np.ndarray:
-    """The crop with what lies outside ``keep`` blended into the median colour there, over
-    ``width_px`` from its edge. A hard-edged flat fill would itself draw the network: on
-    textured water (sand, seagrass) the untouched island around the animal became the salient
-    object (mean IoU 0.71 against 0.87 for a fade over 0.15 of the animal's length, on windows
-    around the true masks of the suite)."""
-    if keep.all():
-        return crop_rgb
-    distance = cv2.distanceTransform((~keep).astype(np.uint8), cv2.DIST_L2, 3)
-    weight = np.clip(distance / max(width_px, 1.0), 0.0, 1.0)[..., None]
-    median = np.median(crop_rgb[~keep], axis=0)
-    return (crop_rgb * (1.0 - weight) + median * weight).astype(crop_rgb.dtype)
-
-
-def nearer_to(region: np.ndarray, own: np.ndarray, other: np.ndarray) -> np.ndarray:
-    """The pixels of ``region`` at least as close to ``own`` as to ``other`` (both non-empty
-    bool masks): a Voronoi split of two touching animals between what is known of each."""
-    to_own = cv2.distanceTransform((~own).astype(np.uint8), cv2.DIST_L2, 3)
-    to_other = cv2.distanceTransform((~other).astype(np.uint8), cv2.DIST_L2, 3)
-    return region & (to_own <= to_other)
-
-
-def dolphin_unlikeness(mask: np.ndarray) -> float:
-    """How far a mask's elongation is from a lone dolphin's seen from above (|log| of the
-    ratio to ``DOLPHIN_ELONGATION``); infinite for an empty mask."""
-    elongation = shape_of(mask)[1]
-    return abs(float(np.log(elongation / DOLPHIN_ELONGATION))) if elongation > 0 else np.inf
-
-
-def own_body(component: np.ndarray, hint: np.ndarray, saliency: np.ndarray,
-             expected_area_px: float | None = None) -> np.ndarray:
-    """The body that ``hint`` (a click, an earlier mask) marks when ``component`` holds
-    several touching animals.
-
-    A lone dolphin seen from above is long and thin (moment elongation 4.2–6.1 on the bench
-    suite, turns included); two side by side are not, or are larger than one. Only such a
-    component is split. Between two touching animals the network's probability dips: at a
-    stricter level the component falls apart into one core per body (a second core at least
-    ``MIN_CORE_SHARE`` of the largest; a dolphin's flukes or flippers are smaller). The hinted
-    body's core is the one the hint covers most (else the one nearest to it), and each pixel
-    goes to the nearest core. One core at every level: the component."""
-    area, elongation, _ = shape_of(component)
-    larger = expected_area_px is not None and area > PAIR_AREA_RATIO * expected_area_px
-    if elongation >= PAIR_MAX_ELONGATION and not larger:
-        return component
-    for level in CORE_LEVELS:
-        count, cores, stats, _ = cv2.connectedComponentsWithStats(
-            (component & (saliency >= level)).astype(np.uint8), connectivity=8)
-        if count < 3:
-            continue
-        areas = stats[1:, cv2.CC_STAT_AREA]
-        bodies = 1 + np.flatnonzero(areas >= MIN_CORE_SHARE * areas.max())
-        if len(bodies) >= 2:
-            return _split(component, hint, cores, bodies)
-    return component
-
-
-def _split(component: np.ndarray, hint: np.ndarray, cores: np.ndarray,
-           bodies: np.ndarray) -> np.ndarray:
-    """``own_body``'s split once the cores of the bodies are known."""
-    body_cores = np.isin(cores, bodies)
-    covered = np.bincount(cores[hint & body_cores], minlength=cores.max() + 1)
-    if covered.any():
-        label = int(np.argmax(covered))
-    else:
-        core_rows, core_cols = np.nonzero(body_cores)
-        hint_row, hint_col = np.argwhere(hint).mean(axis=0)
-        nearest = np.argmin(np.hypot(core_rows - hint_row, core_cols - hint_col))
-        label = cores[core_rows[nearest], core_cols[nearest]]
-    own = cores == label
-    return attached(nearer_to(component, own, body_cores & ~own), own, 1)
 
 
 class NetTracker:

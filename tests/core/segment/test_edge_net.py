@@ -20,7 +20,8 @@ from core.segment.edge_net import (
 from core.segment.edge_training import (
     PRIOR_CUT_KEEP, TrainSettings, cut_prior, loss_of, train, training_patch,
 )
-from core.segment.net_tracker import ColourEdges, NetSettings, make_edge_step
+from core.segment.edge_steps import ColourEdges, make_edge_step
+from core.segment.net_settings import NetSettings
 from core.segment.salient import SalientNet
 from core.synth.clip import make_clip
 from core.synth.config import SynthConfig

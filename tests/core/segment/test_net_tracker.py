@@ -20,7 +20,8 @@ from core.progress import Cancelled
 from core.segment.backends import make_segmenter
 from core.segment.colour import separation
 from core.segment.evaluate import box_seed_from
-from core.segment.net_tracker import BACKEND_NAME, NetTracker, _State, faded, square_window
+from core.segment.net_tracker import BACKEND_NAME, NetTracker, _State
+from core.segment.windows import faded, square_window
 from core.segment.regions import models_near
 from core.segment.salient import SalientNet
 from core.segment.segmenter import AutoSeed, PointSeed
