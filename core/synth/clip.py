@@ -88,6 +88,7 @@ def make_clip(config: SynthConfig, out_dir: Path, progress: ProgressCallback | N
     files = clip_files(out_dir, config)
     files.masks_dir.mkdir(parents=True, exist_ok=True)
     writer = open_clip_writer(files.video, config)
+    delivered = (config.width_px, config.height_px)
     visible = []
     seeds: list[list[int] | None] = []
     packed: dict[str, list[np.ndarray]] = {name: [] for name in PART_NAMES}
@@ -109,7 +110,6 @@ def make_clip(config: SynthConfig, out_dir: Path, progress: ProgressCallback | N
             glints = sea_frame.glints if config.effects.glints else np.zeros_like(sea_frame.glints)
             if sea_frame.glitter is not None:
                 glints = glints + sea_frame.glitter
-            delivered = (config.width_px, config.height_px)
             writer.write(_downscaled(finish(frame, glints, config.blur_px, config.noise_sd,
                                             noise_rng), delivered))
             fine_mask = layer_mask(layer if is_visible else None, scene.height_px,
@@ -209,7 +209,7 @@ def _downscaled(image: np.ndarray, size: tuple[int, int]) -> np.ndarray:
 
 def _downscaled_mask(mask: np.ndarray, size: tuple[int, int]) -> np.ndarray:
     """(H, W) uint8 mask at ``size``: 255 where the fine mask covers at least half a pixel."""
-    coverage = _downscaled(mask.astype(np.uint8) * (255 // max(int(mask.max()), 1)), size)
+    coverage = _downscaled(np.where(mask > 0, 255, 0).astype(np.uint8), size)
     return np.where(coverage >= 128, 255, 0).astype(np.uint8)
 
 
