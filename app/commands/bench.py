@@ -81,6 +81,7 @@ from core.errors import InputError
 from core.limits import count, one_of
 from core.segment.backends import ALWAYS_AVAILABLE, BACKENDS, make_segmenter
 
+CLIP_WIDTH = 21   # the longest clip name of the splits (slender_pair_touching)
 # The floor of the app's start-up: Python, PySide6 and one empty window shown, then quit
 EMPTY_WINDOW = ("from PySide6.QtCore import QTimer\n"
                 "from PySide6.QtWidgets import QApplication, QMainWindow\n"
@@ -223,14 +224,14 @@ def format_app(figures: dict) -> str:
 
 
 def _print_score(score) -> None:
-    print(f"{score.clip:16s} {score.variant:14s} volume {100 * score.volume_error:+6.2f} %  "
-          f"length {100 * score.length_error:+6.2f} %  IoU {score.mean_iou:.3f}  "
-          f"{score.seconds:.0f} s", file=sys.stderr, flush=True)
+    print(f"{score.clip:{CLIP_WIDTH}s} {score.variant:14s} volume "
+          f"{100 * score.volume_error:+6.2f} %  length {100 * score.length_error:+6.2f} %  "
+          f"IoU {score.mean_iou:.3f}  {score.seconds:.0f} s", file=sys.stderr, flush=True)
 
 
 def _print_mask_score(score) -> None:
     others = "".join(f"  {kind} IoU {s.mean_iou:.3f}" for kind, s in score.seeds.items())
-    print(f"{score.clip:16s} {score.backend:20s} IoU {score.mean_iou:.3f}  flukes "
+    print(f"{score.clip:{CLIP_WIDTH}s} {score.backend:20s} IoU {score.mean_iou:.3f}  flukes "
           f"{score.flukes_iou:.3f}  rostrum {score.rostrum_iou:.3f}  outline "
           f"{score.outline_offset_px:+.2f} px  {score.seconds_per_frame:.2f} s/frame{others} "
           f"{score.error}", file=sys.stderr, flush=True)
@@ -240,12 +241,12 @@ def format_masks(figures: dict) -> str:
     """Per-clip IoUs and outline offsets and the summary per back-end, from the click and from
     the other seeds (IoU, flukes, rostrum IoU of each)."""
     kinds = list(figures["clips"][0]["seeds"])
-    lines = ["clip             back-end              IoU    min    flukes rostrum outline px "
-             "s/frame"
+    lines = [f"{'clip':{CLIP_WIDTH}s} back-end              IoU    min    flukes rostrum "
+             "outline px s/frame"
              + "".join(f"  {kind:>5s}: IoU  fl    ro" for kind in kinds)]
     for c in figures["clips"]:
         errors = [c["error"]] + [c["seeds"][kind]["error"] for kind in kinds]
-        lines.append(f"{c['clip']:16s} {c['backend']:20s}  {c['mean_iou']:.3f}  "
+        lines.append(f"{c['clip']:{CLIP_WIDTH}s} {c['backend']:20s}  {c['mean_iou']:.3f}  "
                      f"{c['min_iou']:.3f}  {c['flukes_iou']:.3f}  {c['rostrum_iou']:.3f}   "
                      f"{c['outline_offset_px']:+6.2f}     {c['seconds_per_frame']:.2f}"
                      + "".join(f"        {_ious(c['seeds'][kind])}" for kind in kinds)
@@ -268,10 +269,11 @@ def _ious(score: dict) -> str:
 
 def format_suite(figures: dict) -> str:
     """Per-clip errors and the summary per variant."""
-    lines = ["clip             variant         volume    (floor)    (95 % interval)     length"
-             "    mass      IoU   min IoU frames  s"]
+    lines = [f"{'clip':{CLIP_WIDTH}s} variant         volume    (floor)    (95 % interval)     "
+             "length    mass      IoU   min IoU frames  s"]
     for c in figures["clips"]:
-        lines.append(f"{c['clip']:16s} {c['variant']:14s} {100 * c['volume_error']:+6.2f} %  "
+        lines.append(f"{c['clip']:{CLIP_WIDTH}s} {c['variant']:14s} "
+                     f"{100 * c['volume_error']:+6.2f} %  "
                      f"({100 * c['hidden_height_floor']:+6.2f} %)  "
                      f"({100 * c['volume_low_error']:+5.1f} … "
                      f"{100 * c['volume_high_error']:+5.1f} %)  "

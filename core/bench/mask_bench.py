@@ -18,7 +18,8 @@ is scored on those frames:
   building its model from the checkpoint, once per clip).
 
 The same scores from the other ways a user starts (``SEED_KINDS``): the automatic seed in
-that frame, and a box: the bounding box of the true mask there, as a user would draw it.
+that frame (sized by the clip's camera and altitudes, as ``dolphinfit fit`` sizes it), and a
+box: the bounding box of the true mask there, as a user would draw it.
 """
 
 import time
@@ -28,15 +29,18 @@ from pathlib import Path
 import numpy as np
 
 from core.errors import InputError
+from core.fit.pipeline import CameraChoice, sized_auto_seed
 from core.io.json_file import read_json
 from core.io.masks import MaskTrack, read_png_folder
-from core.io.video import VideoReader, open_clip
+from core.io.telemetry import load_telemetry
+from core.io.video import Clip, VideoReader, open_clip
 from core.iou import mask_iou
 from core.limits import one_of
 from core.segment.backends import ALWAYS_AVAILABLE, COLOUR, make_segmenter
 from core.segment.evaluate import box_seed_from, outline_offset_px
 from core.segment.seed import dilate
 from core.segment.segmenter import AutoSeed, PointSeed, Seed
+from core.synth.config import SynthConfig
 from core.synth.files import ClipFiles, read_part_masks
 
 PART_ZONE_PX = 4
@@ -86,10 +90,19 @@ def click_seed(files: ClipFiles) -> PointSeed:
     raise ValueError(f"{files.truth_json}: the target is never visible")
 
 
-def seed_of(kind: str, click: PointSeed, truth: MaskTrack) -> Seed:
-    """The seed of ``kind`` (``SEED_KINDS``) in the click's frame."""
+def auto_seed(files: ClipFiles, clip: Clip, frame_idx: int) -> AutoSeed:
+    """The automatic seed as ``dolphinfit fit`` makes it: sized by the clip's camera and
+    altitudes."""
+    config = SynthConfig.from_json(read_json(files.truth_json, "the clip's truth")["config"])
+    camera = CameraChoice(sensor_width_mm=config.sensor_width_mm, focal_mm=config.focal_mm)
+    return sized_auto_seed(frame_idx, camera.intrinsics(clip), load_telemetry(clip, files.srt))
+
+
+def seed_of(kind: str, click: PointSeed, truth: MaskTrack, auto: AutoSeed) -> Seed:
+    """The seed of ``kind`` (``SEED_KINDS``) in the click's frame; ``auto``: the automatic
+    one."""
     if kind == AUTO:
-        return AutoSeed(click.frame_idx)
+        return auto
     if kind == BOX:
         return box_seed_from(truth, click.frame_idx)
     return click
@@ -110,6 +123,7 @@ def score_backend(name: str, files: ClipFiles, backend: str, stride: int = DEFAU
     truth = read_png_folder(files.masks_dir, clip)
     parts = read_part_masks(files.parts)
     click = click_seed(files)
+    auto = auto_seed(files, clip, click.frame_idx)
     scored = sorted(set(range(click.frame_idx % stride, clip.num_frames, stride)))
     segmented = clip.num_frames if backend == COLOUR else len(scored)
     by_kind = {}
@@ -119,7 +133,7 @@ def score_backend(name: str, files: ClipFiles, backend: str, stride: int = DEFAU
         with VideoReader(clip) as frames:
             start = time.perf_counter()
             try:
-                track = segmenter.segment(frames, seed_of(kind, click, truth))
+                track = segmenter.segment(frames, seed_of(kind, click, truth, auto))
             except InputError as exc:  # the seed found nothing: every frame scores as empty
                 track, error = None, str(exc)
             seconds = time.perf_counter() - start

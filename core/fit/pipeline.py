@@ -8,7 +8,7 @@ raises core.progress.Cancelled.
 """
 
 import threading
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -93,6 +93,14 @@ def expected_length_px(focal_px: float, altitudes_m: np.ndarray,
     return length_m[0] * focal_px / valid.max(), length_m[1] * focal_px / valid.min()
 
 
+def sized_auto_seed(frame_idx: int, intrinsics: CameraIntrinsics,
+                    telemetry: Telemetry) -> AutoSeed:
+    """The automatic seed in ``frame_idx`` looking for an animal ``DOLPHIN_LENGTH_M`` long at
+    the clip's altitudes (``expected_length_px``)."""
+    return AutoSeed(frame_idx, expected_length_px(intrinsics.focal_px, telemetry.altitude_m,
+                                                  DOLPHIN_LENGTH_M))
+
+
 def run_fit(clip_path: Path, altitude: str | Path | float | None, masks_path: Path | None,
             camera: CameraChoice, config: FitConfig, launch_height_m: float = 0.0,
             progress: ProgressCallback | None = None,
@@ -114,8 +122,7 @@ def run_fit(clip_path: Path, altitude: str | Path | float | None, masks_path: Pa
             fit_frames = frame_range(clip, config.start_s, config.end_s,
                                      step_for_fps(clip, config.fps))
             if isinstance(seed, AutoSeed) and seed.length_px is None:
-                seed = replace(seed, length_px=expected_length_px(
-                    intrinsics.focal_px, telemetry.altitude_m, DOLPHIN_LENGTH_M))
+                seed = sized_auto_seed(seed.frame_idx, intrinsics, telemetry)
             masks = make_segmenter(backend, only_frames=fit_frames).segment(
                 frames, seed, progress=progress, cancel=cancel)
         return fit_clip(frames, telemetry, masks, intrinsics, config, progress, cancel)

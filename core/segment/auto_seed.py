@@ -3,16 +3,18 @@
 Candidates come from the salient network looking at the whole frame (a large animal, a whale
 near the drone) and at overlapping square tiles ``tile_fraction`` of its shorter side (a
 small one: in a whole-height tile a 2 m animal from 25 m is too small for the network to
-see), and from the built-in colour detector (``seed.find_blobs``: a dark animal over sand,
-which the network hardly sees). Each passes the shape tests of one animal seen from above
+see; where the camera and altitude are known, tiles are at most twice the longest animal
+expected, so that a 10-px wide animal from 42 m on a 720p frame fills enough of one), and
+from the built-in colour detector (``seed.find_blobs``: a dark animal over sand, which the
+network hardly sees). Each passes the shape tests of one animal seen from above
 (size, elongation, fill). Where the camera and altitude are known, the seed carries the
 lengths in pixels an animal can have (``AutoSeed.length_px``), and a candidate outside them
 (a wake, a boat, a burned-in caption) is not an animal. The same animal found in several
 tiles is one candidate (the best-scoring look). Candidates are ranked in tiers, then by
 score (the mean saliency × √area: the most salient and largest first): the network's lone
 animals, the colour detector's blobs, then the network's less elongated components and those
-a tile's edge cuts (a part of an animal in glitter or at the edge of a tile). A seagrass patch or a glitter field the network marks is wider
-than a dolphin.
+a tile's edge cuts (a part of an animal in glitter or at the edge of a tile). A seagrass
+patch or a glitter field the network marks is wider than a dolphin.
 """
 
 from collections.abc import Callable, Sequence
@@ -34,6 +36,8 @@ SAME_ANIMAL_SHARE = 0.5     # candidates sharing this much of the smaller are on
 
 LONE, COLOUR, PART = 0, 1, 2   # tiers, best first (module doc)
 MAX_COLOUR_BLOBS = 3           # the colour detector's best blobs considered
+TILE_ANIMAL_LENGTHS = 2.0      # a tile is at most this many of the longest expected animal
+MIN_TILE_PX = 160              # half the network's input: tiles are upscaled at most 2×
 
 
 @dataclass(frozen=True, eq=False)
@@ -100,13 +104,25 @@ def tile_starts(length_px: int, side_px: int) -> list[int]:
         if count > 1 else [0]
 
 
+def tile_side_px(height: int, width: int, tile_fraction: float,
+                 expected: tuple[float, float] | None) -> int:
+    """The side of the square tiles: ``tile_fraction`` of the frame's shorter side, or
+    ``TILE_ANIMAL_LENGTHS`` times the longest expected animal where that is smaller (a small
+    animal from high up fills too little of a larger tile for the network to see it), never
+    under ``MIN_TILE_PX``."""
+    side = tile_fraction * min(height, width)
+    if expected is not None:
+        side = min(side, max(TILE_ANIMAL_LENGTHS * expected[1], MIN_TILE_PX))
+    return round(side)
+
+
 def salient_candidates(frame_rgb: np.ndarray, saliency_of: Callable[[np.ndarray], np.ndarray],
                        tile_fraction: float, threshold: float,
                        expected: tuple[float, float] | None) -> list[Candidate]:
     """The network's animal-shaped components in the whole frame and in tiles (module
     doc)."""
     height, width = frame_rgb.shape[:2]
-    side = round(tile_fraction * min(height, width))
+    side = tile_side_px(height, width, tile_fraction, expected)
     windows = [(slice(0, height), slice(0, width))] + [
         (slice(row0, row0 + side), slice(col0, col0 + side))
         for row0 in tile_starts(height, side) for col0 in tile_starts(width, side)]

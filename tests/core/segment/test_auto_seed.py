@@ -6,7 +6,8 @@ import numpy as np
 import pytest
 
 from core.segment.auto_seed import (
-    COLOUR, LONE, PART, Candidate, describe, distinct, extent_px, fits_length, scan_order,
+    COLOUR, LONE, MIN_TILE_PX, PART, Candidate, describe, distinct, extent_px, fits_length,
+    scan_order, tile_side_px,
 )
 
 
@@ -28,6 +29,17 @@ def test_lengths_fit_the_expected_range_with_slack():
     assert fits_length(100.0, None)
     assert fits_length(65.0, (100.0, 200.0)) and not fits_length(55.0, (100.0, 200.0))
     assert fits_length(270.0, (100.0, 200.0)) and not fits_length(290.0, (100.0, 200.0))
+
+
+def test_tiles_shrink_to_twice_the_longest_expected_animal():
+    """Half the shorter side (1080p: 540 px) unless twice the longest animal is smaller: a
+    1–4 m animal from 42 m on 720p is 22–91 px long (182-px tiles); never under
+    ``MIN_TILE_PX``."""
+    assert tile_side_px(1080, 1920, 0.5, None) == 540
+    assert tile_side_px(1080, 1920, 0.5, (64.0, 257.0)) == 514
+    assert tile_side_px(1080, 1920, 0.5, (100.0, 400.0)) == 540
+    assert tile_side_px(720, 1280, 0.5, (22.0, 91.0)) == 182
+    assert tile_side_px(720, 1280, 0.5, (5.0, 20.0)) == MIN_TILE_PX
 
 
 def _candidate(rows: slice, cols: slice, tier: int, score: float) -> Candidate:
