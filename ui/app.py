@@ -29,7 +29,7 @@ def run_app(path: Path | None = None, quit_when_shown: bool = False) -> int:
     app = application()
     window = MainWindow()
     if quit_when_shown:
-        window.frame_shown.connect(lambda _: app.quit())
+        window.state.frame_shown.connect(lambda _: app.quit())
     window.show()
     if path is not None:
         window.open_path(path)

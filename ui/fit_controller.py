@@ -29,15 +29,18 @@ from core.project.fit_settings import FitSettings, fit_dir, hw_table_path
 from core.project.model import Animal, with_animal
 from core.project.project_file import media_path, relative_media_path
 from core.project.results import FrameResult, frame_altitude, project_fit_config
+from ui.background import BackgroundJobs
+from ui.canvas import FrameCanvas
 from ui.commands import push_edit
 from ui.fit_panel import FitPanel
 from ui.fit_worker import FitJob, FitWorker
 from ui.lazy_widget import LazyWidget
-from ui.project_model import Change
+from ui.project_model import Change, ProjectModel
+from ui.results_panel import ResultsPanel
+from ui.viewer_state import ViewerState
 
 if TYPE_CHECKING:
     from ui.comparison_panel import ComparisonPanel
-    from ui.main_window import MainWindow
     from ui.viewer3d import Viewer3D
 
 SILHOUETTE_COLOUR = "#ff8c1a"  # orange: apart from the measuring handles and the water
@@ -64,14 +67,20 @@ def describe_fit(result: FitResult) -> str:
 
 
 class FitController(QObject):
-    """Owns the fit panel, the 3D viewer, the comparison panel and the fit worker.
-    ``fit_shown``: a fit is on show (the window then shows the 3D view)."""
+    """Owns the fit panel, the 3D viewer, the comparison panel and the fit worker; draws the
+    fitted silhouette on ``canvas`` and compares with the elliptical result ``results`` shows.
+    ``fit_shown``: a fit is on show (the window then shows the 3D view);
+    ``fit_frames_changed(frames)``: the frames the current animal's fit would use, for the
+    timeline."""
 
     fit_shown = Signal()
+    fit_frames_changed = Signal(object)
 
-    def __init__(self, window: "MainWindow") -> None:
-        super().__init__(window)
-        self.window = window
+    def __init__(self, model: ProjectModel, state: ViewerState, jobs: BackgroundJobs,
+                 canvas: FrameCanvas, results: ResultsPanel,
+                 parent: QObject | None = None) -> None:
+        super().__init__(parent)
+        self.model, self.state, self.jobs, self.results = model, state, jobs, results
         self.panel = FitPanel()
         self.viewer_slot = LazyWidget(_make_viewer, "The 3D view opens with the first fit.")
         self.comparison_slot = LazyWidget(_make_comparison, "No 3D fit of this animal yet.")
@@ -95,32 +104,31 @@ class FitController(QObject):
         self.worker.failed.connect(self._on_failed)
         self.worker.cancelled.connect(
             lambda: self._on_failed("cancelled before the first step: nothing to keep"))
-        model = window.model
         model.selection_changed.connect(self.refresh)
         # a measurement edit (every step of a drag) changes neither fit settings nor fits
         model.changed.connect(lambda change: None if change.kind == "measurement"
                               else self.refresh())
-        window.frame_shown.connect(self._on_frame_shown)
-        window.session_opened.connect(lambda _: self.refresh())
-        window.results.result_shown.connect(self._on_elliptical)
+        state.frame_shown.connect(self._on_frame_shown)
+        state.session_opened.connect(lambda _: self.refresh())
+        results.result_shown.connect(self._on_elliptical)
         self.silhouette = QGraphicsPathItem()
         pen = QPen(QColor(SILHOUETTE_COLOUR), 1.5)
         pen.setCosmetic(True)
         self.silhouette.setPen(pen)
         self.silhouette.setZValue(SILHOUETTE_Z)
         self.silhouette.setVisible(False)
-        window.canvas.scene().addItem(self.silhouette)
+        canvas.scene().addItem(self.silhouette)
         self._silhouette_on = True
 
     # ----- the current animal
     def _animal(self) -> tuple[int, int, Animal] | None:
-        m = self.window.model
+        m = self.model
         if m.clip_idx is None or m.animal_idx is None:
             return None
         return m.clip_idx, m.animal_idx, m.project.clips[m.clip_idx].animals[m.animal_idx]
 
     def _fit_folder(self, animal: Animal) -> Path | None:
-        path = self.window.model.path
+        path = self.model.path
         if animal.fit_path is None or path is None:
             return None
         return (path.parent / animal.fit_path).resolve()
@@ -132,9 +140,7 @@ class FitController(QObject):
             self._show(None)
             return
         clip_idx, _, animal = current
-        session = self.window.session
-        if session is not None and session.clip_idx != clip_idx:
-            session = None  # the animal's clip is still opening
+        session = self.state.session_for(clip_idx)  # None: the animal's clip is still opening
         duration = None if session is None else session.source.clip.duration_s
         self.panel.set_settings(animal.fit_settings, duration)
         self._tick_fit_frames(animal.fit_settings)
@@ -146,20 +152,18 @@ class FitController(QObject):
         if folder in self._fits:
             self._show(folder)
             return
-        self.window.jobs.run(lambda: read_fit_result(folder),
-                             lambda result: self._read(folder, result),
-                             lambda why: self.panel.show_status(f"⚠ saved fit not read: {why}"))
+        self.jobs.run(lambda: read_fit_result(folder),
+                      lambda result: self._read(folder, result),
+                      lambda why: self.panel.show_status(f"⚠ saved fit not read: {why}"))
 
     def _tick_fit_frames(self, settings: FitSettings) -> None:
         """Mark on the timeline the frames a fit with ``settings`` would use."""
-        session = self.window.session
-        if session is None or session.clip_idx != self.window.model.clip_idx:
-            return
-        self.window.timeline.set_fit_frames(self._frames(settings))
+        if self.state.session_for(self.model.clip_idx) is not None:
+            self.fit_frames_changed.emit(self._frames(settings))
 
     def _frames(self, settings: FitSettings) -> np.ndarray:
         """The open clip's frames that a fit with ``settings`` uses."""
-        media = self.window.session.source.clip
+        media = self.state.session.source.clip
         return frame_range(media, settings.start_s, settings.end_s,
                            step_for_fps(media, settings.fps))
 
@@ -167,7 +171,7 @@ class FitController(QObject):
         """The open clip's frames that the current animal's fit uses (default settings when
         no animal of this clip is selected); a session must be open."""
         current = self._animal()
-        own = current is not None and current[0] == self.window.session.clip_idx
+        own = current is not None and current[0] == self.state.session.clip_idx
         return self._frames(current[2].fit_settings if own else FitSettings()).tolist()
 
     def _read(self, folder: Path, result: FitResult) -> None:
@@ -189,17 +193,17 @@ class FitController(QObject):
     def _show(self, folder: Path | None) -> None:
         self._shown, self._view = folder, None
         if folder is None:
-            self._update_silhouette(self.window.frame_idx)  # hides it, unless a fit runs
+            self._update_silhouette(self.state.frame_idx)  # hides it, unless a fit runs
             self._comparison_status = "No 3D fit of this animal yet."
             if not self.worker.is_running:
                 self.panel.show_status("Measure the animal, then fit the 3D model to the clip.")
         else:
             result = self._fits[folder]
             self._comparison_status = describe_fit(result)
-            self._update_silhouette(self.window.frame_idx)
+            self._update_silhouette(self.state.frame_idx)
             self.panel.show_status(describe_fit(result))
             self.fit_shown.emit()
-            self._on_elliptical(self.window.results.current_result())
+            self._on_elliptical(self.results.current_result())
         self._sync_viewer()
         self._sync_comparison()
 
@@ -225,7 +229,7 @@ class FitController(QObject):
             return
         result = self._fits[self._shown]
         viewer.set_fitted(result.faces, result.frame_idx, result.posed_verts, result.rest_verts)
-        viewer.set_frame(self.window.frame_idx)
+        viewer.set_frame(self.state.frame_idx)
         if self._view is None:
             viewer.set_elliptical(None)
         else:
@@ -245,17 +249,17 @@ class FitController(QObject):
     # ----- the fitted silhouette over the frame
     def set_silhouette_visible(self, visible: bool) -> None:
         self._silhouette_on = visible
-        self._update_silhouette(self.window.frame_idx)
+        self._update_silhouette(self.state.frame_idx)
 
     def _update_silhouette(self, frame_idx: int) -> None:
         """Outline the fit posed at ``frame_idx`` (worked out in the background)."""
         self._silhouette_generation += 1  # outlines asked for before this one are stale
-        session, folder, live = self.window.session, self._shown, self._live
+        session, folder, live = self.state.session, self._shown, self._live
         if live is not None and (self._running is None or session is None
                                  or self._running[0] != session.clip_idx):
             live = None  # the running fit is of another clip
-        if not self._silhouette_on or (folder is None and live is None) or session is None \
-                or session.clip_idx != self.window.model.clip_idx:
+        if not self._silhouette_on or (folder is None and live is None) \
+                or self.state.session_for(self.model.clip_idx) is None:
             self.silhouette.setVisible(False)
             return
         try:
@@ -266,9 +270,9 @@ class FitController(QObject):
         # while a fit runs its latest state is drawn, else the saved fit of the animal shown
         source = live if live is not None else self._fits[folder]
         faces = self._template_faces() if live is not None else source.faces
-        intrinsics = self.window.model.project.clips[session.clip_idx].camera.intrinsics()
+        intrinsics = self.model.project.clips[session.clip_idx].camera.intrinsics()
         verts, _ = posed_at(source.frame_idx, source.posed_verts, frame_idx)
-        self.window.jobs.run(
+        self.jobs.run(
             lambda: silhouette_outlines(verts, faces, intrinsics, altitude),
             lambda outlines, g=self._silhouette_generation: self._draw_silhouette(g, outlines),
             lambda why: self.silhouette.setVisible(False))
@@ -294,14 +298,14 @@ class FitController(QObject):
         """Compare once the elliptical result has its interval and a fit is shown."""
         if self._shown is None or frame_result is None or frame_result.estimate.interval is None:
             return
-        m = self.window.model
+        m = self.model
         if (frame_result.key.clip, frame_result.key.animal) != (m.clip_idx, m.animal_idx):
             return  # the previous animal's result, still on show
         fit, folder = self._fits[self._shown], self._shown
         width = m.project.clips[frame_result.key.clip].camera.image_width_px
-        self.window.jobs.run(lambda: comparison_view(frame_result.estimate, fit, width),
-                             lambda view: self._show_comparison(folder, view),
-                             lambda why: self._comparison_failed(folder, why))
+        self.jobs.run(lambda: comparison_view(frame_result.estimate, fit, width),
+                      lambda view: self._show_comparison(folder, view),
+                      lambda why: self._comparison_failed(folder, why))
 
     def _comparison_failed(self, folder: Path, why: str) -> None:
         if folder == self._shown:
@@ -321,7 +325,7 @@ class FitController(QObject):
         if current is None or current[2].fit_settings == settings:
             return
         clip_idx, animal_idx, animal = current
-        model = self.window.model
+        model = self.model
         push_edit(model, with_animal(model.project, clip_idx, animal_idx,
                                      replace(animal, fit_settings=settings)),
                   "fit settings", Change("clip", clip=clip_idx),
@@ -337,18 +341,18 @@ class FitController(QObject):
         self._store_settings(settings)
         current = self._animal()
         if self.worker.start(job):
-            self._running = (current[0], current[2].animal_id, self.window.model.path)
+            self._running = (current[0], current[2].animal_id, self.model.path)
             self.panel.set_running(True)
 
     def _job(self, settings: FitSettings) -> FitJob:
-        window, current = self.window, self._animal()
+        current = self._animal()
         if current is None:
             raise InputError("select an animal to fit (Clip → Add animal)")
         clip_idx, _, animal = current
-        session, path = window.session, window.model.path
-        if session is None or session.clip_idx != clip_idx:
+        session, path = self.state.session_for(clip_idx), self.model.path
+        if session is None:
             raise InputError("the clip is still opening")
-        clip = window.model.project.clips[clip_idx]
+        clip = self.model.project.clips[clip_idx]
         if clip.altitude != session.altitude:
             raise InputError("the altitude is being read again: start the fit in a moment")
         if session.telemetry is None:
@@ -359,18 +363,18 @@ class FitController(QObject):
                       telemetry=session.telemetry,
                       masks=(path.parent / clip.masks_path).resolve(), camera=clip.camera,
                       out_dir=fit_dir(path, clip.media_path, animal.animal_id),
-                      config=project_fit_config(settings, window.model.project, path.parent))
+                      config=project_fit_config(settings, self.model.project, path.parent))
 
     def _on_progress(self, progress: Progress) -> None:
         self.panel.show_progress(progress)
         if isinstance(progress.preview, FitPreview):
             self._live = progress.preview  # the running fit's state, drawn over the frame
-            self._update_silhouette(self.window.frame_idx)
+            self._update_silhouette(self.state.frame_idx)
 
     def _on_failed(self, why: str) -> None:
         self._running, self._live = None, None
         self.panel.set_running(False)
-        self._update_silhouette(self.window.frame_idx)
+        self._update_silhouette(self.state.frame_idx)
         self.panel.show_status(f"⚠ fit stopped: {why}")
 
     def _on_finished(self, outcome: tuple[FitResult, Path]) -> None:
@@ -380,7 +384,7 @@ class FitController(QObject):
         self._running, self._live = None, None
         self.panel.set_running(False)
         self._fits[folder.resolve()] = result
-        model = self.window.model
+        model = self.model
         if model.path != project_path:
             self.panel.show_status(f"{describe_fit(result)} — saved in {folder}; its project "
                                    "is no longer open")
@@ -401,10 +405,10 @@ class FitController(QObject):
     def use_fit_hw(self) -> None:
         """Save the shown fit's HW ratios beside the project and make them the project's
         (one undoable edit); the source names the fit, so results say where they came from."""
-        current, folder, path = self._animal(), self._shown, self.window.model.path
+        current, folder, path = self._animal(), self._shown, self.model.path
         if current is None or folder is None or path is None:
             return
-        clip = self.window.model.project.clips[current[0]]
+        clip = self.model.project.clips[current[0]]
         animal_id, fit = current[2].animal_id, self._fits[folder]
         table = hw_table_path(path, clip.media_path, animal_id)
 
@@ -419,11 +423,11 @@ class FitController(QObject):
             return relative_media_path(path.parent, table)
 
         def use(relative: str) -> None:
-            model = self.window.model
+            model = self.model
             push_edit(model, replace(model.project, hw_ratios=relative),
                       f"HW ratios from the 3D fit of {animal_id}", Change("settings"))
 
-        self.window.jobs.run(make, use, lambda why: self.panel.show_status(f"⚠ {why}"))
+        self.jobs.run(make, use, lambda why: self.panel.show_status(f"⚠ {why}"))
 
     def shown_fit(self) -> FitResult | None:
         """The current animal's fit on show, if any."""

@@ -8,7 +8,7 @@ from dataclasses import asdict, replace
 from pathlib import Path
 
 import numpy as np
-from PySide6.QtCore import Qt, Signal
+from PySide6.QtCore import Qt
 from PySide6.QtGui import QAction, QActionGroup, QCloseEvent, QKeySequence
 from PySide6.QtWidgets import (
     QDockWidget,
@@ -88,6 +88,7 @@ from ui.project_model import Change, ProjectModel
 from ui.project_panel import ProjectPanel
 from ui.results_panel import ResultsPanel
 from ui.timeline import Timeline
+from ui.viewer_state import Notifier, ViewerState
 
 APP_NAME = "dolphinfit"
 NUDGE_ACTIONS = {  # action → (direction, image px): outward +1, inward −1
@@ -102,19 +103,17 @@ BACKEND_ACTIONS = {"masks_network": NETWORK, "masks_colour": COLOUR, "masks_sam2
 
 
 class MainWindow(QMainWindow):
-    """The app's window. ``frame_shown(idx)`` fires when a frame is on screen."""
-
-    frame_shown = Signal(int)
-    session_opened = Signal(int)   # clip index
-    session_closed = Signal()
+    """The app's window: it builds the views, docks, menus and controllers, and wires them
+    to the project model, the viewer state (the open clip, the frame on screen) and the
+    notifier."""
 
     def __init__(self) -> None:
         super().__init__()
         self.model = ProjectModel(parent=self)
         self.jobs = BackgroundJobs(self)
-        self.session: ClipSession | None = None
+        self.state = ViewerState(self)
+        self.notifier = Notifier(self)
         self.last_export: list[Path] = []
-        self.frame_idx = 0
         self._opening_clip: int | None = None
         self._pending_frame: int | None = None
 
@@ -127,8 +126,10 @@ class MainWindow(QMainWindow):
         self.results.set_altitude_lookup(self.altitude_at)
         self.project_panel = ProjectPanel(self.model)
         self.exporter = ExportWorker(self)
-        self.fits = FitController(self)
-        self.masks = MaskController(self)
+        self.fits = FitController(self.model, self.state, self.jobs, self.canvas, self.results,
+                                  parent=self)
+        self.masks = MaskController(self.model, self.state, self.notifier, self.jobs,
+                                    self.canvas, self.fits.fit_frames, parent=self)
         self._export_progress: QProgressDialog | None = None
         self._build_layout()
         self.actions_by_name = self._build_menus()
@@ -245,6 +246,12 @@ class MainWindow(QMainWindow):
         return getattr(self, f"on_{name}")
 
     def _connect(self) -> None:
+        self.notifier.error_raised.connect(self._error)
+        self.notifier.status_shown.connect(self.statusBar().showMessage)
+        self.fits.fit_frames_changed.connect(self.timeline.set_fit_frames)
+        self.masks.coverage_changed.connect(self.timeline.set_coverage)
+        self.masks.seeding.connect(
+            lambda on: self.overlay.set_frame(None if on else self.state.frame_idx))
         m = self.model
         m.changed.connect(self._on_model_changed)
         m.selection_changed.connect(self._on_selection_changed)
@@ -334,7 +341,7 @@ class MainWindow(QMainWindow):
     def _ask_altitude(self, clip: ClipEntry) -> AltitudeSpec | None:
         """The altitude dialog (the clip's SRT sidecar offered first); None if cancelled."""
         dialog = AltitudeDialog(media_path(self.model.path, clip), self.model.path.parent,
-                                self.session.source.clip, clip.altitude, self)
+                                self.state.session.source.clip, clip.altitude, self)
         return dialog.spec if dialog.exec() else None
 
     def _ask_save_changes(self) -> str:
@@ -481,17 +488,13 @@ class MainWindow(QMainWindow):
         self._opening_clip = None
         self.playback.stop()
         self.loader.set_source(None)
-        if self.session is not None:
-            self.session.close()
-            self.session = None
-            self.session_closed.emit()
+        self.state.close()
 
     def _open_current_clip(self) -> None:
         clip_idx, path = self.model.clip_idx, self.model.path
         if clip_idx is None or path is None:
             return
-        if self._opening_clip == clip_idx or (self.session is not None
-                                              and self.session.clip_idx == clip_idx):
+        if self._opening_clip == clip_idx or self.state.session_for(clip_idx) is not None:
             return
         if not media_path(path, self.model.project.clips[clip_idx]).exists():
             self.statusBar().showMessage("this clip's media is missing: reopen the project "
@@ -514,7 +517,7 @@ class MainWindow(QMainWindow):
             session.close()  # the user moved on while it opened
             self._open_current_clip()
             return
-        self.session = session
+        self.state.session = session
         if self.model.project.clips[session.clip_idx].altitude != session.altitude:
             self._reload_telemetry()  # changed while the clip opened (a restored autosave)
         media = session.source.clip
@@ -531,13 +534,13 @@ class MainWindow(QMainWindow):
         self.go_to_frame(target if target is not None else 0, force=True)
         self.results.refresh()
         self.canvas.setFocus()
-        self.session_opened.emit(session.clip_idx)
+        self.state.session_opened.emit(session.clip_idx)
         if clip.altitude is None:  # a new clip: its altitude comes first (SRT found if any)
             self.on_altitude()
 
     def _check_camera(self) -> None:
         """A lasting red warning while the camera's image size is not the clip's."""
-        session = self.session
+        session = self.state.session
         if session is None:
             self.camera_warning.clear()
             return
@@ -548,9 +551,9 @@ class MainWindow(QMainWindow):
         self.camera_warning.setToolTip(mismatch or "")
 
     def _show_telemetry(self) -> None:
-        telemetry = self.session.telemetry if self.session else None
+        telemetry = self.state.session.telemetry if self.state.session else None
         if telemetry is None:
-            why = self.session.telemetry_error if self.session else ""
+            why = self.state.session.telemetry_error if self.state.session else ""
             self.timeline.set_altitude(None, None, None, why or "no altitude")
         else:
             self.timeline.set_altitude(telemetry.altitude_m, telemetry.is_interpolated,
@@ -566,13 +569,13 @@ class MainWindow(QMainWindow):
 
     def go_to_frame(self, frame_idx: int, force: bool = False) -> None:
         """Show frame ``frame_idx`` (clamped to the clip)."""
-        if self.session is None:
+        if self.state.session is None:
             self._pending_frame = frame_idx
             return
-        frame_idx = int(np.clip(frame_idx, 0, self.session.source.clip.num_frames - 1))
-        if frame_idx == self.frame_idx and not force:
+        frame_idx = int(np.clip(frame_idx, 0, self.state.session.source.clip.num_frames - 1))
+        if frame_idx == self.state.frame_idx and not force:
             return
-        self.frame_idx = frame_idx
+        self.state.frame_idx = frame_idx
         self.loader.request(frame_idx)
         self.timeline.set_frame(frame_idx)
         self.overlay.set_frame(frame_idx)
@@ -588,15 +591,15 @@ class MainWindow(QMainWindow):
         self.statusBar().showMessage(f"frame {frame_idx}: {why}", 10_000)
 
     def _on_frame_ready(self, frame_idx: int, rgb: np.ndarray) -> None:
-        if frame_idx != self.frame_idx:
+        if frame_idx != self.state.frame_idx:
             return
         self.canvas.set_frame(rgb)
         self.playback.frame_shown(frame_idx)
-        self.frame_shown.emit(frame_idx)
+        self.state.frame_shown.emit(frame_idx)
 
     def altitude_at(self, clip_idx: int, frame_idx: int) -> tuple[float, str]:
         """Altitude (m) and its error source for a frame of the open clip; InputError if none."""
-        session = self.session
+        session = self.state.session
         if session is None or session.clip_idx != clip_idx:
             raise InputError("the clip is still opening")
         spec = self.model.project.clips[clip_idx].altitude
@@ -607,21 +610,21 @@ class MainWindow(QMainWindow):
         return frame_altitude(session.telemetry, frame_idx), spec.source
 
     def _update_status(self) -> None:
-        if self.session is None:
+        if self.state.session is None:
             self.status_label.setText("")
             return
-        media = self.session.source.clip
-        parts = [f"frame {self.frame_idx} of 0–{media.num_frames - 1}"]
+        media = self.state.session.source.clip
+        parts = [f"frame {self.state.frame_idx} of 0–{media.num_frames - 1}"]
         if media.num_frames > 1:
-            parts.append(f"{self.frame_idx / media.fps:.2f} s")
-        clip = self.model.project.clips[self.session.clip_idx]
+            parts.append(f"{self.state.frame_idx / media.fps:.2f} s")
+        clip = self.model.project.clips[self.state.session.clip_idx]
         try:
-            altitude, source = self.altitude_at(self.session.clip_idx, self.frame_idx)
+            altitude, source = self.altitude_at(self.state.session.clip_idx, self.state.frame_idx)
         except InputError as exc:
             parts.append(f"altitude: {exc}")
         else:
-            telemetry = self.session.telemetry
-            how = "interpolated" if telemetry.is_interpolated[self.frame_idx] else "sampled"
+            telemetry = self.state.session.telemetry
+            how = "interpolated" if telemetry.is_interpolated[self.state.frame_idx] else "sampled"
             gsd_cm = 100 * clip.camera.intrinsics().gsd_m_per_px(altitude)
             parts += [f"altitude {altitude:.2f} m ({telemetry.source.kind}, {source}, {how})",
                       f"GSD {gsd_cm:.2f} cm/px"]
@@ -636,7 +639,7 @@ class MainWindow(QMainWindow):
         if change.kind == "measurement":
             return  # a drag step: marks, clips, altitude and camera stay as they are
         self._update_marks()
-        session, clips = self.session, self.model.project.clips
+        session, clips = self.state.session, self.model.project.clips
         if session is None:
             return
         if session.clip_idx >= len(clips):
@@ -646,12 +649,12 @@ class MainWindow(QMainWindow):
         self._check_camera()
 
     def _reload_telemetry(self) -> None:
-        path, session = self.model.path, self.session
+        path, session = self.model.path, self.state.session
         clip = self.model.project.clips[session.clip_idx]
 
         def done(reloaded: ClipSession) -> None:
-            if self.session is session:
-                self.session = reloaded
+            if self.state.session is session:
+                self.state.session = reloaded
                 self._show_telemetry()
                 self._update_status()
                 self.results.refresh()
@@ -669,11 +672,11 @@ class MainWindow(QMainWindow):
 
     def _on_selection_changed(self) -> None:
         self._sync_mirror_actions()
-        if self.session is None or self.session.clip_idx != self.model.clip_idx:
+        if self.state.session is None or self.state.session.clip_idx != self.model.clip_idx:
             self._open_current_clip()
             return
         measurement = self.model.current_measurement()
-        if measurement is not None and measurement.frame_idx != self.frame_idx:
+        if measurement is not None and measurement.frame_idx != self.state.frame_idx:
             self.go_to_frame(measurement.frame_idx)
 
     def _update_title(self) -> None:
@@ -889,25 +892,25 @@ class MainWindow(QMainWindow):
         self.canvas.fit_to_window()
 
     def on_play(self) -> None:
-        if self.session is not None:
+        if self.state.session is not None:
             self.playback.toggle()
 
     def _step(self, delta: int) -> None:
-        self._seek(self.frame_idx + delta)
+        self._seek(self.state.frame_idx + delta)
 
     def on_first_frame(self) -> None:
         self._seek(0)
 
     def on_last_frame(self) -> None:
-        if self.session is not None:
-            self._seek(self.session.source.clip.num_frames - 1)
+        if self.state.session is not None:
+            self._seek(self.state.session.source.clip.num_frames - 1)
 
     def on_go_to_frame(self) -> None:
-        if self.session is None:
+        if self.state.session is None:
             return
-        last = self.session.source.clip.num_frames - 1
+        last = self.state.session.source.clip.num_frames - 1
         value, ok = QInputDialog.getInt(self, "Go to frame", f"frame (0–{last}):",
-                                        self.frame_idx, 0, last)
+                                        self.state.frame_idx, 0, last)
         if ok:
             self._seek(value)
 
@@ -941,7 +944,7 @@ class MainWindow(QMainWindow):
 
     def on_altitude(self) -> None:
         clip_idx = self._current_clip()
-        if clip_idx is None or self.session is None:
+        if clip_idx is None or self.state.session is None:
             return
         clip = self.model.project.clips[clip_idx]
         spec = self._ask_altitude(clip)
@@ -952,10 +955,10 @@ class MainWindow(QMainWindow):
 
     def on_camera(self) -> None:
         clip_idx = self._current_clip()
-        if clip_idx is None or self.session is None:
+        if clip_idx is None or self.state.session is None:
             return
         clip = self.model.project.clips[clip_idx]
-        media = self.session.source.clip
+        media = self.state.session.source.clip
         dialog = CameraDialog(clip.camera, clip.preset_name, media.width_px, media.height_px,
                               self)
         if dialog.exec():
@@ -1003,7 +1006,7 @@ class MainWindow(QMainWindow):
         """Start a measurement of the current animal on the current frame."""
         m = self.model
         clip_idx = self._current_clip()
-        if clip_idx is None or self.session is None:
+        if clip_idx is None or self.state.session is None:
             return
         project, animal_idx = m.project, m.animal_idx
         clip = project.clips[clip_idx]
@@ -1012,13 +1015,13 @@ class MainWindow(QMainWindow):
         elif animal_idx is None:
             project = add_animal(project, clip_idx, Animal(next_animal_id(clip)))
             animal_idx = 0
-        existing = project.clips[clip_idx].animals[animal_idx].measurement_at(self.frame_idx)
+        existing = project.clips[clip_idx].animals[animal_idx].measurement_at(self.state.frame_idx)
         if existing is not None:
             m.select(clip_idx, animal_idx, existing)
             return
         project, key = add_measurement(project, clip_idx, animal_idx,
-                                       Measurement(self.frame_idx))
-        push_edit(m, project, f"measure frame {self.frame_idx}", Change("structure", key=key))
+                                       Measurement(self.state.frame_idx))
+        push_edit(m, project, f"measure frame {self.state.frame_idx}", Change("structure", key=key))
         self.actions_by_name["length_mode"].setChecked(True)
         self.overlay.set_mode("length")
 
@@ -1051,7 +1054,7 @@ class MainWindow(QMainWindow):
 
     def on_suggest_edges(self) -> None:
         """Widths where each station's perpendicular leaves the clip's mask."""
-        session, path = self.session, self.model.path
+        session, path = self.state.session, self.model.path
         measurement = self.model.current_measurement()
         if session is None or measurement is None or not measurement.has_length:
             self._error("Suggest edges", "measure a length on this frame first")
@@ -1073,7 +1076,7 @@ class MainWindow(QMainWindow):
         key = self.model.current_key()
 
         def apply(mask: np.ndarray) -> None:
-            if self.model.current_key() != key or self.frame_idx != frame_idx:
+            if self.model.current_key() != key or self.state.frame_idx != frame_idx:
                 self.statusBar().showMessage("edges not suggested: another frame is shown now",
                                              10_000)
                 return
@@ -1087,7 +1090,7 @@ class MainWindow(QMainWindow):
     def on_masks(self) -> None:
         """Choose the clip's masks (a PNG folder, an .npz or a mask video), checked first."""
         clip_idx = self._current_clip()
-        if clip_idx is None or self.session is None:
+        if clip_idx is None or self.state.session is None:
             return
         name = QFileDialog.getExistingDirectory(self, "Folder of mask PNGs (%06d.png)")
         if not name:
@@ -1099,7 +1102,7 @@ class MainWindow(QMainWindow):
     def set_masks(self, clip_idx: int, masks: Path) -> None:
         """Check that ``masks`` fit the clip and keep a lossless copy with the project (in the
         background), then make them the clip's (undoable)."""
-        media = self.session.source.clip
+        media = self.state.session.source.clip
         project_path = self.model.path
         copy = masks_file(project_path, self.model.project.clips[clip_idx].media_path)
 

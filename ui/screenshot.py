@@ -52,7 +52,7 @@ def save_screenshot(project_path: Path, out_png: Path) -> int:
     window.resize(*WINDOW_SIZE)
     window.show()
     window.open_path(project_path)
-    _wait_until(lambda: window.session is not None, "the clip to open")
+    _wait_until(lambda: window.state.session is not None, "the clip to open")
     with tempfile.TemporaryDirectory() as work:
         if not window.save(Path(work) / project_path.name):  # Save As: the fit goes there
             raise OSError(f"{work}: could not save a working copy of the sample project")
@@ -105,7 +105,7 @@ def _measure_and_fit(window: MainWindow, out_png: Path) -> None:
                 "the Monte Carlo intervals")
     _grab(window, out_png)
     fits = window.fits
-    fits.panel.set_settings(SCREENSHOT_FIT, window.session.source.clip.duration_s)
+    fits.panel.set_settings(SCREENSHOT_FIT, window.state.session.source.clip.duration_s)
     fits.panel.start_button.click()
     _wait_until(lambda: not fits.worker.is_running, "the 3D fit")
     window.docks["Comparison"].raise_()

@@ -59,7 +59,7 @@ def new_window(make_window):
 
 
 def open_and_wait(qtbot, window: MainWindow, path: Path) -> None:
-    with qtbot.waitSignal(window.session_opened, timeout=SIGNAL_TIMEOUT_MS):
+    with qtbot.waitSignal(window.state.session_opened, timeout=SIGNAL_TIMEOUT_MS):
         window.open_path(path)
     qtbot.waitUntil(lambda: window.canvas.image_rect().width() > 0, timeout=SIGNAL_TIMEOUT_MS)
 
@@ -262,11 +262,11 @@ def test_exports_of_the_project_read_back(qtbot, measured, tmp_path):
 def test_sample_project_frames_step_with_keys(qtbot, new_window):
     window = new_window()
     open_and_wait(qtbot, window, ensure_sample_project())
-    last = window.session.source.clip.num_frames - 1
+    last = window.state.session.source.clip.num_frames - 1
     for key, modifier, expected in ((Qt.Key.Key_Right, None, 1), (Qt.Key.Key_Right, SHIFT, 11),
                                     (Qt.Key.Key_Left, None, 10), (Qt.Key.Key_Right, CTRL, last),
                                     (Qt.Key.Key_Home, None, 0), (Qt.Key.Key_End, None, last)):
-        with qtbot.waitSignal(window.frame_shown, timeout=SIGNAL_TIMEOUT_MS,
+        with qtbot.waitSignal(window.state.frame_shown, timeout=SIGNAL_TIMEOUT_MS,
                               check_params_cb=lambda idx, e=expected: idx == e):
             press(qtbot, window, key, modifier or Qt.KeyboardModifier.NoModifier)
     assert f"frame {last} of 0–{last}" in window.status_label.text()
@@ -274,7 +274,7 @@ def test_sample_project_frames_step_with_keys(qtbot, new_window):
     press(qtbot, window, Qt.Key.Key_Home)
     with qtbot.waitSignal(window.playback.playing_changed, timeout=SIGNAL_TIMEOUT_MS):
         press(qtbot, window, Qt.Key.Key_Space)
-    qtbot.waitUntil(lambda: window.frame_idx >= 3, timeout=SIGNAL_TIMEOUT_MS)
+    qtbot.waitUntil(lambda: window.state.frame_idx >= 3, timeout=SIGNAL_TIMEOUT_MS)
     press(qtbot, window, Qt.Key.Key_Space)
     assert not window.playback.is_playing
 

@@ -34,7 +34,7 @@ def sample_copy(tmp_path) -> Path:
 
 
 def _open(qtbot, window: MainWindow, path: Path) -> None:
-    with qtbot.waitSignal(window.session_opened, timeout=30_000):
+    with qtbot.waitSignal(window.state.session_opened, timeout=30_000):
         window.open_path(path)
 
 
@@ -56,7 +56,7 @@ def test_fit_runs_saves_shows_and_cancels(qtbot, sample_copy, make_window):
         _open(qtbot, window, source)
         assert window.save(path)  # Save As into the test folder: the fit goes beside it
         # Save As rebases the altitude file's path: the clip's altitude is read again first
-        qtbot.waitUntil(lambda: window.session.altitude
+        qtbot.waitUntil(lambda: window.state.session.altitude
                         == window.model.project.clips[0].altitude, timeout=10_000)
         fits = window.fits
         ticks = []
@@ -104,7 +104,7 @@ def test_fit_runs_saves_shows_and_cancels(qtbot, sample_copy, make_window):
         qtbot.waitUntil(fits.silhouette.isVisible, timeout=10_000)
         box = fits.silhouette.path().boundingRect()
         clip = window.model.project.clips[0]
-        mask = read_masks(path.parent / clip.masks_path).mask(window.frame_idx)
+        mask = read_masks(path.parent / clip.masks_path).mask(window.state.frame_idx)
         v, u = np.nonzero(mask)
         overlap = box.intersected(QRectF(u.min(), v.min(), np.ptp(u), np.ptp(v)))
         assert overlap.width() * overlap.height() > 0.5 * box.width() * box.height()
@@ -114,7 +114,7 @@ def test_fit_runs_saves_shows_and_cancels(qtbot, sample_copy, make_window):
         qtbot.waitUntil(lambda: fits.viewer is not None, timeout=10_000)
         if fits.viewer.plotter is not None:
             first = np.array(fits.viewer.fitted_points(), copy=True)
-            with qtbot.waitSignal(window.frame_shown, timeout=10_000):
+            with qtbot.waitSignal(window.state.frame_shown, timeout=10_000):
                 window.go_to_frame(int(result.frame_idx[-1]))
             assert not np.allclose(first, fits.viewer.fitted_points())
 
@@ -147,7 +147,8 @@ def test_fit_runs_saves_shows_and_cancels(qtbot, sample_copy, make_window):
         with qtbot.waitSignal(window.exporter.failed, timeout=60_000):
             window.actions_by_name["export_comparison"].trigger()
         assert "nothing to compare" in errors[-1]
-        _measure_from_mask(window, read_masks(path.parent / clip.masks_path).mask(window.frame_idx))
+        masks = read_masks(path.parent / clip.masks_path)
+        _measure_from_mask(window, masks.mask(window.state.frame_idx))
         with qtbot.waitSignal(window.exporter.finished, timeout=120_000):
             window.actions_by_name["export_comparison"].trigger()
         with path.with_name("comparison.csv").open(newline="", encoding="utf-8") as file:
@@ -156,7 +157,7 @@ def test_fit_runs_saves_shows_and_cancels(qtbot, sample_copy, make_window):
         assert float(rows[0]["volume_m3_fit"]) == pytest.approx(partial.volume_m3)
         assert (float(rows[0]["volume_m3_fit_lo95"]) < float(rows[0]["volume_m3_fit"])
                 < float(rows[0]["volume_m3_fit_hi95"]))
-        assert rows[0]["Image"] == f"clip_f{window.frame_idx:06d}"
+        assert rows[0]["Image"] == f"clip_f{window.state.frame_idx:06d}"
 
         # the comparison shows both methods; the fit's HW ratios become the project's table
         window.docks["Comparison"].raise_()  # the panel is built when first shown

@@ -20,7 +20,7 @@ LEFT = Qt.MouseButton.LeftButton
 @pytest.fixture
 def window(qtbot, tmp_path, make_window) -> MainWindow:
     window = make_window()
-    with qtbot.waitSignal(window.session_opened, timeout=30_000):
+    with qtbot.waitSignal(window.state.session_opened, timeout=30_000):
         window.open_path(ensure_sample_project())
     assert window.save(tmp_path / "survey.dolphinfit")
     return window
@@ -39,7 +39,7 @@ def _iou(a: np.ndarray, b: np.ndarray) -> float:
 
 def test_track_from_a_click_then_correct_with_the_brush(qtbot, window):
     truth = read_masks(window.model.path.parent / window.model.project.clips[0].masks_path)
-    with qtbot.waitSignal(window.frame_shown, timeout=10_000):
+    with qtbot.waitSignal(window.state.frame_shown, timeout=10_000):
         window.go_to_frame(20)
     v, u = np.nonzero(truth.mask(20))
     window.canvas.setFocus()
