@@ -1,12 +1,13 @@
-"""Starting the desktop app: the Qt application, the main window, and the path to open."""
+"""The desktop app's Qt application: one per process, named, with garbage collection kept
+on its thread."""
 
 import sys
-from pathlib import Path
 
 from PySide6.QtWidgets import QApplication
 
 from ui.gc_guard import GuiThreadGarbageCollector
-from ui.main_window import APP_NAME, MainWindow
+
+APP_NAME = "dolphinfit"
 
 
 def application() -> QApplication:
@@ -19,18 +20,3 @@ def application() -> QApplication:
         app.setOrganizationName(APP_NAME)
         GuiThreadGarbageCollector(app)
     return app
-
-
-def run_app(path: Path | None = None, quit_when_shown: bool = False) -> int:
-    """Show the main window (opening ``path`` if given) and run the event loop.
-
-    ``quit_when_shown``: quit once the first frame is on screen (start-up timing).
-    """
-    app = application()
-    window = MainWindow()
-    if quit_when_shown:
-        window.state.frame_shown.connect(lambda _: app.quit())
-    window.show()
-    if path is not None:
-        window.open_path(path)
-    return app.exec()

@@ -413,7 +413,7 @@ class FitController(QObject):
         table = hw_table_path(path, clip.media_path, animal_id)
 
         def make() -> str:
-            from core.measure.hw_from_model import hw_from_mesh
+            from core.model.hw_from_model import hw_from_mesh
             from core.model.template import load_template
             hw = hw_from_mesh(fit.rest_verts, load_template().station_rings,
                               name=f"3D fit of {animal_id} ({clip.name})",

@@ -66,6 +66,7 @@ from core.project.results import frame_altitude, image_id
 from core.segment.backends import BACKENDS, COLOUR, DEFAULT_BACKEND, NETWORK, SAM2
 from core.segment.sam2_backend import INSTALL_HINT, PACKAGE, check_checkpoint, config_for, installed
 from ui.action_table import load_action_table
+from ui.app import APP_NAME
 from ui.background import BackgroundJobs
 from ui.canvas import FrameCanvas
 from ui.clip_session import ClipSession, open_session, read_session_telemetry
@@ -90,7 +91,6 @@ from ui.results_panel import ResultsPanel
 from ui.timeline import Timeline
 from ui.viewer_state import Notifier, ViewerState
 
-APP_NAME = "dolphinfit"
 NUDGE_ACTIONS = {  # action → (direction, image px): outward +1, inward −1
     "nudge_out": (+1, NUDGE_PX), "nudge_in": (-1, NUDGE_PX),
     "nudge_out_fine": (+1, FINE_NUDGE_PX), "nudge_in_fine": (-1, FINE_NUDGE_PX),

@@ -16,7 +16,8 @@ from dataclasses import dataclass
 from PySide6.QtCore import QObject, Qt, Signal, Slot
 
 from core.errors import InputError
-from core.measure.hw_ratios import HWRatios, resolve_hw
+from core.measure.hw_ratios import HWRatios
+from core.model.hw_spec import resolve_hw
 from core.measure.uncertainty import DEFAULT_NUM_DRAWS
 from core.project.model import MeasurementKey, Project
 from core.project.results import (

@@ -41,7 +41,7 @@ from core.fit.result import STATUS_COMPLETE, FitResult
 from core.io.json_file import read_json, write_json
 from core.measure.annotation import ALTITUDE_SOURCE_OF_KIND, ALTITUDE_SOURCES
 from core.measure.fit_uncertainty import FitInterval
-from core.measure.hw_ratios import resolve_hw
+from core.model.hw_spec import resolve_hw
 from core.measure.records import default_error_model
 from core.limits import (
     ALTITUDE_M, FOCAL_MM, FPS, LAUNCH_HEIGHT_M, MASK_OUTLINE_SD_PX, SENSOR_WIDTH_MM, in_range,

@@ -59,7 +59,23 @@ def run(args: argparse.Namespace) -> int:
         print("sample clip: rendering on first use, then cached")
         path = ensure_sample_project()
     if args.screenshot is not None:
-        from ui.screenshot import save_screenshot
+        from app.screenshot import save_screenshot
         return save_screenshot(path, args.screenshot)
-    from ui.app import run_app
     return run_app(path, quit_when_shown=args.quit_when_shown)
+
+
+def run_app(path: Path | None = None, quit_when_shown: bool = False) -> int:
+    """Show the main window (opening ``path`` if given) and run the event loop.
+
+    ``quit_when_shown``: quit once the first frame is on screen (start-up timing).
+    """
+    from ui.app import application
+    from ui.main_window import MainWindow
+    app = application()
+    window = MainWindow()
+    if quit_when_shown:
+        window.state.frame_shown.connect(lambda _: app.quit())
+    window.show()
+    if path is not None:
+        window.open_path(path)
+    return app.exec()

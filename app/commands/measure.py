@@ -29,14 +29,15 @@ from pathlib import Path
 import numpy as np
 
 from core.errors import InputError
-from core.io.annotation_json import read_annotation_json
+from core.measure.annotation_json import read_annotation_json
 from core.io.output_paths import check_output_folder
 from core.limits import ALTITUDE_M, at_least, body_measurements, count, in_range, result_figures
 from core.measure.annotation import ALTITUDE_SOURCES
 from core.measure.baseline import BaselineEstimate, BaselineSettings, estimate_baseline
 from core.measure.condition import MassModel
 from core.measure.elliptical import TAIL_EXTRAPOLATED, TAIL_OPTIONS
-from core.measure.hw_ratios import DEFAULT_PRESET, FROM_MODEL, resolve_hw
+from core.measure.hw_ratios import DEFAULT_PRESET, FROM_MODEL
+from core.model.hw_spec import resolve_hw
 from core.measure.records import (
     MeasureInput, annotated_frame_mask, default_error_model, default_image_id,
     mass_model_from_json, measured_image_from_annotation, measured_image_from_morphometrix,

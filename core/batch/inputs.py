@@ -10,7 +10,7 @@ from typing import Any
 
 from core.batch.task import BatchTask, FitInputs, MaskMeasurement, ProjectMeasurement
 from core.io.telemetry import find_srt_sidecar
-from core.measure.hw_ratios import resolve_hw
+from core.model.hw_spec import resolve_hw
 from core.project.model import Project
 from core.project.project_file import media_path, project_to_json
 from core.project.results import project_hw_spec

@@ -13,10 +13,10 @@ from core.batch.summary import elliptical_values
 from core.batch.task import MaskMeasurement
 from core.camera_presets import DEFAULT_PRESET, CameraPreset, get_preset
 from core.fit.pipeline import CameraChoice, FitRun
-from core.io.annotation_json import AnnotationFile
+from core.measure.annotation_json import AnnotationFile
 from core.measure.annotation import Calibration
 from core.measure.baseline import BaselineEstimate, BaselineSettings, estimate_baseline
-from core.measure.hw_ratios import resolve_hw
+from core.model.hw_spec import resolve_hw
 from core.measure.mask_midline import annotation_from_mask
 from core.measure.records import (
     default_error_model, measured_image_from_annotation, result_record, write_exports,

@@ -8,7 +8,7 @@ from typing import Any
 
 from core.batch.record import TaskRecord
 from core.fit.result import FitResult
-from core.io.collatrix import write_wide_csv
+from core.measure.collatrix import write_wide_csv
 from core.measure.baseline import BaselineEstimate
 from core.project.comparison import QUANTITIES, fit_interval_of, interval_of
 

@@ -18,7 +18,7 @@ import torch
 from core.fit.config import FitConfig
 from core.fit.engine import fitted_template
 from core.measure.elliptical import TAIL_MEASURED, elliptical_volume
-from core.measure.hw_from_model import hw_from_template, station_extents
+from core.model.hw_from_model import hw_from_template, station_extents
 from core.model.sections import section_area_factor
 from core.model.template import load_template
 from core.synth.clip import synth_animal

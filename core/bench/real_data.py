@@ -22,7 +22,7 @@ import numpy as np
 from core.camera_presets import CameraPreset
 from core.errors import InputError
 from core.io.medidor import MedidorRow, read_medidor
-from core.io.morphometrix import MorphoMetrixRecord, read_morphometrix
+from core.measure.morphometrix import MorphoMetrixRecord, read_morphometrix
 from core.measure.annotation import Calibration
 
 REAL_DATA_DIR = Path(__file__).resolve().parents[2] / "tests" / "data" / "real"

@@ -28,7 +28,7 @@ from core.fit.schedule import (
     stop_message,
 )
 from core.measure.condition import body_condition
-from core.measure.hw_ratios import resolve_hw
+from core.model.hw_spec import resolve_hw
 from core.measure.mesh import body_length, mesh_volume
 from core.model.model import DolphinModel
 from core.model.sections import NUM_TABLE_STATIONS, reshape_sections

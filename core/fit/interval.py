@@ -10,8 +10,9 @@ from core.measure.condition import MassModel
 from core.measure.fit_uncertainty import (
     DEFAULT_FIT_DRAWS, FitInterval, fit_interval, outline_sd_px,
 )
-from core.measure.hw_from_model import station_extents
-from core.measure.hw_ratios import HWRatios, load_hw_preset, resolve_hw
+from core.model.hw_from_model import station_extents
+from core.measure.hw_ratios import HWRatios, load_hw_preset
+from core.model.hw_spec import resolve_hw
 from core.measure.uncertainty import ErrorModel
 from core.model.template import load_template
 

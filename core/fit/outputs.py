@@ -19,7 +19,7 @@ from core.fit.result import FitResult
 from core.fit.result_io import RESULT_JSON, RESULT_NPZ, write_fit_result
 from core.io.atomic import atomic_folder
 from core.io.output_paths import check_output_folder
-from core.io.receipt import write_png
+from core.measure.receipt import write_png
 from core.io.report import list_some
 from core.model.template import Template
 from core.render.render import Appearance, render

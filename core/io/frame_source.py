@@ -1,7 +1,7 @@
 """The interface shared by every kind of media (video, still image, folder of frames) and the
 bounded least-recently-used frame cache its implementations keep.
 
-A :class:`FrameSource` has a ``clip`` (core.io.video.Clip: path, fps, frame count, size) and a
+A :class:`FrameSource` has a ``clip`` (:class:`Clip`: path, fps, frame count, size) and a
 ``kind``, and gives frame k as an (H, W, 3) uint8 RGB array, read-only (it may be shared with
 the cache). Use it as a context manager, or call ``close``.
 """
@@ -9,15 +9,34 @@ the cache). Use it as a context manager, or call ``close``.
 from abc import ABC, abstractmethod
 from collections import OrderedDict
 from collections.abc import Callable, Iterable, Iterator
+from dataclasses import dataclass
+from pathlib import Path
 from types import TracebackType
-from typing import TYPE_CHECKING, Self
+from typing import Self
 
 import numpy as np
 
-if TYPE_CHECKING:  # video.py's VideoReader is a FrameSource: import Clip for annotations only
-    from core.io.video import Clip
-
 DEFAULT_CACHE_BYTES = 512 * 2**20  # ~20 decoded 4K frames or ~90 at 1080p: smooth scrubbing
+
+
+@dataclass(frozen=True)
+class Clip:
+    """A video clip's metadata: frame rate (frames per second), frame count and size in pixels."""
+
+    path: Path
+    fps: float
+    num_frames: int
+    width_px: int
+    height_px: int
+
+    @property
+    def duration_s(self) -> float:
+        """Length of the clip, seconds (num_frames / fps)."""
+        return self.num_frames / self.fps
+
+    def frame_time_s(self, frame_idx: np.ndarray | int) -> np.ndarray:
+        """Presentation time of frame(s) ``frame_idx``, seconds from the first frame."""
+        return np.asarray(frame_idx, dtype=np.float64) / self.fps
 
 
 class FrameCache:
@@ -54,7 +73,7 @@ class FrameSource(ABC):
     ``kind``: "video", "image" or "frames"; ``len(source)`` is the clip's frame count.
     """
 
-    clip: "Clip"
+    clip: Clip
     kind: str
 
     @abstractmethod

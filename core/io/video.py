@@ -17,14 +17,13 @@ serial: give each worker its own reader to decode in parallel.
 """
 
 import threading
-from dataclasses import dataclass
 from pathlib import Path
 
 import cv2
 import numpy as np
 
 from core.errors import InputError
-from core.io.frame_source import DEFAULT_CACHE_BYTES, FrameCache, FrameSource
+from core.io.frame_source import DEFAULT_CACHE_BYTES, Clip, FrameCache, FrameSource
 
 # FFmpeg's interrupt callback aborts opening or reading after this long, so a bogus or
 # unreachable file cannot hang (the timeouts are capture parameters of OpenCV's FFmpeg back-end).
@@ -39,26 +38,6 @@ SEEK_TOLERANCE_FRAMES = 0.5  # a sought frame's timestamp must lie within half a
 # two; a larger shortfall at the end of the clip means it is truncated.
 FRAME_COUNT_SLACK = 2
 TAIL_CHECK_FRAMES = 8  # how far before the announced end the truncation check starts decoding
-
-
-@dataclass(frozen=True)
-class Clip:
-    """A video clip's metadata: frame rate (frames per second), frame count and size in pixels."""
-
-    path: Path
-    fps: float
-    num_frames: int
-    width_px: int
-    height_px: int
-
-    @property
-    def duration_s(self) -> float:
-        """Length of the clip, seconds (num_frames / fps)."""
-        return self.num_frames / self.fps
-
-    def frame_time_s(self, frame_idx: np.ndarray | int) -> np.ndarray:
-        """Presentation time of frame(s) ``frame_idx``, seconds from the first frame."""
-        return np.asarray(frame_idx, dtype=np.float64) / self.fps
 
 
 def _check_file(path: Path) -> None:

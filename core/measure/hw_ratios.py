@@ -137,17 +137,3 @@ def load_hw_preset(name: str = DEFAULT_PRESET) -> HWRatios:
         raise InputError(f"unknown HW ratio preset {name!r}; available: "
                          f"{', '.join(preset_names())}, {FROM_MODEL}, or a CSV file")
     return read_hw_csv(path)
-
-
-def resolve_hw(spec: str) -> HWRatios:
-    """``--hw`` value → table: "model" (the template), a CSV path, or a preset name."""
-    if spec == FROM_MODEL:
-        # The model's table needs the mesh stack (torch); preset and CSV tables never load it.
-        from core.measure.hw_from_model import hw_from_template
-        return hw_from_template()
-    path = Path(spec)
-    if path.suffix.lower() == ".csv" or path.exists():
-        if not path.is_file():
-            raise InputError(f"{path}: HW ratio file not found")
-        return read_hw_csv(path)
-    return load_hw_preset(spec)

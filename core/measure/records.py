@@ -8,7 +8,7 @@ The CLI (`dolphinfit measure`) and the GUI build the same records with these fun
 3. :func:`result_record` (the result JSON), then :func:`write_exports`: STEM_measure.json,
    STEM_mmx.csv (MorphoMetriX v2, long), STEM_wide.csv (ours: metres, pixels, Xcertainty's
    calibration and the results, one row) and STEM_collatrix.csv (the row CollatriX's
-   body-condition tool reads as it is; core.io.collatrix).
+   body-condition tool reads as it is; core.measure.collatrix).
 """
 
 from dataclasses import dataclass, fields, replace
@@ -17,15 +17,15 @@ from pathlib import Path
 import numpy as np
 
 from core.errors import InputError
-from core.io.annotation_json import AnnotationFile
-from core.io.collatrix import collatrix_row, wide_row, write_wide_csv
+from core.measure.annotation_json import AnnotationFile
+from core.measure.collatrix import collatrix_row, wide_row, write_wide_csv
 from core.io.json_file import read_json, write_json
 from core.io.masks import read_masks
-from core.io.morphometrix import (
+from core.measure.morphometrix import (
     LENGTH_NAME, MorphoMetrixRecord, read_morphometrix, record_from_pixels,
     write_morphometrix_v2,
 )
-from core.io.morphometrix import pixel_measurements as record_pixels
+from core.measure.morphometrix import pixel_measurements as record_pixels
 from core.measure.annotation import PixelMeasurements, pixel_measurements, place_stations
 from core.measure.baseline import SUMMARISED, BaselineEstimate
 from core.measure.condition import MassModel

@@ -15,7 +15,7 @@ from pathlib import Path
 from core.errors import InputError
 from core.fit.result import FitResult
 from core.fit.result_io import read_fit_result
-from core.io.collatrix import write_wide_csv
+from core.measure.collatrix import write_wide_csv
 from core.measure.baseline import BaselineEstimate
 from core.measure.fit_uncertainty import FitInterval, outline_sd_px
 from core.measure.uncertainty import Summary

@@ -30,7 +30,7 @@ def comparison_view(estimate: BaselineEstimate, fit: FitResult,
                     frame_width_px: int) -> ComparisonView:
     """Both methods of one animal in a clip ``frame_width_px`` wide (loads torch for the
     fitted profile: worker only)."""
-    from core.measure.hw_from_model import station_extents
+    from core.model.hw_from_model import station_extents
     from core.model.template import load_template
 
     fitted_widths, fitted_heights = station_extents(fit.rest_verts,

@@ -8,7 +8,7 @@ from pathlib import Path
 
 from core.errors import InputError
 from core.io.media import open_media
-from core.measure.hw_ratios import resolve_hw
+from core.model.hw_spec import resolve_hw
 from core.progress import Progress, ProgressCallback, check_cancel
 from core.project.model import MeasurementKey, Project, get_measurement
 from core.project.project_file import media_path

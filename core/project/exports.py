@@ -5,7 +5,7 @@ Files, all written atomically, under ``out_dir``:
 - ``STEM_results.json``: schema version; per frame (keyed by its export name, the image ID)
   the clip, animal and frame with the result JSON; per animal the mean, SD and range of
   SUMMARY_KEYS over its exported frames.
-- ``STEM_wide.csv``: our wide table (core.io.collatrix: metres, pixels, Xcertainty's
+- ``STEM_wide.csv``: our wide table (core.measure.collatrix: metres, pixels, Xcertainty's
   calibration, results), one row per frame, with the columns ``clip``, ``animal_id`` and
   ``frame_idx`` in front.
 - ``STEM_collatrix.csv``: the table CollatriX's body-condition tool reads as it is, one row
@@ -30,12 +30,12 @@ from typing import Self
 import numpy as np
 
 from core.errors import InputError
-from core.io.collatrix import write_wide_csv
+from core.measure.collatrix import write_wide_csv
 from core.io.frame_source import FrameSource
 from core.io.json_file import write_json
 from core.io.media import open_media
-from core.io.morphometrix import write_morphometrix_v2
-from core.io.receipt import draw_receipt, write_png
+from core.measure.morphometrix import write_morphometrix_v2
+from core.measure.receipt import draw_receipt, write_png
 from core.measure.records import collatrix_csv_row, wide_csv_row
 from core.progress import Progress, ProgressCallback, check_cancel
 from core.project.model import Project, get_measurement

@@ -12,7 +12,7 @@ from pathlib import Path
 import numpy as np
 
 from core.errors import InputError
-from core.io.annotation_json import AnnotationFile
+from core.measure.annotation_json import AnnotationFile
 from core.io.telemetry import Telemetry, load_telemetry
 from core.io.video import Clip
 from core.measure.annotation import Calibration

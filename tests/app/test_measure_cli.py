@@ -10,8 +10,8 @@ import pytest
 
 from app.cli import main
 from core.camera_presets import CameraPreset
-from core.io.annotation_json import AnnotationFile, write_annotation_json
-from core.io.morphometrix import read_morphometrix
+from core.measure.annotation_json import AnnotationFile, write_annotation_json
+from core.measure.morphometrix import read_morphometrix
 from core.measure.annotation import Annotation, Calibration
 from core.measure.elliptical import TAIL_EXTRAPOLATED, TAIL_MEASURED, elliptical_volume
 from core.measure.hw_ratios import load_hw_preset

@@ -17,7 +17,7 @@ import numpy as np
 import pytest
 from PySide6.QtCore import QPoint, QPointF, Qt, QTimer
 
-from core.io.morphometrix import read_morphometrix
+from core.measure.morphometrix import read_morphometrix
 from core.measure.annotation import pixel_measurements, place_stations
 from core.measure.baseline import BaselineSettings, estimate_baseline
 from core.measure.hw_ratios import load_hw_preset

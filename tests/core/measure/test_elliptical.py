@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 from scipy.integrate import quad
 
-from core.io.morphometrix import pixel_measurements, read_morphometrix
+from core.measure.morphometrix import pixel_measurements, read_morphometrix
 from core.measure.elliptical import (
     TAIL_EXTRAPOLATED, TAIL_MEASURED, apply_tail, body_area_index, circular_volume,
     elliptical_volume, fill_skipped, segment_volumes,

@@ -5,11 +5,12 @@ import pytest
 import torch
 
 from core.errors import InputError
-from core.measure.hw_from_model import hw_from_template
 from core.measure.hw_ratios import (
-    FROM_MODEL, load_hw_preset, preset_names, read_hw_csv, resolve_hw, write_hw_csv,
+    FROM_MODEL, load_hw_preset, preset_names, read_hw_csv, write_hw_csv,
 )
 from core.measure.mesh import station_profile
+from core.model.hw_from_model import hw_from_template
+from core.model.hw_spec import resolve_hw
 from core.model.template import load_template
 
 

@@ -9,7 +9,8 @@ from core.camera import NadirCamera
 from core.camera_presets import DEFAULT_PRESET, get_preset
 from core.measure.annotation import Annotation, pixel_measurements
 from core.measure.elliptical import TAIL_MEASURED, elliptical_volume
-from core.measure.hw_ratios import FROM_MODEL, resolve_hw
+from core.measure.hw_ratios import FROM_MODEL
+from core.model.hw_spec import resolve_hw
 from core.measure.mesh import body_length, mesh_volume, station_profile
 from core.model.model import DolphinModel
 from core.model.template import load_template

@@ -9,8 +9,8 @@ import pytest
 
 from core.camera_presets import CameraPreset
 from core.errors import InputError
-from core.io.annotation_json import AnnotationFile
-from core.io.morphometrix import read_morphometrix
+from core.measure.annotation_json import AnnotationFile
+from core.measure.morphometrix import read_morphometrix
 from core.measure.annotation import Annotation, Calibration
 from core.measure.baseline import BaselineSettings, estimate_baseline
 from core.measure.hw_ratios import load_hw_preset

@@ -1,4 +1,4 @@
-"""Tests for core/project/exports.py and core/io/receipt.py: two animals, three measured frames."""
+"""Tests for core/project/exports.py and core/measure/receipt.py: two animals, three measured frames."""
 
 import csv
 import json
@@ -10,7 +10,7 @@ import pytest
 
 from core.camera_presets import CameraPreset
 from core.errors import InputError
-from core.io.morphometrix import read_morphometrix
+from core.measure.morphometrix import read_morphometrix
 from core.measure.annotation import place_stations
 from core.measure.hw_ratios import load_hw_preset
 from core.progress import Cancelled

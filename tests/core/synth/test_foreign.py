@@ -16,7 +16,7 @@ from core.intrinsics import CameraIntrinsics
 from core.io.masks import read_png_folder
 from core.io.video import VideoReader, open_clip
 from core.iou import mask_iou
-from core.measure.hw_from_model import station_extents
+from core.model.hw_from_model import station_extents
 from core.measure.mesh import body_length
 from core.measure.stations import STATION_FRACTIONS
 from core.model.template import load_template

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from core.errors import InputError
-from core.io.morphometrix import (
+from core.measure.morphometrix import (
     MorphoMetrixRecord, pixel_measurements, read_morphometrix, record_from_pixels,
     width_name, write_morphometrix_v2,
 )

@@ -8,7 +8,7 @@ import pytest
 
 from core.camera_presets import CameraPreset, get_preset
 from core.errors import InputError
-from core.io.annotation_json import (
+from core.measure.annotation_json import (
     AnnotationFile, annotation_from_json, annotation_to_json, read_annotation_json,
     write_annotation_json,
 )

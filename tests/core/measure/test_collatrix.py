@@ -10,8 +10,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from core.io.collatrix import collatrix_row, wide_row, write_wide_csv
-from core.io.morphometrix import read_morphometrix
+from core.measure.collatrix import collatrix_row, wide_row, write_wide_csv
+from core.measure.morphometrix import read_morphometrix
 from core.measure.baseline import BaselineSettings, estimate_baseline
 from core.measure.elliptical import TAIL_EXTRAPOLATED
 from core.measure.hw_ratios import load_hw_preset

@@ -31,7 +31,7 @@ from collections.abc import Mapping, Sequence
 from pathlib import Path, PureWindowsPath
 
 from core.io.atomic import atomic_path
-from core.io.morphometrix import (
+from core.measure.morphometrix import (
     DEGREES, LENGTH_NAME, SQUARE_METERS, SQUARE_PIXELS, MorphoMetrixRecord, number_text,
     width_name,
 )
