@@ -7,7 +7,7 @@ varied); none uses a suite seed. ``clip_windows`` renders each clip once into th
 cuts, from every frame where the target is visible, the window the tracker would look at:
 around the true mask moved by a random motion error, grown as the tracker grows it, with the
 salient network's probability and the component the tracker would choose
-(``NetTracker.masked_in``), and the true mask in that window as the target.
+(``NetLook.masked_in``), and the true mask in that window as the target.
 """
 
 import math
@@ -21,7 +21,7 @@ from core.io.masks import read_png_folder
 from core.io.video import VideoReader, open_clip
 from core.measure.hw_ratios import DEFAULT_PRESET
 from core.segment.net_settings import NetSettings
-from core.segment.net_tracker import NetTracker
+from core.segment.net_look import NetLook
 from core.segment.regions import centroid, shifted
 from core.segment.salient import SalientNet
 from core.segment.seed import dilate
@@ -159,7 +159,7 @@ def clip_windows(files: ClipFiles, seed: int, net: SalientNet | None = None) -> 
     the tracker's component would miss the target (``MIN_PRIOR_SHARE``)."""
     rng = np.random.default_rng([seed, 23])
     recorder = _Recorder()
-    tracker = NetTracker(NetSettings(), net=net, edges=recorder)
+    look = NetLook(NetSettings(), net=net, edges=recorder)
     clip = open_clip(files.video)
     truth = read_png_folder(files.masks_dir, clip)
     windows = []
@@ -168,27 +168,27 @@ def clip_windows(files: ClipFiles, seed: int, net: SalientNet | None = None) -> 
             if not truth.is_visible[frame_idx]:
                 continue
             target = truth.mask(frame_idx)
-            window = _window(tracker, recorder, frames[frame_idx], target, rng)
+            window = _window(look, recorder, frames[frame_idx], target, rng)
             if window is not None:
                 windows.append(window)
     return windows
 
 
-def _window(tracker: NetTracker, recorder: _Recorder, frame_rgb: np.ndarray,
+def _window(look: NetLook, recorder: _Recorder, frame_rgb: np.ndarray,
             target: np.ndarray, rng: np.random.Generator) -> Window | None:
     length_px = longer_side(target)
     prediction = shifted(target, rng.normal(0, MOTION_ERROR * length_px, 2))
     if not prediction.any():
         return None
     growth = math.exp(rng.uniform(*np.log(GROWTH_RANGE)))
-    side = window_side(length_px, tracker.settings, growth)
+    side = window_side(length_px, look.settings, growth)
     rows, cols = square_window(centroid(prediction) + rng.normal(0, 0.05 * side, 2), side,
                                *frame_rgb.shape[:2])
     moving = rng.random() < 0.7
-    focus = (dilate(prediction, round(tracker.settings.focus_fraction * length_px)) if moving
+    focus = (dilate(prediction, round(look.settings.focus_fraction * length_px)) if moving
              else None)
     recorder.seen = None
-    tracker.masked_in(frame_rgb, rows, cols, prediction, near=bool(rng.random() < 0.8),
+    look.masked_in(frame_rgb, rows, cols, prediction, near=bool(rng.random() < 0.8),
                       focus=focus)
     if recorder.seen is None:
         return None

@@ -30,6 +30,7 @@ from core.io.masks import MaskTrack
 from core.progress import Progress, ProgressCallback, check_cancel
 from core.segment.regions import MaskCrop, crop_of
 from core.segment.segmenter import TRACK_STAGE, AutoSeed, BoxSeed, Frames, PointSeed, Seed
+from core.segment.tracking_loop import check_seed_frame, track_of
 
 PACKAGE = "sam2"
 INSTALL_HINT = ("install it yourself (dolphinfit does not): clone "
@@ -141,9 +142,7 @@ class Sam2Segmenter:
             raise InputError("SAM-2 needs a click or a box on the animal; it does not find "
                              "one by itself")
         num_frames = len(frames)
-        if not 0 <= seed.frame_idx < num_frames:
-            raise IndexError(f"seed frame {seed.frame_idx} is outside the clip "
-                             f"(0…{num_frames - 1})")
+        check_seed_frame(seed, num_frames)
         chosen = chosen_frames(num_frames, seed.frame_idx, self.only_frames)
         seed_local = chosen.index(seed.frame_idx)
         check_cancel(cancel)
@@ -162,10 +161,8 @@ class Sam2Segmenter:
                 if progress is not None:
                     progress(Progress(TRACK_STAGE, done, len(chosen)))
                 check_cancel(cancel)
-        is_visible = np.array([t in crops for t in range(num_frames)])
-        return MaskTrack(is_visible, width, height,
-                         f"SAM-2 ({self.checkpoint.name}) from {seed}",
-                         lambda t: crops[t].paste(height, width))
+        return track_of(crops, num_frames, width, height,
+                        f"SAM-2 ({self.checkpoint.name}) from {seed}")
 
     def _load(self):
         """The video predictor on the CPU, built once."""

@@ -24,16 +24,9 @@ import cv2
 import numpy as np
 
 from core.io.masks import MaskTrack
-from core.progress import Progress, ProgressCallback, check_cancel
+from core.progress import ProgressCallback, check_cancel
 from core.segment.colour import ColourModel, coverage, separation, to_lab
-from core.segment.regions import (
-    attached,
-    centroid,
-    crop_of,
-    models_near,
-    shifted,
-    window,
-)
+from core.segment.regions import attached, centroid, models_near, shifted, window
 from core.segment.seed import (
     dilate,
     find_blobs,
@@ -41,7 +34,8 @@ from core.segment.seed import (
     seed_mask,
     water_model,
 )
-from core.segment.segmenter import TRACK_STAGE, Frames, Seed
+from core.segment.segmenter import Frames, Seed
+from core.segment.tracking_loop import check_seed_frame, track_both_ways, track_of
 
 
 @dataclass(frozen=True)
@@ -99,32 +93,18 @@ class MaskTracker:
         InputError if the seed finds no animal; core.progress.Cancelled once ``cancel`` is set.
         """
         num_frames = len(frames)
-        if not 0 <= seed.frame_idx < num_frames:
-            raise IndexError(f"seed frame {seed.frame_idx} is outside the clip "
-                             f"(0…{num_frames - 1})")
+        check_seed_frame(seed, num_frames)
         check_cancel(cancel)
         first = frames[seed.frame_idx]
         height, width = first.shape[:2]
         mask = seed_mask(first, seed)
         animal, water = models_near(first, mask)
-        crops = {seed.frame_idx: crop_of(mask)}
-        num_done = 1
-        if progress is not None:
-            progress(Progress(TRACK_STAGE, num_done, num_frames))
-        for order in (range(seed.frame_idx + 1, num_frames), range(seed.frame_idx - 1, -1, -1)):
-            state = _TrackState(mask, animal, water, float(mask.sum()),
-                                separation(animal, water))
-            for frame_idx in order:
-                check_cancel(cancel)
-                found = self._next(frames[frame_idx], state)
-                if found is not None:
-                    crops[frame_idx] = crop_of(found)
-                num_done += 1
-                if progress is not None:
-                    progress(Progress(TRACK_STAGE, num_done, num_frames))
-        is_visible = np.array([t in crops for t in range(num_frames)])
-        return MaskTrack(is_visible, width, height, f"built-in tracker from {seed}",
-                         lambda t: crops[t].paste(height, width))
+        crops = track_both_ways(
+            frames, seed.frame_idx, mask, range(num_frames),
+            lambda: _TrackState(mask, animal, water, float(mask.sum()),
+                                separation(animal, water)),
+            self._next, progress, cancel)
+        return track_of(crops, num_frames, width, height, f"built-in tracker from {seed}")
 
     def _next(self, frame_rgb: np.ndarray, state: _TrackState) -> np.ndarray | None:
         """The mask in the next frame (None if lost), updating ``state``."""

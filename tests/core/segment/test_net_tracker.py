@@ -140,8 +140,8 @@ def test_missing_or_altered_weights_say_how_to_install(tmp_path, monkeypatch):
 def test_back_ends_by_name():
     assert isinstance(make_segmenter("network", only_frames=[0]), NetTracker)
     assert type(make_segmenter("colour")).__name__ == "MaskTracker"
-    assert make_segmenter("network-colour-edges").edges.name == "colour edges"
-    assert make_segmenter("network").edges.name == "edge network"
+    assert make_segmenter("network-colour-edges").look.edges.name == "colour edges"
+    assert make_segmenter("network").look.edges.name == "edge network"
     with pytest.raises(InputError, match="unknown; choose one of network, network-colour-edges, "
                                          "colour"):
         make_segmenter("sam")
@@ -195,7 +195,7 @@ def test_a_click_takes_the_dark_blob_where_the_network_sees_only_a_spot():
     there looks more like a dolphin and is taken, and looking again in windows around it
     does not give it up for the spot (which would make it less elongated)."""
     frame, animal = _animal_frame((160, 120))
-    mask = NetTracker(net=_CentreBlob())._seed_mask(frame, PointSeed(160.0, 120.0, 0))
+    mask = NetTracker(net=_CentreBlob()).seeder.seed_mask(frame, PointSeed(160.0, 120.0, 0))
     assert mask_iou(mask, animal) > 0.9
 
 
@@ -268,13 +268,13 @@ def test_the_automatic_seed_prefers_a_lone_dolphins_shape_to_a_larger_wider_blob
     scores higher on saliency × √area; the blob as elongated as a lone dolphin is taken."""
     frame, animal = _animal_frame((90, 120), water_rgb=(40, 110, 100), animal_rgb=(220, 90, 90))
     cv2.ellipse(frame, (235, 120), (80, 30), 70, 0, 360, (220, 90, 90), -1)
-    mask = NetTracker(net=_Reddish())._seed_mask(frame, AutoSeed(0))
+    mask = NetTracker(net=_Reddish()).seeder.seed_mask(frame, AutoSeed(0))
     assert mask_iou(mask, animal) > 0.9
 
 
 def test_where_the_network_sees_nothing_the_automatic_seed_takes_the_dark_blob():
     frame, animal = _animal_frame((160, 120))
-    mask = NetTracker(net=_Reddish())._seed_mask(frame, AutoSeed(0))
+    mask = NetTracker(net=_Reddish()).seeder.seed_mask(frame, AutoSeed(0))
     assert mask_iou(mask, animal) > 0.9
 
 

@@ -1,0 +1,63 @@
+"""The loop every tracker shares: from the seed frame forwards over the chosen frames, then
+backwards, each pass from the seed's mask with a fresh state; and the MaskTrack of what it
+found. A tracker brings only its step from one frame to the next."""
+
+import threading
+from collections.abc import Callable, Sequence
+from typing import TypeVar
+
+import numpy as np
+
+from core.io.masks import MaskTrack
+from core.progress import Progress, ProgressCallback, check_cancel
+from core.segment.regions import MaskCrop, crop_of
+from core.segment.segmenter import TRACK_STAGE, Frames, Seed
+
+State = TypeVar("State")
+
+
+def check_seed_frame(seed: Seed, num_frames: int) -> None:
+    """IndexError unless the seed's frame lies in the clip."""
+    if not 0 <= seed.frame_idx < num_frames:
+        raise IndexError(f"seed frame {seed.frame_idx} is outside the clip "
+                         f"(0…{num_frames - 1})")
+
+
+def track_both_ways(frames: Frames, seed_idx: int, seed_mask: np.ndarray,
+                    chosen: Sequence[int], start: Callable[[], State],
+                    step: Callable[[np.ndarray, State], np.ndarray | None],
+                    progress: ProgressCallback | None = None,
+                    cancel: threading.Event | None = None) -> dict[int, MaskCrop]:
+    """The animal's crops in the seed frame and the ``chosen`` frames: ``step(frame, state)``
+    gives each frame's mask (None: not seen) from the state ``start()`` makes afresh for the
+    pass forwards from the seed, then for the pass backwards. core.progress.Cancelled once
+    ``cancel`` is set."""
+    forward = [t for t in chosen if t > seed_idx]
+    backward = [t for t in reversed(chosen) if t < seed_idx]
+    total = 1 + len(forward) + len(backward)
+    crops = {seed_idx: crop_of(seed_mask)}
+    done = 1
+    if progress is not None:
+        progress(Progress(TRACK_STAGE, done, total))
+    for order in (forward, backward):
+        state = start()
+        for frame_idx in order:
+            check_cancel(cancel)
+            found = step(frames[frame_idx], state)
+            if found is not None:
+                crops[frame_idx] = crop_of(found)
+            done += 1
+            if progress is not None:
+                progress(Progress(TRACK_STAGE, done, total))
+    return crops
+
+
+def track_of(crops: dict[int, MaskCrop], num_frames: int, width: int, height: int,
+             source: str, paste: Callable[[MaskCrop], np.ndarray] | None = None) -> MaskTrack:
+    """The MaskTrack of the frames that have a crop; ``paste`` turns a crop into its frame's
+    (height, width) mask (default: pasted at that size)."""
+    is_visible = np.array([t in crops for t in range(num_frames)])
+    if paste is None:
+        return MaskTrack(is_visible, width, height, source,
+                         lambda t: crops[t].paste(height, width))
+    return MaskTrack(is_visible, width, height, source, lambda t: paste(crops[t]))
