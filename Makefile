@@ -30,7 +30,7 @@ screenshot: $(STAMP)
 
 test: $(STAMP)
 	$(VENV)/bin/lint-imports
-	OMP_NUM_THREADS=1 DOLPHINFIT_THREADS=1 $(PY) -m pytest -q -n $(TEST_WORKERS) --durations=25
+	OMP_NUM_THREADS=1 DOLPHINFIT_THREADS=1 $(PY) -m pytest -q -n $(TEST_WORKERS) --dist worksteal --durations=25
 
 clean-venv:
 	rm -rf $(VENV)
