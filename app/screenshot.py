@@ -22,7 +22,7 @@ from core.measure.mask_midline import midline_from_mask
 from core.project.edits import set_skipped
 from core.project.fit_settings import FitSettings
 from ui.app import application
-from ui.commands import edit_measurement
+from ui.state.commands import edit_measurement
 from ui.main_window import MainWindow
 
 SCREENSHOT_FRAME = 24     # the sample dolphin lies flat and whole in the frame here

@@ -67,29 +67,29 @@ from core.segment.backends import BACKENDS, COLOUR, DEFAULT_BACKEND, NETWORK, SA
 from core.segment.sam2_backend import INSTALL_HINT, PACKAGE, check_checkpoint, config_for, installed
 from ui.action_table import load_action_table
 from ui.app import APP_NAME
-from ui.background import BackgroundJobs
-from ui.canvas import FrameCanvas
-from ui.clip_session import ClipSession, open_session, read_session_telemetry
-from ui.commands import push_edit
+from ui.workers.background import BackgroundJobs
+from ui.widgets.canvas import FrameCanvas
+from ui.state.clip_session import ClipSession, open_session, read_session_telemetry
+from ui.state.commands import push_edit
 from ui.dialogs.altitude_dialog import AltitudeDialog
 from ui.dialogs.animal_dialog import AnimalDialog
 from ui.dialogs.camera_dialog import CameraDialog
 from ui.dialogs.handle_style_dialog import HandleStyleDialog
 from ui.dialogs.relink_dialog import RelinkDialog
 from ui.dialogs.shortcuts_dialog import ShortcutsDialog
-from ui.export_worker import ExportWorker
-from ui.fit_controller import FitController
-from ui.frame_loader import FrameLoader
-from ui.handle_style import HandleStyle
-from ui.mask_controller import MaskController
-from ui.measure_overlay import COARSE_NUDGE_PX, FINE_NUDGE_PX, NUDGE_PX, MeasureOverlay
-from ui.playback import Playback
-from ui.preferences import load_preferences, save_preference
-from ui.project_model import Change, ProjectModel
-from ui.project_panel import ProjectPanel
-from ui.results_panel import ResultsPanel
-from ui.timeline import Timeline
-from ui.viewer_state import Notifier, ViewerState
+from ui.workers.export_worker import ExportWorker
+from ui.controllers.fit_controller import FitController
+from ui.workers.frame_loader import FrameLoader
+from ui.state.handle_style import HandleStyle
+from ui.controllers.mask_controller import MaskController
+from ui.widgets.measure_overlay import COARSE_NUDGE_PX, FINE_NUDGE_PX, NUDGE_PX, MeasureOverlay
+from ui.controllers.playback import Playback
+from ui.state.preferences import load_preferences, save_preference
+from ui.state.project_model import Change, ProjectModel
+from ui.widgets.project_panel import ProjectPanel
+from ui.widgets.results_panel import ResultsPanel
+from ui.widgets.timeline import Timeline
+from ui.state.viewer_state import Notifier, ViewerState
 
 NUDGE_ACTIONS = {  # action → (direction, image px): outward +1, inward −1
     "nudge_out": (+1, NUDGE_PX), "nudge_in": (-1, NUDGE_PX),
@@ -599,8 +599,8 @@ class MainWindow(QMainWindow):
 
     def altitude_at(self, clip_idx: int, frame_idx: int) -> tuple[float, str]:
         """Altitude (m) and its error source for a frame of the open clip; InputError if none."""
-        session = self.state.session
-        if session is None or session.clip_idx != clip_idx:
+        session = self.state.session_for(clip_idx)
+        if session is None:
             raise InputError("the clip is still opening")
         spec = self.model.project.clips[clip_idx].altitude
         if spec != session.altitude:
@@ -672,7 +672,7 @@ class MainWindow(QMainWindow):
 
     def _on_selection_changed(self) -> None:
         self._sync_mirror_actions()
-        if self.state.session is None or self.state.session.clip_idx != self.model.clip_idx:
+        if self.state.session_for(self.model.clip_idx) is None:
             self._open_current_clip()
             return
         measurement = self.model.current_measurement()

@@ -56,7 +56,7 @@ def collect_after_each_test():
 @pytest.fixture
 def shown_canvas(qtbot):
     """Makes a FrameCanvas of a given size showing a frame."""
-    from ui.canvas import FrameCanvas
+    from ui.widgets.canvas import FrameCanvas
 
     def make(frame, size: tuple[int, int]) -> FrameCanvas:
         view = FrameCanvas()

@@ -25,7 +25,7 @@ from core.measure.uncertainty import ErrorModel
 from core.project.model import AltitudeSpec
 from core.project.project_file import autosave_path, find_moved_media
 from core.project.sample import ensure_sample_project
-from ui import results_worker
+from ui.workers import results_worker
 from ui.main_window import MainWindow
 
 from .ellipse_scene import LEFT, MIDLINE, analytic_widths, chord, dolphin_frame

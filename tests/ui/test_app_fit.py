@@ -18,7 +18,7 @@ from core.measure.mask_midline import midline_from_mask
 from core.project.fit_settings import FitSettings, fit_dir
 from core.project.project_file import relative_media_path
 from core.project.sample import ensure_sample_project
-from ui.commands import edit_measurement
+from ui.state.commands import edit_measurement
 from ui.main_window import MainWindow
 
 FIT_TIMEOUT_MS = 300_000

@@ -7,7 +7,7 @@ import pytest
 from PySide6.QtWidgets import QFileDialog, QMessageBox
 
 from core.segment.backends import NETWORK, SAM2
-from ui.preferences import load_preferences
+from ui.state.preferences import load_preferences
 
 HAS_SAM2 = importlib.util.find_spec("sam2") is not None
 

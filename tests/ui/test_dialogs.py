@@ -22,7 +22,7 @@ from ui.dialogs.altitude_dialog import AltitudeDialog
 from ui.dialogs.animal_dialog import AnimalDialog
 from ui.dialogs.camera_dialog import CameraDialog
 from ui.dialogs.handle_style_dialog import HandleStyleDialog
-from ui.handle_style import HandleStyle
+from ui.state.handle_style import HandleStyle
 from ui.dialogs.relink_dialog import RelinkDialog
 from ui.dialogs.shortcuts_dialog import MOUSE_GESTURES, ShortcutsDialog
 

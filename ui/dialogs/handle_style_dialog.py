@@ -7,7 +7,7 @@ from PySide6.QtWidgets import (QColorDialog, QComboBox, QDialog, QFormLayout, QP
                                QSpinBox, QVBoxLayout, QWidget)
 
 from ui.dialogs.dialog_buttons import ok_cancel_buttons
-from ui.handle_style import HandleStyle
+from ui.state.handle_style import HandleStyle
 
 SIZE_RANGE_PX = (6, 60)
 OPACITY_RANGE_PCT = (10, 100)

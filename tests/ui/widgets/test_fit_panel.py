@@ -1,0 +1,42 @@
+"""The fit panel: settings in and out, Start/Cancel, progress shown in words and numbers."""
+
+from core.progress import Progress
+from core.project.fit_settings import FitSettings
+from ui.widgets.fit_panel import FitPanel, format_eta
+
+
+def test_settings_round_trip_and_start(qtbot):
+    panel = FitPanel()
+    qtbot.addWidget(panel)
+    settings = FitSettings(start_s=1.0, end_s=4.5, fps=2.5, quality="quick", refraction=True,
+                           roi=False)
+    panel.set_settings(settings, duration_s=5.0)
+    assert panel.settings() == settings
+    panel.set_settings(FitSettings(), duration_s=5.0)
+    assert panel.settings() == FitSettings()  # open ends shown as "from the start"/"to the end"
+    assert panel.start_s.text() == "from the start"
+    with qtbot.waitSignal(panel.start_requested, timeout=1000) as blocker:
+        panel.start_button.click()
+    assert blocker.args == [FitSettings()]
+    panel.start_s.setValue(3.0)
+    panel.end_s.setValue(2.0)
+    panel.start_button.click()  # contradicting bounds: said in words, nothing started
+    assert "must come after" in panel.status.text()
+
+
+def test_progress_and_cancel(qtbot):
+    panel = FitPanel()
+    qtbot.addWidget(panel)
+    panel.set_running(True)
+    assert not panel.start_button.isEnabled() and panel.cancel_button.isEnabled()
+    for step, loss in ((1, 2.0), (2, 1.0), (2, 1.0), (3, 0.5)):  # a repeated heartbeat
+        panel.show_progress(Progress("global", step, 10, eta_s=65.0,
+                                     metrics={"total": loss, "mean_iou": 0.8}))
+    assert panel.loss_plot.values == [2.0, 1.0, 0.5]
+    assert panel.progress_bar.value() == 3 and panel.progress_bar.maximum() == 10
+    assert panel.progress_label.text() == "global · step 3 / 10 · ETA 1 min 05 s · mean IoU 0.800"
+    with qtbot.waitSignal(panel.cancel_requested, timeout=1000):
+        panel.cancel_button.click()
+    panel.set_running(False)
+    assert panel.start_button.isEnabled() and not panel.cancel_button.isEnabled()
+    assert format_eta(None) == "" and format_eta(9.4) == "ETA 9 s"

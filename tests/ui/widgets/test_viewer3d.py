@@ -1,0 +1,128 @@
+"""The 3D viewer under Xvfb + xcb (reference/platform.md §3.3): playback of a posed ellipsoid,
+the elliptical solid beside it, toggles, a real screenshot, and no render without a change."""
+
+import numpy as np
+import pytest
+import trimesh
+from PySide6.QtGui import QGuiApplication
+
+from core.measure.elliptical_solid import elliptical_solid
+from ui.widgets.viewer3d import Viewer3D
+
+LENGTH_M = 2.5
+SEMI_AXES_M = (LENGTH_M / 2, 0.25, 0.2)
+DEPTH_M = -0.3
+FITTED_FRAMES = np.array([0, 2, 4])
+SHIFTS_M = np.array([0.0, 1.0, 3.0])  # x translation at each fitted frame
+BACKGROUND_RGB = (255, 255, 255)
+
+
+@pytest.fixture
+def animal() -> tuple[np.ndarray, np.ndarray]:
+    """(T, V, 3) posed vertices of an ellipsoid 2.5 m long, and its faces."""
+    sphere = trimesh.creation.icosphere(subdivisions=2)
+    rest = sphere.vertices * SEMI_AXES_M + [0.0, 0.0, DEPTH_M]
+    posed = np.stack([rest + [shift, 0.0, 0.0] for shift in SHIFTS_M])
+    return posed, np.asarray(sphere.faces)
+
+
+@pytest.fixture
+def viewer(qtbot, qapp, animal) -> Viewer3D:
+    if qapp.platformName() != "xcb":
+        pytest.skip(f"the 3D view draws only under xcb (Xvfb), not {qapp.platformName()!r}")
+    widget = Viewer3D()
+    qtbot.addWidget(widget)
+    widget.resize(800, 600)
+    widget.show()
+    qtbot.waitExposed(widget)
+    posed, faces = animal
+    widget.set_fitted(faces, FITTED_FRAMES, posed, rest_verts=None)
+    return widget
+
+
+def _points(viewer: Viewer3D, name: str) -> np.ndarray:
+    return np.array(viewer.plotter.renderer.actors[name].mapper.dataset.points)
+
+
+def test_set_frame_moves_the_posed_mesh(viewer, animal):
+    posed, _ = animal
+    viewer.set_frame(0)
+    at_0 = _points(viewer, "posed")
+    np.testing.assert_allclose(at_0, posed[0], atol=1e-6)
+    viewer.set_frame(2)
+    np.testing.assert_allclose(_points(viewer, "posed"), at_0 + [1.0, 0.0, 0.0], atol=1e-6)
+    assert viewer.frame_label == "fitted frame 2"
+    viewer.set_frame(1)
+    np.testing.assert_allclose(_points(viewer, "posed"), posed[0] + [0.5, 0, 0], atol=1e-6)
+    assert viewer.frame_label == "interpolated between frames 0 and 2"
+    viewer.set_frame(9)
+    np.testing.assert_allclose(_points(viewer, "posed"), posed[2], atol=1e-6)
+    assert viewer.frame_label == "nearest fitted frame 4"
+
+
+def test_water_plane_toggles(viewer):
+    water = viewer.plotter.renderer.actors["water"]
+    assert water.GetVisibility()
+    assert _points(viewer, "water")[:, 2] == pytest.approx(0.0)
+    viewer.toggles["water"].setChecked(False)
+    assert not water.GetVisibility()
+    viewer.toggles["water"].setChecked(True)
+    assert water.GetVisibility()
+
+
+def test_elliptical_solid_sits_beside_the_animal(viewer, animal):
+    widths = np.full(19, 0.5)
+    verts, faces = elliptical_solid(LENGTH_M, widths, 0.8 * widths)
+    viewer.set_elliptical(verts, faces)
+    meshes = [name for name in ("posed", "rest", "elliptical")
+              if name in viewer.plotter.renderer.actors]
+    assert meshes == ["posed", "elliptical"]
+    solid = _points(viewer, "elliptical")
+    posed, _ = animal
+    lo, hi = posed.reshape(-1, 3).min(0), posed.reshape(-1, 3).max(0)
+    centre = (lo + hi) / 2
+    np.testing.assert_allclose(solid.min(0), [centre[0] - LENGTH_M / 2, hi[1] + 0.25,
+                                              centre[2] - 0.2], atol=1e-6)
+    np.testing.assert_allclose(solid.max(0), [centre[0] + LENGTH_M / 2, hi[1] + 0.75,
+                                              centre[2] + 0.2], atol=1e-6)
+    viewer.set_elliptical(None)
+    assert "elliptical" not in viewer.plotter.renderer.actors
+
+
+def test_screenshot_shows_the_scene(viewer):
+    image = viewer.plotter.screenshot(return_img=True)
+    drawn = np.any(image[..., :3] != BACKGROUND_RGB, axis=-1)
+    assert drawn.mean() > 0.01
+
+
+def test_nothing_renders_without_a_change(viewer, qtbot, monkeypatch):
+    qtbot.wait(200)  # let the exposure's paints finish
+    calls, vtk_renders = [], []
+    render = viewer.plotter.render
+    monkeypatch.setattr(viewer.plotter, "render", lambda: calls.append(1) or render())
+    observer = viewer.plotter.ren_win.AddObserver("EndEvent", lambda *_: vtk_renders.append(1))
+    try:
+        qtbot.wait(500)
+        assert (calls, vtk_renders) == ([], [])
+        viewer.set_frame(1)
+        qtbot.wait(50)
+        assert calls and vtk_renders
+    finally:
+        viewer.plotter.ren_win.RemoveObserver(observer)
+
+
+def test_clear_and_close_release_the_view(viewer):
+    viewer.clear()
+    assert not {"posed", "water"} & set(viewer.plotter.renderer.actors)
+    viewer.close_viewer()
+    assert viewer.plotter is None
+    viewer.set_frame(3)  # a no-op once closed
+
+
+def test_headless_platform_shows_a_label(qtbot, monkeypatch):
+    monkeypatch.setattr(QGuiApplication, "platformName", staticmethod(lambda: "offscreen"))
+    widget = Viewer3D()
+    qtbot.addWidget(widget)
+    assert widget.plotter is None
+    widget.set_frame(1)
+    widget.set_elliptical(None)

@@ -1,0 +1,443 @@
+"""The 3D fit in the app: the fit panel starts and cancels the current animal's fit in a
+worker; a finished (or cancelled, partial) fit is saved in the animal's fit folder and recorded
+in the project as an undoable edit; the current animal's fit is read back when shown, posed in
+the 3D viewer at the current frame, and compared with the elliptical baseline."""
+
+import threading
+from dataclasses import replace
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+import numpy as np
+from PySide6.QtCore import QObject, QPointF, Signal
+from PySide6.QtGui import QColor, QPainterPath, QPen, QPolygonF
+from PySide6.QtWidgets import QGraphicsPathItem
+
+from core.errors import InputError
+from core.fit.reporter import FitPreview
+from core.fit.result import FitResult
+from core.fit.result_io import read_fit_result
+from core.io.video import frame_range, step_for_fps
+from core.measure.stations import STATION_PCT
+from core.model.template import load_template
+from core.progress import Progress
+from core.project.fit_overlay import silhouette_outlines
+from core.project.fit_playback import posed_at
+from core.measure.hw_ratios import write_hw_csv
+from core.project.comparison_view import ComparisonView, comparison_view
+from core.project.fit_settings import FitSettings, fit_dir, hw_table_path
+from core.project.model import Animal, with_animal
+from core.project.project_file import media_path, relative_media_path
+from core.project.results import FrameResult, frame_altitude, project_fit_config
+from ui.workers.background import BackgroundJobs
+from ui.widgets.canvas import FrameCanvas
+from ui.state.commands import push_edit
+from ui.widgets.fit_panel import FitPanel
+from ui.workers.fit_worker import FitJob, FitWorker
+from ui.widgets.lazy_widget import LazyWidget
+from ui.state.project_model import Change, ProjectModel
+from ui.widgets.results_panel import ResultsPanel
+from ui.state.viewer_state import ViewerState
+
+if TYPE_CHECKING:
+    from ui.widgets.comparison_panel import ComparisonPanel
+    from ui.widgets.viewer3d import Viewer3D
+
+SILHOUETTE_COLOUR = "#ff8c1a"  # orange: apart from the measuring handles and the water
+SILHOUETTE_Z = 0.5             # above the frame, under the measuring overlay
+
+
+def _make_viewer() -> "Viewer3D":
+    from ui.widgets.viewer3d import Viewer3D  # VTK: imported when the 3D view is first shown
+    return Viewer3D()
+
+
+def _make_comparison() -> "ComparisonPanel":
+    from ui.widgets.comparison_panel import ComparisonPanel  # matplotlib: on first show
+    return ComparisonPanel()
+
+
+def describe_fit(result: FitResult) -> str:
+    """One line on a fit: its status in words, its mean IoU and figures, then its warnings."""
+    head = ("3D fit complete" if result.status == "complete"
+            else f"3D fit {result.status} (partial result): {result.status_message}")
+    return (f"{head}. {len(result.frame_idx)} frames, mean IoU {float(result.iou.mean()):.3f}; "
+            f"length {result.length_m:.3f} m, volume {result.volume_m3:.4f} m³, "
+            f"mass {result.mass_kg:.1f} kg" + "".join(f"\n⚠ {w}" for w in result.warnings))
+
+
+class FitController(QObject):
+    """Owns the fit panel, the 3D viewer, the comparison panel and the fit worker; draws the
+    fitted silhouette on ``canvas`` and compares with the elliptical result ``results`` shows.
+    ``fit_shown``: a fit is on show (the window then shows the 3D view);
+    ``fit_frames_changed(frames)``: the frames the current animal's fit would use, for the
+    timeline."""
+
+    fit_shown = Signal()
+    fit_frames_changed = Signal(object)
+
+    def __init__(self, model: ProjectModel, state: ViewerState, jobs: BackgroundJobs,
+                 canvas: FrameCanvas, results: ResultsPanel,
+                 parent: QObject | None = None) -> None:
+        super().__init__(parent)
+        self.model, self.state, self.jobs, self.results = model, state, jobs, results
+        self.panel = FitPanel()
+        self.viewer_slot = LazyWidget(_make_viewer, "The 3D view opens with the first fit.")
+        self.comparison_slot = LazyWidget(_make_comparison, "No 3D fit of this animal yet.")
+        self.viewer_slot.built.connect(self._on_viewer_built)
+        self.comparison_slot.built.connect(self._on_comparison_built)
+        self._view: ComparisonView | None = None   # what the comparison shows, once computed
+        self._comparison_status = "No 3D fit of this animal yet."
+        self.worker = FitWorker(self)
+        self._fits: dict[Path, FitResult] = {}   # fits read or made this session, by folder
+        self._shown: Path | None = None          # the fit folder on show
+        self._running: tuple | None = None  # clip index, animal ID, project path being fitted
+        self._live: FitPreview | None = None     # the running fit's latest state
+        self._silhouette_generation = 0
+        self._closing = threading.Event()  # set on close: a fit cancelled then is not kept
+        self._faces: np.ndarray | None = None
+        self.panel.start_requested.connect(self.start)
+        self.panel.cancel_requested.connect(self.worker.cancel)
+        self.panel.settings_changed.connect(self._store_settings)
+        self.worker.progress.connect(self._on_progress)
+        self.worker.finished.connect(self._on_finished)
+        self.worker.failed.connect(self._on_failed)
+        self.worker.cancelled.connect(
+            lambda: self._on_failed("cancelled before the first step: nothing to keep"))
+        model.selection_changed.connect(self.refresh)
+        # a measurement edit (every step of a drag) changes neither fit settings nor fits
+        model.changed.connect(lambda change: None if change.kind == "measurement"
+                              else self.refresh())
+        state.frame_shown.connect(self._on_frame_shown)
+        state.session_opened.connect(lambda _: self.refresh())
+        results.result_shown.connect(self._on_elliptical)
+        self.silhouette = QGraphicsPathItem()
+        pen = QPen(QColor(SILHOUETTE_COLOUR), 1.5)
+        pen.setCosmetic(True)
+        self.silhouette.setPen(pen)
+        self.silhouette.setZValue(SILHOUETTE_Z)
+        self.silhouette.setVisible(False)
+        canvas.scene().addItem(self.silhouette)
+        self._silhouette_on = True
+
+    # ----- the current animal
+    def _animal(self) -> tuple[int, int, Animal] | None:
+        m = self.model
+        if m.clip_idx is None or m.animal_idx is None:
+            return None
+        return m.clip_idx, m.animal_idx, m.project.clips[m.clip_idx].animals[m.animal_idx]
+
+    def _fit_folder(self, animal: Animal) -> Path | None:
+        path = self.model.path
+        if animal.fit_path is None or path is None:
+            return None
+        return (path.parent / animal.fit_path).resolve()
+
+    def refresh(self) -> None:
+        """Show the current animal's settings and fit (read back in the background)."""
+        current = self._animal()
+        if current is None:
+            self._show(None)
+            return
+        clip_idx, _, animal = current
+        session = self.state.session_for(clip_idx)  # None: the animal's clip is still opening
+        duration = None if session is None else session.source.clip.duration_s
+        self.panel.set_settings(animal.fit_settings, duration)
+        self._tick_fit_frames(animal.fit_settings)
+        folder = self._fit_folder(animal)
+        if folder is None or folder == self._shown:
+            if folder is None:
+                self._show(None)
+            return
+        if folder in self._fits:
+            self._show(folder)
+            return
+        self.jobs.run(lambda: read_fit_result(folder),
+                      lambda result: self._read(folder, result),
+                      lambda why: self.panel.show_status(f"⚠ saved fit not read: {why}"))
+
+    def _tick_fit_frames(self, settings: FitSettings) -> None:
+        """Mark on the timeline the frames a fit with ``settings`` would use."""
+        if self.state.session_for(self.model.clip_idx) is not None:
+            self.fit_frames_changed.emit(self._frames(settings))
+
+    def _frames(self, settings: FitSettings) -> np.ndarray:
+        """The open clip's frames that a fit with ``settings`` uses."""
+        media = self.state.session.source.clip
+        return frame_range(media, settings.start_s, settings.end_s,
+                           step_for_fps(media, settings.fps))
+
+    def fit_frames(self) -> list[int]:
+        """The open clip's frames that the current animal's fit uses (default settings when
+        no animal of this clip is selected); a session must be open."""
+        current = self._animal()
+        own = current is not None and current[0] == self.state.session.clip_idx
+        return self._frames(current[2].fit_settings if own else FitSettings()).tolist()
+
+    def _read(self, folder: Path, result: FitResult) -> None:
+        self._fits.setdefault(folder, result)  # a fit made meanwhile is newer than the file
+        current = self._animal()
+        if current is not None and self._fit_folder(current[2]) == folder:
+            self._show(folder)
+
+    @property
+    def viewer(self) -> "Viewer3D | None":
+        """The 3D view, once its dock has been shown."""
+        return self.viewer_slot.widget
+
+    @property
+    def comparison(self) -> "ComparisonPanel | None":
+        """The comparison panel, once its dock has been shown."""
+        return self.comparison_slot.widget
+
+    def _show(self, folder: Path | None) -> None:
+        self._shown, self._view = folder, None
+        if folder is None:
+            self._update_silhouette(self.state.frame_idx)  # hides it, unless a fit runs
+            self._comparison_status = "No 3D fit of this animal yet."
+            if not self.worker.is_running:
+                self.panel.show_status("Measure the animal, then fit the 3D model to the clip.")
+        else:
+            result = self._fits[folder]
+            self._comparison_status = describe_fit(result)
+            self._update_silhouette(self.state.frame_idx)
+            self.panel.show_status(describe_fit(result))
+            self.fit_shown.emit()
+            self._on_elliptical(self.results.current_result())
+        self._sync_viewer()
+        self._sync_comparison()
+
+    def _on_viewer_built(self, viewer: "Viewer3D") -> None:
+        self._sync_viewer()
+
+    def _on_comparison_built(self, panel: "ComparisonPanel") -> None:
+        panel.hw_from_fit_requested.connect(self.use_fit_hw)
+        self._sync_comparison()
+
+    def _on_frame_shown(self, frame_idx: int) -> None:
+        if self.viewer is not None:
+            self.viewer.set_frame(frame_idx)
+        self._update_silhouette(frame_idx)
+
+    def _sync_viewer(self) -> None:
+        """Show the current fit (and the elliptical solid) in the 3D view, if it is built."""
+        viewer = self.viewer
+        if viewer is None:
+            return
+        if self._shown is None:
+            viewer.clear()
+            return
+        result = self._fits[self._shown]
+        viewer.set_fitted(result.faces, result.frame_idx, result.posed_verts, result.rest_verts)
+        viewer.set_frame(self.state.frame_idx)
+        if self._view is None:
+            viewer.set_elliptical(None)
+        else:
+            viewer.set_elliptical(self._view.solid_verts, self._view.solid_faces)
+
+    def _sync_comparison(self) -> None:
+        """Show the comparison as computed, if the panel is built."""
+        panel, view = self.comparison, self._view
+        if panel is None:
+            return
+        panel.show_comparison(None if view is None else view.rows, self._comparison_status)
+        if view is not None:
+            panel.show_profiles(STATION_PCT, view.measured_widths_m, view.used_widths_m,
+                                view.fitted_widths_m, view.hw_heights_m,
+                                view.fitted_heights_m)
+
+    # ----- the fitted silhouette over the frame
+    def set_silhouette_visible(self, visible: bool) -> None:
+        self._silhouette_on = visible
+        self._update_silhouette(self.state.frame_idx)
+
+    def _update_silhouette(self, frame_idx: int) -> None:
+        """Outline the fit posed at ``frame_idx`` (worked out in the background)."""
+        self._silhouette_generation += 1  # outlines asked for before this one are stale
+        session, folder, live = self.state.session, self._shown, self._live
+        if live is not None and (self._running is None or session is None
+                                 or self._running[0] != session.clip_idx):
+            live = None  # the running fit is of another clip
+        if not self._silhouette_on or (folder is None and live is None) \
+                or self.state.session_for(self.model.clip_idx) is None:
+            self.silhouette.setVisible(False)
+            return
+        try:
+            altitude = frame_altitude(session.telemetry, frame_idx)
+        except InputError:
+            self.silhouette.setVisible(False)
+            return
+        # while a fit runs its latest state is drawn, else the saved fit of the animal shown
+        source = live if live is not None else self._fits[folder]
+        faces = self._template_faces() if live is not None else source.faces
+        intrinsics = self.model.project.clips[session.clip_idx].camera.intrinsics()
+        verts, _ = posed_at(source.frame_idx, source.posed_verts, frame_idx)
+        self.jobs.run(
+            lambda: silhouette_outlines(verts, faces, intrinsics, altitude),
+            lambda outlines, g=self._silhouette_generation: self._draw_silhouette(g, outlines),
+            lambda why: self.silhouette.setVisible(False))
+
+    def _template_faces(self) -> np.ndarray:
+        """The model's faces (every fit shares the template's), read once."""
+        if self._faces is None:
+            self._faces = load_template().faces
+        return self._faces
+
+    def _draw_silhouette(self, generation: int, outlines: list[np.ndarray]) -> None:
+        if generation != self._silhouette_generation or not self._silhouette_on:
+            return
+        path = QPainterPath()
+        for outline in outlines:
+            path.addPolygon(QPolygonF([QPointF(u, v) for u, v in outline]))
+            path.closeSubpath()
+        self.silhouette.setPath(path)
+        self.silhouette.setVisible(True)
+
+    # ----- comparison
+    def _on_elliptical(self, frame_result: FrameResult | None) -> None:
+        """Compare once the elliptical result has its interval and a fit is shown."""
+        if self._shown is None or frame_result is None or frame_result.estimate.interval is None:
+            return
+        m = self.model
+        if (frame_result.key.clip, frame_result.key.animal) != (m.clip_idx, m.animal_idx):
+            return  # the previous animal's result, still on show
+        fit, folder = self._fits[self._shown], self._shown
+        width = m.project.clips[frame_result.key.clip].camera.image_width_px
+        self.jobs.run(lambda: comparison_view(frame_result.estimate, fit, width),
+                      lambda view: self._show_comparison(folder, view),
+                      lambda why: self._comparison_failed(folder, why))
+
+    def _comparison_failed(self, folder: Path, why: str) -> None:
+        if folder == self._shown:
+            self._view, self._comparison_status = None, f"⚠ {why}"
+            self._sync_comparison()
+
+    def _show_comparison(self, folder: Path, view: ComparisonView) -> None:
+        if folder != self._shown:
+            return
+        self._view, self._comparison_status = view, describe_fit(self._fits[folder])
+        self._sync_comparison()
+        self._sync_viewer()
+
+    # ----- running a fit
+    def _store_settings(self, settings: FitSettings) -> None:
+        current = self._animal()
+        if current is None or current[2].fit_settings == settings:
+            return
+        clip_idx, animal_idx, animal = current
+        model = self.model
+        push_edit(model, with_animal(model.project, clip_idx, animal_idx,
+                                     replace(animal, fit_settings=settings)),
+                  "fit settings", Change("clip", clip=clip_idx),
+                  merge_tag=("fit settings", clip_idx, animal_idx))
+
+    def start(self, settings: FitSettings) -> None:
+        """Fit the current animal with ``settings`` (checked here, said in words if not)."""
+        try:
+            job = self._job(settings)
+        except InputError as exc:
+            self.panel.show_status(f"⚠ {exc}")
+            return
+        self._store_settings(settings)
+        current = self._animal()
+        if self.worker.start(job):
+            self._running = (current[0], current[2].animal_id, self.model.path)
+            self.panel.set_running(True)
+
+    def _job(self, settings: FitSettings) -> FitJob:
+        current = self._animal()
+        if current is None:
+            raise InputError("select an animal to fit (Clip → Add animal)")
+        clip_idx, _, animal = current
+        session, path = self.state.session_for(clip_idx), self.model.path
+        if session is None:
+            raise InputError("the clip is still opening")
+        clip = self.model.project.clips[clip_idx]
+        if clip.altitude != session.altitude:
+            raise InputError("the altitude is being read again: start the fit in a moment")
+        if session.telemetry is None:
+            raise InputError(session.telemetry_error or "no altitude: Clip → Altitude…")
+        if clip.masks_path is None:
+            raise InputError("the fit needs the dolphin's masks: choose them with "
+                             "Clip → Masks…")
+        return FitJob(discard=self._closing, media=media_path(path, clip),
+                      telemetry=session.telemetry,
+                      masks=(path.parent / clip.masks_path).resolve(), camera=clip.camera,
+                      out_dir=fit_dir(path, clip.media_path, animal.animal_id),
+                      config=project_fit_config(settings, self.model.project, path.parent))
+
+    def _on_progress(self, progress: Progress) -> None:
+        self.panel.show_progress(progress)
+        if isinstance(progress.preview, FitPreview):
+            self._live = progress.preview  # the running fit's state, drawn over the frame
+            self._update_silhouette(self.state.frame_idx)
+
+    def _on_failed(self, why: str) -> None:
+        self._running, self._live = None, None
+        self.panel.set_running(False)
+        self._update_silhouette(self.state.frame_idx)
+        self.panel.show_status(f"⚠ fit stopped: {why}")
+
+    def _on_finished(self, outcome: tuple[FitResult, Path]) -> None:
+        """Record the saved fit on its animal (found by ID: the tree may have changed)."""
+        result, folder = outcome
+        clip_idx, animal_id, project_path = self._running
+        self._running, self._live = None, None
+        self.panel.set_running(False)
+        self._fits[folder.resolve()] = result
+        model = self.model
+        if model.path != project_path:
+            self.panel.show_status(f"{describe_fit(result)} — saved in {folder}; its project "
+                                   "is no longer open")
+            return
+        clips = model.project.clips
+        animals = clips[clip_idx].animals if clip_idx < len(clips) else ()
+        index = next((i for i, a in enumerate(animals) if a.animal_id == animal_id), None)
+        if index is None:
+            self.panel.show_status(f"{describe_fit(result)} — saved in {folder}, but its "
+                                   "animal is gone from the project")
+            return
+        self._shown = None  # show it afresh
+        push_edit(model, with_animal(model.project, clip_idx, index, replace(
+            animals[index], fit_path=relative_media_path(model.path.parent, folder))),
+            f"3D fit of {animal_id}", Change("clip", clip=clip_idx))
+        self.refresh()
+
+    def use_fit_hw(self) -> None:
+        """Save the shown fit's HW ratios beside the project and make them the project's
+        (one undoable edit); the source names the fit, so results say where they came from."""
+        current, folder, path = self._animal(), self._shown, self.model.path
+        if current is None or folder is None or path is None:
+            return
+        clip = self.model.project.clips[current[0]]
+        animal_id, fit = current[2].animal_id, self._fits[folder]
+        table = hw_table_path(path, clip.media_path, animal_id)
+
+        def make() -> str:
+            from core.model.hw_from_model import hw_from_mesh
+            from core.model.template import load_template
+            hw = hw_from_mesh(fit.rest_verts, load_template().station_rings,
+                              name=f"3D fit of {animal_id} ({clip.name})",
+                              source=f"heights / widths of the fitted mesh at the stations, "
+                                     f"{folder} ({fit.status})", is_provisional=False)
+            write_hw_csv(table, hw)
+            return relative_media_path(path.parent, table)
+
+        def use(relative: str) -> None:
+            model = self.model
+            push_edit(model, replace(model.project, hw_ratios=relative),
+                      f"HW ratios from the 3D fit of {animal_id}", Change("settings"))
+
+        self.jobs.run(make, use, lambda why: self.panel.show_status(f"⚠ {why}"))
+
+    def shown_fit(self) -> FitResult | None:
+        """The current animal's fit on show, if any."""
+        return None if self._shown is None else self._fits[self._shown]
+
+    def shutdown(self) -> None:
+        """Cancel a running fit (its partial state is not written) and wait for it; release
+        the 3D view."""
+        self._closing.set()
+        self.worker.shutdown()
+        if self.viewer is not None:
+            self.viewer.close_viewer()

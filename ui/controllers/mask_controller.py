@@ -1,0 +1,231 @@
+"""Masks in the app: the clip's masks loaded with its session, the current frame's outline on
+the canvas, the coverage strip under the timeline, the built-in tracker started from a click
+or re-run from a corrected frame, and brush / eraser corrections. Tracked and corrected masks
+are kept losslessly in the project's folder (``PROJECT.masks/<clip>.npz``); pointing the clip
+at them is an undoable edit."""
+
+from dataclasses import replace
+from collections.abc import Callable
+from pathlib import Path
+
+import numpy as np
+from PySide6.QtCore import QObject, Signal
+
+from core.errors import InputError
+from core.io.masks import MaskTrack, read_masks
+from core.project.mask_store import (
+    coverage,
+    masks_file,
+    outlines,
+    save_track,
+    with_frame,
+)
+from core.project.model import with_clip
+from core.project.project_file import relative_media_path
+from core.segment.backends import DEFAULT_BACKEND, SAM2
+from core.segment.segmenter import PointSeed
+from ui.workers.background import BackgroundJobs
+from ui.widgets.canvas import FrameCanvas
+from ui.state.commands import push_edit
+from ui.workers.job_worker import JobWorker
+from ui.widgets.mask_layer import MaskLayer
+from ui.state.project_model import Change, ProjectModel
+from ui.workers.tracker_jobs import track_job
+from ui.state.viewer_state import Notifier, ViewerState
+
+
+class MaskController(QObject):
+    """Owns the mask layer, the tracking worker and the open clip's MaskTrack.
+
+    ``coverage_changed(coverage or None)``: the open clip's mask coverage per frame, for the
+    strip under the timeline; ``seeding(bool)``: the next click on the frame is the
+    tracker's (True) or the measuring overlay's again (False). ``fit_frames()``: the current
+    animal's fit frames (SAM-2 tracks only those)."""
+
+    coverage_changed = Signal(object)
+    seeding = Signal(bool)
+
+    def __init__(self, model: ProjectModel, state: ViewerState, notifier: Notifier,
+                 jobs: BackgroundJobs, canvas: FrameCanvas,
+                 fit_frames: Callable[[], list[int]], parent: QObject | None = None) -> None:
+        super().__init__(parent)
+        self.model, self.state, self.notifier, self.jobs = model, state, notifier, jobs
+        self.fit_frames = fit_frames
+        self.layer = MaskLayer(canvas)
+        self.layer.set_fill(False)  # an outline only: the body edge under it stays visible
+        self.tracker = JobWorker(self)
+        self.track: MaskTrack | None = None
+        self._track_clip: int | None = None
+        self._loaded: str | None = None  # the masks_path the track was read from or saved to
+        self._target: tuple | None = None  # (project path, clip index) of the tracking job
+        self._seeding = False
+        self.backend = DEFAULT_BACKEND  # who draws the masks (the Clip menu; a preference)
+        self.sam2_checkpoint: Path | None = None  # asked for once (a preference)
+        self.tracker.progress.connect(lambda p: notifier.status(
+            f"tracking ({self.backend}): frame {p.step} of {p.total}"))
+        self.tracker.finished.connect(self._on_tracked)
+        self.tracker.failed.connect(lambda why: notifier.error("Tracking failed", why))
+        self.tracker.cancelled.connect(lambda: notifier.status("tracking cancelled", 5000))
+        self.layer.mask_edited.connect(self._on_edited)
+        state.session_opened.connect(lambda _: self.load())
+        state.session_closed.connect(self.load)
+        state.frame_shown.connect(self.show_frame)
+        canvas.image_clicked.connect(self._on_click)
+        model.changed.connect(self._on_model_changed)
+
+    # ----- loading and showing
+    def _clip(self):
+        """The open clip's entry; None without a session (or when its clip was removed)."""
+        session, clips = self.state.session, self.model.project.clips
+        if session is None or session.clip_idx >= len(clips):
+            return None
+        return clips[session.clip_idx]
+
+    def load(self) -> None:
+        """Read the open clip's masks (in the background); none: clear the views."""
+        session, clip = self.state.session, self._clip()
+        self.track, self._track_clip = None, None
+        self._loaded = None if clip is None else clip.masks_path
+        self.layer.clear()
+        self.coverage_changed.emit(None)
+        if clip is None or clip.masks_path is None:
+            return
+        masks = (self.model.path.parent / clip.masks_path).resolve()
+        self.jobs.run(lambda: read_masks(masks, session.source.clip),
+                      lambda track: self._set_track(session.clip_idx, track),
+                      lambda why: self.notifier.status(f"masks not read: {why}", 10_000))
+
+    def _set_track(self, clip_idx: int, track: MaskTrack) -> None:
+        if self.state.session_for(clip_idx) is None:
+            return
+        self.track, self._track_clip = track, clip_idx
+        self._show_coverage(track)
+        self.show_frame(self.state.frame_idx)
+
+    def _show_coverage(self, track: MaskTrack) -> None:
+        def shown(result: object) -> None:
+            if track is self.track:  # not a track replaced meanwhile
+                self.coverage_changed.emit(result)
+
+        self.jobs.run(lambda: coverage(track), shown, lambda why: None)
+
+    def show_frame(self, frame_idx: int) -> None:
+        """The frame's mask outline (and, with a tool on, its mask to edit)."""
+        track = self.track
+        if track is None:
+            return
+
+        def shown(result: tuple[np.ndarray, list]) -> None:
+            mask, polygons = result
+            if frame_idx == self.state.frame_idx and track is self.track:
+                self.layer.show_outlines(frame_idx, polygons)
+                if self.layer.tool is not None:
+                    self.layer.begin_edit(frame_idx, mask)
+
+        def read() -> tuple[np.ndarray, list]:
+            mask = track.mask(frame_idx)
+            return mask, outlines(mask)
+
+        self.jobs.run(read, shown, lambda why: None)
+
+    def _on_model_changed(self, change: Change) -> None:
+        clip = self._clip()
+        if clip is None:
+            if self.track is not None:  # the clip went (undo of adding it)
+                self.track, self._track_clip = None, None
+                self.layer.clear()
+            return
+        if clip.masks_path != self._loaded:
+            self.load()  # chosen (Clip → Masks…), changed or undone
+
+    # ----- tracking
+    def arm_click_seed(self) -> None:
+        """The next click on the frame seeds the tracker there (both directions)."""
+        if self.state.session is None:
+            return
+        self._seeding = True
+        self.seeding.emit(True)  # the click is the tracker's, not a length point
+        self.notifier.status("click on the dolphin to track it from this frame")
+
+    def _on_click(self, u: float, v: float, _modifiers: object) -> None:
+        if not self._seeding:
+            return
+        self._seeding = False
+        self.seeding.emit(False)
+        self._start(PointSeed(u, v), "both")
+
+    def retrack_here(self) -> None:
+        """Track forwards and backwards from the current frame's (corrected) mask."""
+        if self.track is None or self._clip() is None:
+            self.notifier.error("Re-track", "this clip has no masks yet: track from a click")
+            return
+        self._start(self.track.mask(self.state.frame_idx), "both")
+
+    def _start(self, seed: object, direction: str) -> None:
+        session, path, clip = self.state.session, self.model.path, self._clip()
+        if clip is None or path is None:
+            return
+        media = (path.parent / clip.media_path).resolve()
+        # SAM-2 is slow: it sees only the frames to be fitted (and the seed frame)
+        only = self.fit_frames() if self.backend == SAM2 else None
+        try:
+            job = track_job(media, seed, self.state.frame_idx, direction, self.track,
+                            self.backend, self.sam2_checkpoint, only)
+        except (InputError, ValueError) as exc:  # e.g. an empty mask to re-track from
+            self.notifier.error("Tracking", str(exc))
+            return
+        self._target = (path, session.clip_idx)
+        self.tracker.run_job(job)
+
+    def _on_tracked(self, track: MaskTrack) -> None:
+        path, clip_idx = self._target
+        if path != self.model.path or self.state.session_for(clip_idx) is None:
+            self.notifier.error("Tracking", "the tracked masks were not kept: another clip or "
+                                "project is open now")
+            return
+        self.notifier.status(f"{int(track.is_visible.sum())} of {track.num_frames} frames "
+                             f"masked by {track.source}", 10_000)
+        self._store(track, "track masks")
+
+    # ----- corrections and storage
+    def set_tool(self, tool: str | None) -> None:
+        """Brush, eraser or none; a tool edits the current frame's mask."""
+        self.layer.set_tool(tool)
+        if tool is not None:
+            if self.track is None:
+                self.notifier.error("Masks", "this clip has no masks to correct yet")
+                self.layer.set_tool(None)
+                return
+            self.show_frame(self.state.frame_idx)
+
+    def _on_edited(self, frame_idx: int, mask: np.ndarray) -> None:
+        if self.track is not None:
+            self._store(with_frame(self.track, frame_idx, mask), "correct mask")
+
+    def _store(self, track: MaskTrack, what: str) -> None:
+        """Save the track beside the project (background) and point the clip at it."""
+        clip_idx, path = self.state.session.clip_idx, self.model.path
+        clip = self.model.project.clips[clip_idx]
+        target = masks_file(path, clip.media_path)
+        self.track, self._track_clip = track, clip_idx
+
+        def saved(_: object) -> None:
+            model = self.model
+            if model.path != path or clip_idx >= len(model.project.clips):
+                return  # another project is open now: the file is written, nothing points at it
+            relative = relative_media_path(path.parent, target)
+            current = model.project.clips[clip_idx]
+            self._loaded = relative
+            if current.masks_path != relative:
+                push_edit(model, with_clip(model.project, clip_idx,
+                                           replace(current, masks_path=relative)),
+                          what, Change("clip", clip=clip_idx))
+            if track is self.track:  # later edits may be queued: never step back to this one
+                self._show_coverage(track)
+            self.notifier.status(f"masks saved in {target.name}", 5000)
+
+        self.jobs.run(lambda: save_track(track, target), saved,
+                      lambda why: self.notifier.error("Masks not saved", why))
+
+    def shutdown(self) -> None:
+        self.tracker.shutdown()

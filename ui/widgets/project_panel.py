@@ -1,0 +1,95 @@
+"""The project tree: clips, their animals and each animal's measured frames with its length
+and volume; selecting a row makes it current (and jumps to that frame)."""
+
+from PySide6.QtCore import Qt
+from PySide6.QtWidgets import QTreeWidget, QTreeWidgetItem, QVBoxLayout, QWidget
+
+from core.project.model import MeasurementKey
+from ui.state.project_model import Change, ProjectModel
+
+ROLE_PATH = Qt.ItemDataRole.UserRole  # (clip, animal or None, measurement or None)
+
+
+class ProjectPanel(QWidget):
+    """Observes the model: rebuilds on structure changes, follows the selection."""
+
+    def __init__(self, model: ProjectModel, parent: QWidget | None = None) -> None:
+        super().__init__(parent)
+        self._model = model
+        self._figures: dict[MeasurementKey, str] = {}
+        self.tree = QTreeWidget()
+        self.tree.setHeaderLabels(["clip / animal / frame", "length, volume"])
+        self.tree.setColumnWidth(0, 150)
+        self.tree.itemSelectionChanged.connect(self._on_tree_selection)
+        layout = QVBoxLayout(self)
+        layout.setContentsMargins(0, 0, 0, 0)
+        layout.addWidget(self.tree)
+        model.changed.connect(self._on_changed)
+        model.selection_changed.connect(self._follow_selection)
+        self._rebuild()
+
+    def set_figures(self, figures: dict[MeasurementKey, str]) -> None:
+        """Length and volume text of measured frames (from the results worker)."""
+        self._figures.update(figures)
+        for item in self._items():
+            path = item.data(0, ROLE_PATH)
+            if path[2] is not None:
+                item.setText(1, self._figures.get(MeasurementKey(*path), ""))
+
+    def _on_changed(self, change: Change) -> None:
+        if change.kind in ("structure", "clip"):
+            self._figures.clear()
+            self._rebuild()
+
+    def _rebuild(self) -> None:
+        self.tree.blockSignals(True)
+        self.tree.clear()
+        for c, clip in enumerate(self._model.project.clips):
+            altitude = "altitude set" if clip.altitude is not None else "no altitude"
+            clip_item = QTreeWidgetItem([clip.name, f"{clip.kind}, {altitude}"])
+            clip_item.setData(0, ROLE_PATH, (c, None, None))
+            clip_item.setToolTip(0, clip.media_path)
+            self.tree.addTopLevelItem(clip_item)
+            for a, animal in enumerate(clip.animals):
+                n = len(animal.measurements)
+                animal_item = QTreeWidgetItem([animal.animal_id,
+                                               f"{n} frame{'s' if n != 1 else ''}"])
+                animal_item.setData(0, ROLE_PATH, (c, a, None))
+                animal_item.setToolTip(0, animal.notes or "no notes")
+                clip_item.addChild(animal_item)
+                for m, measurement in enumerate(animal.measurements):
+                    frame_item = QTreeWidgetItem([
+                        f"frame {measurement.frame_idx}",
+                        self._figures.get(MeasurementKey(c, a, m), "")])
+                    frame_item.setData(0, ROLE_PATH, (c, a, m))
+                    animal_item.addChild(frame_item)
+        self.tree.expandAll()
+        self.tree.blockSignals(False)
+        self._follow_selection()
+
+    def _items(self) -> list[QTreeWidgetItem]:
+        found, stack = [], [self.tree.topLevelItem(i) for i in range(self.tree.topLevelItemCount())]
+        while stack:
+            item = stack.pop()
+            found.append(item)
+            stack += [item.child(i) for i in range(item.childCount())]
+        return found
+
+    def _follow_selection(self) -> None:
+        m = self._model
+        wanted = (m.clip_idx, m.animal_idx, m.measurement_idx)
+        for item in self._items():
+            if item.data(0, ROLE_PATH) == wanted:
+                self.tree.blockSignals(True)
+                self.tree.setCurrentItem(item)
+                self.tree.blockSignals(False)
+                return
+
+    def _on_tree_selection(self) -> None:
+        item = self.tree.currentItem()
+        if item is not None:
+            clip, animal, measurement = item.data(0, ROLE_PATH)
+            if animal is not None and measurement is None:
+                measurements = self._model.project.clips[clip].animals[animal].measurements
+                measurement = 0 if measurements else None
+            self._model.select(clip, animal, measurement)
