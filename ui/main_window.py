@@ -923,6 +923,9 @@ class MainWindow(QMainWindow):
     def on_retrack(self) -> None:
         self.masks.retrack_here()
 
+    def on_track_every_frame(self) -> None:
+        self.masks.retrack_here(every_frame=True)
+
     def on_fit_silhouette(self, checked: bool) -> None:
         self.fits.set_silhouette_visible(checked)
 

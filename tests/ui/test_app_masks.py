@@ -37,6 +37,27 @@ def _iou(a: np.ndarray, b: np.ndarray) -> float:
     return float((a & b).sum() / (a | b).sum())
 
 
+def test_track_every_frame_asks_the_tracker_for_all_of_them(qtbot, window, monkeypatch):
+    """Clip → Track every frame re-tracks from the frame's mask with no limit to the fit's
+    frames (the network otherwise sees only those)."""
+    from ui.controllers import mask_controller
+    asked = []
+
+    def track_job(*args, **kwargs):
+        asked.append(args)
+        return lambda progress, cancel: window.masks.track
+    monkeypatch.setattr(mask_controller, "track_job", track_job)
+    qtbot.waitUntil(lambda: window.masks.track is not None, timeout=10_000)
+    with qtbot.waitSignal(window.state.frame_shown, timeout=10_000):
+        window.go_to_frame(20)
+    with qtbot.waitSignal(window.masks.tracker.finished, timeout=10_000):
+        window.masks.retrack_here()
+    assert asked[0][2] == 20 and asked[0][-1] == window.fits.fit_frames()
+    with qtbot.waitSignal(window.masks.tracker.finished, timeout=10_000):
+        window.actions_by_name["track_every_frame"].trigger()
+    assert asked[1][2] == 20 and asked[1][-1] is None
+
+
 def test_track_from_a_click_then_correct_with_the_brush(qtbot, window):
     truth = read_masks(window.model.path.parent / window.model.project.clips[0].masks_path)
     with qtbot.waitSignal(window.state.frame_shown, timeout=10_000):
@@ -51,8 +72,11 @@ def test_track_from_a_click_then_correct_with_the_brush(qtbot, window):
     assert window.model.current_measurement() is None  # the click seeded, measured nothing
     qtbot.waitUntil(lambda: window.model.project.clips[0].masks_path == _kept(window),
                     timeout=10_000)
-    for frame in (0, 20, 49):
+    fit_frames = window.fits.fit_frames()
+    assert 20 in fit_frames and 49 not in fit_frames
+    for frame in fit_frames:  # the network tracked only the frames the fit uses
         assert _iou(track.mask(frame), truth.mask(frame)) > 0.7
+    assert np.array_equal(track.mask(49), truth.mask(49))  # the others keep their masks
     # the frame's outline is drawn around the tracked mask
     qtbot.waitUntil(lambda: not window.masks.layer.outline_path().isEmpty(), timeout=10_000)
     box = window.masks.layer.outline_path().boundingRect()

@@ -22,7 +22,7 @@ from core.project.mask_store import (
 )
 from core.project.model import with_clip
 from core.project.project_file import relative_media_path
-from core.segment.backends import DEFAULT_BACKEND, SAM2
+from core.segment.backends import COLOUR, DEFAULT_BACKEND
 from core.segment.segmenter import PointSeed
 from ui.workers.background import BackgroundJobs
 from ui.widgets.canvas import FrameCanvas
@@ -57,7 +57,7 @@ class MaskController(QObject):
         self.track: MaskTrack | None = None
         self._track_clip: int | None = None
         self._loaded: str | None = None  # the masks_path the track was read from or saved to
-        self._target: tuple | None = None  # (project path, clip index) of the tracking job
+        self._target: tuple | None = None  # project path, clip index, limited to fit frames
         self._seeding = False
         self.backend = DEFAULT_BACKEND  # who draws the masks (the Clip menu; a preference)
         self.sam2_checkpoint: Path | None = None  # asked for once (a preference)
@@ -154,37 +154,42 @@ class MaskController(QObject):
         self.seeding.emit(False)
         self._start(PointSeed(u, v), "both")
 
-    def retrack_here(self) -> None:
-        """Track forwards and backwards from the current frame's (corrected) mask."""
+    def retrack_here(self, every_frame: bool = False) -> None:
+        """Track forwards and backwards from the current frame's (corrected) mask; on every
+        frame of the clip when ``every_frame``, else as ``_start`` says."""
         if self.track is None or self._clip() is None:
             self.notifier.error("Re-track", "this clip has no masks yet: track from a click")
             return
-        self._start(self.track.mask(self.state.frame_idx), "both")
+        self._start(self.track.mask(self.state.frame_idx), "both", every_frame)
 
-    def _start(self, seed: object, direction: str) -> None:
+    def _start(self, seed: object, direction: str, every_frame: bool = False) -> None:
+        """Track from ``seed`` on the current frame. The network and SAM-2 (about a second a
+        frame and more) see only that frame and the frames the current animal's fit uses,
+        unless ``every_frame``; the others keep the masks they had. The colour tracker, cheap
+        and in need of every frame to follow the animal, always sees them all."""
         session, path, clip = self.state.session, self.model.path, self._clip()
         if clip is None or path is None:
             return
         media = (path.parent / clip.media_path).resolve()
-        # SAM-2 is slow: it sees only the frames to be fitted (and the seed frame)
-        only = self.fit_frames() if self.backend == SAM2 else None
+        only = None if every_frame or self.backend == COLOUR else self.fit_frames()
         try:
             job = track_job(media, seed, self.state.frame_idx, direction, self.track,
                             self.backend, self.sam2_checkpoint, only)
         except (InputError, ValueError) as exc:  # e.g. an empty mask to re-track from
             self.notifier.error("Tracking", str(exc))
             return
-        self._target = (path, session.clip_idx)
+        self._target = (path, session.clip_idx, only is not None)
         self.tracker.run_job(job)
 
     def _on_tracked(self, track: MaskTrack) -> None:
-        path, clip_idx = self._target
+        path, clip_idx, limited = self._target
         if path != self.model.path or self.state.session_for(clip_idx) is None:
             self.notifier.error("Tracking", "the tracked masks were not kept: another clip or "
                                 "project is open now")
             return
+        rest = "; the fit's frames only (Clip → Track every frame for all)" if limited else ""
         self.notifier.status(f"{int(track.is_visible.sum())} of {track.num_frames} frames "
-                             f"masked by {track.source}", 10_000)
+                             f"masked by {track.source}{rest}", 10_000)
         self._store(track, "track masks")
 
     # ----- corrections and storage
