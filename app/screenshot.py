@@ -48,7 +48,7 @@ def save_screenshot(project_path: Path, out_png: Path) -> int:
     """Open ``project_path``, measure its first clip's dolphin, save the window to PNG; fit
     it and save the window again to PNG_fit.png."""
     application()
-    window = MainWindow()
+    window = MainWindow(restore_layout=False)
     window.resize(*WINDOW_SIZE)
     window.show()
     window.open_path(project_path)

@@ -8,7 +8,7 @@ from dataclasses import asdict, replace
 from pathlib import Path
 
 import numpy as np
-from PySide6.QtCore import Qt
+from PySide6.QtCore import QByteArray, Qt
 from PySide6.QtGui import QAction, QActionGroup, QCloseEvent, QKeySequence
 from PySide6.QtWidgets import (
     QDockWidget,
@@ -91,6 +91,8 @@ from ui.widgets.results_panel import ResultsPanel
 from ui.widgets.timeline import Timeline
 from ui.state.viewer_state import Notifier, ViewerState
 
+LAYOUT_PREFERENCE = "window_layout"   # size, place and docks when last closed
+LAYOUT_VERSION = 1                     # of the dock layout: a new one ignores older layouts
 NUDGE_ACTIONS = {  # action → (direction, image px): outward +1, inward −1
     "nudge_out": (+1, NUDGE_PX), "nudge_in": (-1, NUDGE_PX),
     "nudge_out_fine": (+1, FINE_NUDGE_PX), "nudge_in_fine": (-1, FINE_NUDGE_PX),
@@ -107,7 +109,9 @@ class MainWindow(QMainWindow):
     to the project model, the viewer state (the open clip, the frame on screen) and the
     notifier."""
 
-    def __init__(self) -> None:
+    def __init__(self, restore_layout: bool = True) -> None:
+        """``restore_layout``: open at the size, place and dock layout the window had when
+        last closed (not for the README's screenshots)."""
         super().__init__()
         self.model = ProjectModel(parent=self)
         self.jobs = BackgroundJobs(self)
@@ -137,6 +141,8 @@ class MainWindow(QMainWindow):
         self._connect()
         self._update_title()
         self.resize(1280, 900)
+        if restore_layout:
+            self._restore_layout()
 
     # ------------------------------------------------------------------ building
     def _build_layout(self) -> None:
@@ -688,8 +694,24 @@ class MainWindow(QMainWindow):
         if not self.may_leave_project():
             event.ignore()
             return
+        self._save_layout()
         self.shutdown()
         event.accept()
+
+    def _save_layout(self) -> None:
+        """The window's size and place and its docks' layout, for the next start."""
+        self._save_preference(LAYOUT_PREFERENCE, {
+            "geometry": bytes(self.saveGeometry().toBase64()).decode("ascii"),
+            "docks": bytes(self.saveState(LAYOUT_VERSION).toBase64()).decode("ascii")})
+
+    def _restore_layout(self) -> None:
+        """The layout ``_save_layout`` stored, where there is a readable one."""
+        stored = load_preferences().get(LAYOUT_PREFERENCE)
+        if not isinstance(stored, dict) or not all(
+                isinstance(stored.get(key), str) for key in ("geometry", "docks")):
+            return
+        self.restoreGeometry(QByteArray.fromBase64(stored["geometry"].encode("ascii")))
+        self.restoreState(QByteArray.fromBase64(stored["docks"].encode("ascii")), LAYOUT_VERSION)
 
     def shutdown(self) -> None:
         """Stop every worker thread (closing; a thread left running aborts Qt on exit)."""

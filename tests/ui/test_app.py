@@ -306,3 +306,21 @@ def test_the_gui_keeps_turning_while_a_slow_result_is_computed(qtbot, measured, 
     during = [t for t in ticks if t >= begin]
     assert len(during) >= 25  # 20 ms ticks over 1 s while the worker was stuck
     assert window.model.undo_stack.count() >= 2
+
+
+def test_the_window_opens_at_the_size_and_dock_layout_it_was_closed_with(qtbot, make_window):
+    from ui.main_window import MainWindow
+
+    first = make_window(size=(1100, 800))  # within the test screen (restored sizes fit it)
+    first.docks["Project"].hide()
+    size = first.size()
+    first.close()
+    again = MainWindow()
+    qtbot.addWidget(again)
+    assert again.size() == size
+    assert again.docks["Project"].isHidden() and not again.docks["Results"].isHidden()
+    fresh = MainWindow(restore_layout=False)  # the README's screenshots start from defaults
+    qtbot.addWidget(fresh)
+    assert not fresh.docks["Project"].isHidden()
+    again.shutdown()
+    fresh.shutdown()
