@@ -22,12 +22,12 @@ import numpy as np
 
 from core.bench.hidden_heights import TruthSections, hidden_height_floor, truth_sections
 from core.bench.mask_bench import AUTO, CLICK, click_seed
-from core.bench.scenario import Scenario, ensure_scenario
+from core.bench.scenario import Scenario, ensure_scenario, synth_camera
 from core.bench.timing import run_with_peak_rss_mb
 from core.errors import InputError
 from core.fit.config import FitConfig, LossWeights
 from core.fit.interval import run_interval
-from core.fit.pipeline import CameraChoice, run_fit
+from core.fit.pipeline import run_fit
 from core.io.json_file import read_json
 from core.measure.uncertainty import ErrorModel
 from core.segment.backends import DEFAULT_BACKEND, NETWORK_COLOUR_EDGES
@@ -125,7 +125,7 @@ def _score(files: ClipFiles, config: SynthConfig, fit_config: FitConfig, name: s
            variant: str, sections: TruthSections) -> ClipScore:
     truth = read_json(files.truth_json, "the clip's truth")
     backend = VARIANTS[variant].backend
-    camera = CameraChoice(sensor_width_mm=config.sensor_width_mm, focal_mm=config.focal_mm)
+    camera = synth_camera(config)
     try:
         if backend is None:
             run = run_fit(files.video, files.srt, files.masks_dir, camera, fit_config,
@@ -233,8 +233,7 @@ def bench_speed(clip: SynthConfig = SPEED_CLIP, exhaustive: bool = True) -> dict
     for name, config in configs.items():
         run, peak_mb = run_with_peak_rss_mb(lambda c=config: run_fit(
             files.video, files.srt, files.masks_dir,
-            CameraChoice(sensor_width_mm=clip.sensor_width_mm, focal_mm=clip.focal_mm),
-            c, clip.launch_height_m))
+            synth_camera(clip), c, clip.launch_height_m))
         result = run.result
         timings = result.timings_s
         runs[name] = {"frames_fitted": len(result.frame_idx), "wall_s": timings["total"],

@@ -29,7 +29,8 @@ from pathlib import Path
 import numpy as np
 
 from core.errors import InputError
-from core.fit.pipeline import CameraChoice, sized_auto_seed
+from core.bench.scenario import synth_camera
+from core.fit.pipeline import sized_auto_seed
 from core.io.json_file import read_json
 from core.io.masks import MaskTrack, read_png_folder
 from core.io.telemetry import load_telemetry
@@ -94,8 +95,8 @@ def auto_seed(files: ClipFiles, clip: Clip, frame_idx: int) -> AutoSeed:
     """The automatic seed as ``dolphinfit fit`` makes it: sized by the clip's camera and
     altitudes."""
     config = SynthConfig.from_json(read_json(files.truth_json, "the clip's truth")["config"])
-    camera = CameraChoice(sensor_width_mm=config.sensor_width_mm, focal_mm=config.focal_mm)
-    return sized_auto_seed(frame_idx, camera.intrinsics(clip), load_telemetry(clip, files.srt))
+    return sized_auto_seed(frame_idx, synth_camera(config).intrinsics(clip),
+                           load_telemetry(clip, files.srt))
 
 
 def seed_of(kind: str, click: PointSeed, truth: MaskTrack, auto: AutoSeed) -> Seed:

@@ -2,6 +2,7 @@
 
 from dataclasses import dataclass
 
+from core.fit.pipeline import CameraChoice
 from core.progress import ProgressCallback
 from core.synth.config import SynthConfig
 from core.synth.files import ClipFiles
@@ -25,3 +26,8 @@ def ensure_scenario(scenario: Scenario,
     """One scenario's clip, rendered first if it is missing or was made from another
     configuration (only rendering loads the model stack)."""
     return ensure_clip(scenario.config, cache_dir() / scenario.suite / scenario.name, progress)
+
+
+def synth_camera(config: SynthConfig) -> CameraChoice:
+    """The camera a synthetic clip was rendered with, as a fit is told it."""
+    return CameraChoice(sensor_width_mm=config.sensor_width_mm, focal_mm=config.focal_mm)

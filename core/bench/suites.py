@@ -22,7 +22,7 @@ recorded configuration matches.
 from dataclasses import replace
 
 from core.bench.held_out import HELD_OUT
-from core.bench.scenario import SUITE_NAME, Scenario
+from core.bench.scenario import Scenario
 from core.limits import one_of
 from core.measure.hw_ratios import DEFAULT_PRESET
 from core.synth.config import Effects, SynthConfig

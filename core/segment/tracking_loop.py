@@ -57,7 +57,5 @@ def track_of(crops: dict[int, MaskCrop], num_frames: int, width: int, height: in
     """The MaskTrack of the frames that have a crop; ``paste`` turns a crop into its frame's
     (height, width) mask (default: pasted at that size)."""
     is_visible = np.array([t in crops for t in range(num_frames)])
-    if paste is None:
-        return MaskTrack(is_visible, width, height, source,
-                         lambda t: crops[t].paste(height, width))
-    return MaskTrack(is_visible, width, height, source, lambda t: paste(crops[t]))
+    pasted = paste if paste is not None else (lambda crop: crop.paste(height, width))
+    return MaskTrack(is_visible, width, height, source, lambda t: pasted(crops[t]))

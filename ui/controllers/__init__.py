@@ -1,1 +1,2 @@
-"""What ties a feature's widgets, workers and the project together: the fit, the masks, playback."""
+"""What ties a feature's widgets, workers and the project together: the fit, the masks,
+playback."""

@@ -1,1 +1,2 @@
-"""What the user sees and touches: the frame view and its overlays, the timeline, the panels and the 3D view."""
+"""What the user sees and touches: the frame view and its overlays, the timeline, the panels
+and the 3D view."""

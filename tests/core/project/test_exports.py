@@ -1,4 +1,5 @@
-"""Tests for core/project/exports.py and core/measure/receipt.py: two animals, three measured frames."""
+"""Tests for core/project/exports.py and core/measure/receipt.py: two animals, three measured
+frames."""
 
 import csv
 import json
