@@ -63,6 +63,7 @@ def test_track_from_a_click_then_correct_with_the_brush(qtbot, window):
     with qtbot.waitSignal(window.state.frame_shown, timeout=10_000):
         window.go_to_frame(20)
     v, u = np.nonzero(truth.mask(20))
+    qtbot.waitUntil(lambda: window.masks.track is not None, timeout=10_000)  # the clip's masks
     window.canvas.setFocus()
     qtbot.keyClick(window.canvas, Qt.Key.Key_T, Qt.KeyboardModifier.ControlModifier)
     with qtbot.waitSignal(window.masks.tracker.finished, timeout=TIMEOUT_MS) as tracked:

@@ -57,6 +57,7 @@ class MaskController(QObject):
         self.track: MaskTrack | None = None
         self._track_clip: int | None = None
         self._loaded: str | None = None  # the masks_path the track was read from or saved to
+        self._reading: object | None = None  # the read of the clip's masks under way, if any
         self._target: tuple | None = None  # project path, clip index, limited to fit frames
         self._seeding = False
         self.backend = DEFAULT_BACKEND  # who draws the masks (the Clip menu; a preference)
@@ -84,16 +85,26 @@ class MaskController(QObject):
     def load(self) -> None:
         """Read the open clip's masks (in the background); none: clear the views."""
         session, clip = self.state.session, self._clip()
-        self.track, self._track_clip = None, None
+        self.track, self._track_clip, self._reading = None, None, None
         self._loaded = None if clip is None else clip.masks_path
         self.layer.clear()
         self.coverage_changed.emit(None)
         if clip is None or clip.masks_path is None:
             return
         masks = (self.model.path.parent / clip.masks_path).resolve()
-        self.jobs.run(lambda: read_masks(masks, session.source.clip),
-                      lambda track: self._set_track(session.clip_idx, track),
-                      lambda why: self.notifier.status(f"masks not read: {why}", 10_000))
+        self._reading = reading = object()
+
+        def done(track: MaskTrack) -> None:
+            if self._reading is reading:
+                self._reading = None
+                self._set_track(session.clip_idx, track)
+
+        def failed(why: str) -> None:
+            if self._reading is reading:
+                self._reading = None
+                self.notifier.status(f"masks not read: {why}", 10_000)
+
+        self.jobs.run(lambda: read_masks(masks, session.source.clip), done, failed)
 
     def _set_track(self, clip_idx: int, track: MaskTrack) -> None:
         if self.state.session_for(clip_idx) is None:
@@ -169,6 +180,10 @@ class MaskController(QObject):
         and in need of every frame to follow the animal, always sees them all."""
         session, path, clip = self.state.session, self.model.path, self._clip()
         if clip is None or path is None:
+            return
+        if self._reading is not None:  # the frames not tracked would lose the masks they have
+            self.notifier.status("the clip's masks are still being read: track again in a "
+                                 "moment", 5000)
             return
         media = (path.parent / clip.media_path).resolve()
         only = None if every_frame or self.backend == COLOUR else self.fit_frames()
