@@ -1,6 +1,7 @@
 """The main window: wires the canvas, timeline, measuring overlay, project tree and results
 panel to the project model, and turns each menu action (resources/ui/actions.json) into a
-command. Questions to the user are ``_ask_*`` methods, apart from the changes they lead to."""
+command. Its questions to the user are asked through ``self.ask`` (ui.dialogs.questions),
+apart from the changes they lead to; errors reach the user through the notifier."""
 
 import threading
 from collections.abc import Callable
@@ -12,11 +13,8 @@ from PySide6.QtCore import QByteArray, Qt
 from PySide6.QtGui import QAction, QActionGroup, QCloseEvent, QKeySequence
 from PySide6.QtWidgets import (
     QDockWidget,
-    QFileDialog,
-    QInputDialog,
     QLabel,
     QMainWindow,
-    QMessageBox,
     QProgressDialog,
     QVBoxLayout,
     QWidget,
@@ -25,16 +23,13 @@ from PySide6.QtWidgets import (
 from core.camera_presets import preset_resolution_mismatch
 from core.errors import InputError
 from core.io.masks import read_masks
-from core.io.media import MEDIA_SUFFIXES
 from core.model.template import load_template
 from core.progress import Progress, ProgressCallback
 from core.project.comparison import project_comparison_rows, write_comparison_csv
 from core.project.evaluate import all_keys
 from core.project.mask_store import masks_file, save_track
 from core.project.model import (
-    AltitudeSpec,
     Animal,
-    ClipEntry,
     Measurement,
     MeasurementKey,
     Project,
@@ -51,7 +46,6 @@ from core.project.new_project import project_path_for, project_with_media
 from core.project.project_file import (
     PROJECT_SUFFIX,
     autosave_path,
-    find_moved_media,
     has_newer_autosave,
     media_path,
     missing_media,
@@ -64,19 +58,14 @@ from core.project.project_file import (
 from core.project.recent import add_recent, recent_projects
 from core.project.results import frame_altitude, image_id
 from core.segment.backends import BACKENDS, COLOUR, DEFAULT_BACKEND, NETWORK, SAM2
-from core.segment.sam2_backend import INSTALL_HINT, PACKAGE, check_checkpoint, config_for, installed
+from core.segment.sam2_backend import INSTALL_HINT, PACKAGE, installed
 from ui.action_table import load_action_table
 from ui.app import APP_NAME
 from ui.workers.background import BackgroundJobs
 from ui.widgets.canvas import FrameCanvas
 from ui.state.clip_session import ClipSession, open_session, read_session_telemetry
 from ui.state.commands import push_edit
-from ui.dialogs.altitude_dialog import AltitudeDialog
-from ui.dialogs.animal_dialog import AnimalDialog
-from ui.dialogs.camera_dialog import CameraDialog
-from ui.dialogs.handle_style_dialog import HandleStyleDialog
-from ui.dialogs.relink_dialog import RelinkDialog
-from ui.dialogs.shortcuts_dialog import ShortcutsDialog
+from ui.dialogs.questions import Questions
 from ui.workers.export_worker import ExportWorker
 from ui.controllers.fit_controller import FitController
 from ui.workers.frame_loader import FrameLoader
@@ -117,6 +106,7 @@ class MainWindow(QMainWindow):
         self.jobs = BackgroundJobs(self)
         self.state = ViewerState(self)
         self.notifier = Notifier(self)
+        self.ask = Questions(self)
         self.last_export: list[Path] = []
         self._opening_clip: int | None = None
         self._pending_frame: int | None = None
@@ -252,7 +242,7 @@ class MainWindow(QMainWindow):
         return getattr(self, f"on_{name}")
 
     def _connect(self) -> None:
-        self.notifier.error_raised.connect(self._error)
+        self.notifier.error_raised.connect(self._show_error)
         self.notifier.status_shown.connect(self.statusBar().showMessage)
         self.fits.fit_frames_changed.connect(self.timeline.set_fit_frames)
         self.masks.coverage_changed.connect(self.timeline.set_coverage)
@@ -300,7 +290,7 @@ class MainWindow(QMainWindow):
         """The Clip menu's choice; SAM-2 asks for its checkpoint while it has none."""
         checkpoint = self.masks.sam2_checkpoint
         if backend == SAM2 and (checkpoint is None or not checkpoint.is_file()):
-            checkpoint = self._ask_sam2_checkpoint()
+            checkpoint = self.ask.sam2_checkpoint()
             if checkpoint is None:
                 self._set_mask_backend(self.masks.backend, save=False)  # the old choice
                 return
@@ -316,67 +306,15 @@ class MainWindow(QMainWindow):
         if save:
             self._save_preference("mask_backend", backend)
 
-    # ------------------------------------------------------------------ questions (ask)
-    def _error(self, title: str, text: str) -> None:
-        QMessageBox.warning(self, title, text)
-
-    def _ask_restore_autosave(self, path: Path) -> bool:
-        answer = QMessageBox.question(
-            self, "Restore unsaved work?",
-            f"{autosave_path(path).name} holds changes to {path.name} that were never saved "
-            "(the app closed without saving). Restore them?")
-        return answer == QMessageBox.Yes
-
-    def _ask_sam2_checkpoint(self) -> Path | None:
-        name, _ = QFileDialog.getOpenFileName(self, "SAM-2 checkpoint (e.g. sam2.1_hiera_tiny.pt)",
-                                              "", "SAM-2 checkpoint (*.pt)")
-        if not name:
-            return None
-        try:
-            config_for(check_checkpoint(name))
-        except InputError as exc:
-            self._error("SAM-2 checkpoint", str(exc))
-            return None
-        return Path(name)
-
-    def _ask_relink(self, stored: str, project_dir: Path) -> Path | None:
-        dialog = RelinkDialog(stored, project_dir,
-                              find_moved_media(project_dir, Path(stored).name), self)
-        return dialog.chosen if dialog.exec() else None
-
-    def _ask_altitude(self, clip: ClipEntry) -> AltitudeSpec | None:
-        """The altitude dialog (the clip's SRT sidecar offered first); None if cancelled."""
-        dialog = AltitudeDialog(media_path(self.model.path, clip), self.model.path.parent,
-                                self.state.session.source.clip, clip.altitude, self)
-        return dialog.spec if dialog.exec() else None
-
-    def _ask_save_changes(self) -> str:
-        """"save", "discard" or "cancel"."""
-        answer = QMessageBox.question(
-            self, "Unsaved changes", "Save the changes to this project before closing?",
-            QMessageBox.Save | QMessageBox.Discard | QMessageBox.Cancel)
-        return {QMessageBox.Save: "save", QMessageBox.Discard: "discard"}.get(answer, "cancel")
-
-    def _ask_save_path(self) -> Path | None:
-        start = str(self.model.path or Path.cwd() / f"untitled{PROJECT_SUFFIX}")
-        name, _ = QFileDialog.getSaveFileName(self, "Save project as", start,
-                                              f"dolphinfit projects (*{PROJECT_SUFFIX})")
-        if not name:
-            return None
-        path = Path(name)
-        return path if path.suffix == PROJECT_SUFFIX else path.with_name(path.name + PROJECT_SUFFIX)
-
-    def _ask_export_dir(self) -> Path | None:
-        start = str(self.model.path.parent if self.model.path else Path.cwd())
-        name = QFileDialog.getExistingDirectory(self, "Export into folder", start)
-        return Path(name) if name else None
+    def _show_error(self, title: str, text: str) -> None:
+        self.ask.warn(title, text)
 
     # ------------------------------------------------------------------ opening and saving
     def open_path(self, path: Path) -> None:
         """Open a project file, or media (a clip, an image or a folder of frames)."""
         path = Path(path).expanduser().resolve()
         if not path.exists():
-            self._error("Cannot open", f"{path}: no such file or folder")
+            self.notifier.error("Cannot open", f"{path}: no such file or folder")
             return
         if path.suffix == PROJECT_SUFFIX:
             self.open_project(path)
@@ -399,7 +337,7 @@ class MainWindow(QMainWindow):
         """Whether the open project may be closed: saved, or the user saved or discarded."""
         if not self.model.is_dirty:
             return True
-        answer = self._ask_save_changes()
+        answer = self.ask.save_changes()
         if answer == "cancel" or (answer == "save" and not self.save()):
             return False
         if answer == "discard" and self.model.path is not None:
@@ -413,18 +351,18 @@ class MainWindow(QMainWindow):
         try:
             project = read_project(path)
         except InputError as exc:
-            if not (has_newer_autosave(path) and self._ask_restore_autosave(path)):
-                self._error("Cannot open project", str(exc))
+            if not (has_newer_autosave(path) and self.ask.restore_autosave(path)):
+                self.notifier.error("Cannot open project", str(exc))
                 return
             project = None
         self._close_session()
         self.model.reset(project if project is not None else Project(),
                          path)
-        if has_newer_autosave(path) and (project is None or self._ask_restore_autosave(path)):
+        if has_newer_autosave(path) and (project is None or self.ask.restore_autosave(path)):
             try:
                 restored = read_project(autosave_path(path))
             except InputError as exc:
-                self._error("Cannot restore", str(exc))
+                self.notifier.error("Cannot restore", str(exc))
             else:
                 push_edit(self.model, restored, "restore unsaved work", Change("structure"))
                 self.model.select_first()
@@ -436,7 +374,7 @@ class MainWindow(QMainWindow):
         path = self.model.path
         for clip_idx in missing_media(path, self.model.project):
             stored = self.model.project.clips[clip_idx].media_path
-            chosen = self._ask_relink(stored, path.parent)
+            chosen = self.ask.relink(stored, path.parent)
             if chosen is not None:
                 push_edit(self.model, relink_clip(self.model.project, path, clip_idx, chosen),
                           f"relink {Path(stored).name}", Change("clip", clip=clip_idx))
@@ -455,7 +393,7 @@ class MainWindow(QMainWindow):
             self._open_current_clip()
 
         self.jobs.run(lambda: open_media(media), opened,
-                      lambda why: self._error("Cannot open media", why))
+                      lambda why: self.notifier.error("Cannot open media", why))
 
     def save(self, path: Path | None = None) -> bool:
         """Write the project (to ``path``: Save As); False when it could not be written."""
@@ -469,7 +407,7 @@ class MainWindow(QMainWindow):
         try:
             write_project(target, project)
         except OSError as exc:
-            self._error("Cannot save", f"{target}: {exc.strerror or exc}")
+            self.notifier.error("Cannot save", f"{target}: {exc.strerror or exc}")
             return False
         if old is not None and target != old:
             autosave_path(old).unlink(missing_ok=True)
@@ -514,7 +452,7 @@ class MainWindow(QMainWindow):
 
     def _on_session_failed(self, why: str) -> None:
         self._opening_clip = None
-        self._error("Cannot open clip", why)
+        self.notifier.error("Cannot open clip", why)
 
     def _on_session_opened(self, session: ClipSession) -> None:
         if self._opening_clip == session.clip_idx:
@@ -667,7 +605,7 @@ class MainWindow(QMainWindow):
 
         self.jobs.run(lambda: read_session_telemetry(path, clip, session.clip_idx,
                                                      session.source),
-                      done, lambda why: self._error("Cannot read altitude", why))
+                      done, lambda why: self.notifier.error("Cannot read altitude", why))
 
     def _sync_mirror_actions(self) -> None:
         """Check the mirror action of the current measurement (both sides when none)."""
@@ -725,34 +663,30 @@ class MainWindow(QMainWindow):
 
     # ------------------------------------------------------------------ actions: File
     def on_open(self) -> None:
-        suffixes = " ".join(f"*{s}" for s in sorted(MEDIA_SUFFIXES))
-        name, _ = QFileDialog.getOpenFileName(
-            self, "Open project, clip or image", "",
-            f"Projects and media (*{PROJECT_SUFFIX} {suffixes});;All files (*)")
-        if name:
-            self.open_path(Path(name))
+        path = self.ask.media_to_open()
+        if path is not None:
+            self.open_path(path)
 
     def on_open_folder(self) -> None:
-        name = QFileDialog.getExistingDirectory(self, "Open a folder of numbered frames")
-        if name:
-            self.open_path(Path(name))
+        path = self.ask.frames_folder("Open a folder of numbered frames")
+        if path is not None:
+            self.open_path(path)
 
     def on_add_media(self) -> None:
         if self.model.path is None:
             self.on_open()
             return
-        name, _ = QFileDialog.getOpenFileName(self, "Add clip or image", "",
-                                              " ".join(f"*{s}" for s in MEDIA_SUFFIXES))
-        if name:
-            self._add_media(Path(name))
+        path = self.ask.media_to_add()
+        if path is not None:
+            self._add_media(path)
 
     def on_add_folder(self) -> None:
         if self.model.path is None:
             self.on_open_folder()
             return
-        name = QFileDialog.getExistingDirectory(self, "Add a folder of numbered frames")
-        if name:
-            self._add_media(Path(name))
+        path = self.ask.frames_folder("Add a folder of numbered frames")
+        if path is not None:
+            self._add_media(path)
 
     def _fill_recent_menu(self) -> None:
         self.recent_menu.clear()
@@ -766,19 +700,19 @@ class MainWindow(QMainWindow):
             self.save()
 
     def on_save_as(self) -> None:
-        path = self._ask_save_path()
+        path = self.ask.save_path(self.model.path)
         if path is not None:
             self.save(path)
 
     def _export(self, keys: list[MeasurementKey], stem: str) -> None:
         """Export measured frames (all four formats) into a folder the user picks."""
         if self.model.path is None or not keys:
-            self._error("Export", "nothing measured to export yet")
+            self.notifier.error("Export", "nothing measured to export yet")
             return
         if self.exporter.is_running:
-            self._error("Export", "an export is already running")
+            self.notifier.error("Export", "an export is already running")
             return
-        out_dir = self._ask_export_dir()
+        out_dir = self.ask.export_dir(self._export_start())
         if out_dir is None:
             return
         self.exporter.start(self.model.project, self.model.path, keys, out_dir, stem)
@@ -791,7 +725,7 @@ class MainWindow(QMainWindow):
     def on_export_frame(self) -> None:
         key = self.model.current_key()
         if key is None:
-            self._error("Export", "no measured frame is selected")
+            self.notifier.error("Export", "no measured frame is selected")
             return
         clip = self.model.project.clips[key.clip]
         self._export([key], image_id(clip, get_measurement(self.model.project, key).frame_idx))
@@ -799,7 +733,7 @@ class MainWindow(QMainWindow):
     def on_export_animal(self) -> None:
         m = self.model
         if m.animal_idx is None:
-            self._error("Export", "no animal is selected")
+            self.notifier.error("Export", "no animal is selected")
             return
         clip = m.project.clips[m.clip_idx]
         animal_id = clip.animals[m.animal_idx].animal_id
@@ -810,18 +744,18 @@ class MainWindow(QMainWindow):
         path = self.model.path
         self._export(all_keys(self.model.project), path.stem if path else "project")
 
-    def _ask_comparison_path(self) -> Path | None:
-        start = str(self.model.path.with_name(self.model.path.stem + "_comparison.csv"))
-        name, _ = QFileDialog.getSaveFileName(self, "Export comparison", start, "CSV (*.csv)")
-        return Path(name) if name else None
+    def _export_start(self) -> Path:
+        """Where export dialogs start: the project's folder."""
+        return self.model.path.parent if self.model.path else Path.cwd()
 
     def on_export_comparison(self) -> None:
         """One row per animal with a 3D fit: both methods' figures and their difference."""
         if self.model.path is None or self.exporter.is_running:
-            self._error("Export", "open a project first" if self.model.path is None
+            self.notifier.error("Export", "open a project first" if self.model.path is None
                         else "an export is already running")
             return
-        target = self._ask_comparison_path()
+        target = self.ask.comparison_path(
+            self.model.path.with_name(self.model.path.stem + "_comparison.csv"))
         if target is None:
             return
         project, path, draws = self.model.project, self.model.path, self.exporter.num_draws
@@ -833,26 +767,14 @@ class MainWindow(QMainWindow):
 
         self.exporter.run_job(job)
 
-    def _ask_mesh_export(self) -> tuple[Path, str] | None:
-        """A folder and a mesh format, or None."""
-        from core.io.mesh_export import (
-            MESH_SUFFIXES,  # trimesh: loaded when first needed
-        )
-        suffix, ok = QInputDialog.getItem(self, "Export 3D fit meshes", "Format:",
-                                          list(MESH_SUFFIXES), 0, False)
-        if not ok:
-            return None
-        folder = self._ask_export_dir()
-        return None if folder is None else (folder, suffix)
-
     def on_export_meshes(self) -> None:
         """The current animal's fitted meshes: rest pose and every fitted frame."""
         fit = self.fits.shown_fit()
         if fit is None or self.exporter.is_running:
-            self._error("Export", "this animal has no 3D fit" if fit is None
+            self.notifier.error("Export", "this animal has no 3D fit" if fit is None
                         else "an export is already running")
             return
-        choice = self._ask_mesh_export()
+        choice = self.ask.mesh_export(self._export_start())
         if choice is None:
             return
         folder, suffix = choice
@@ -877,7 +799,7 @@ class MainWindow(QMainWindow):
 
     def _on_export_failed(self, why: str) -> None:
         self._close_export_progress()
-        self._error("Export failed", why)
+        self.notifier.error("Export failed", why)
 
     def _on_export_cancelled(self) -> None:
         self._close_export_progress()
@@ -891,7 +813,7 @@ class MainWindow(QMainWindow):
         if paths:
             text += f" into {Path(paths[0]).parent}"
         if skipped:
-            self._error("Export", text + "\n\nnot exported:\n" + "\n".join(skipped))
+            self.notifier.error("Export", text + "\n\nnot exported:\n" + "\n".join(skipped))
         self.statusBar().showMessage(text, 10_000)
 
     def on_quit(self) -> None:
@@ -905,10 +827,10 @@ class MainWindow(QMainWindow):
         self.model.undo_stack.redo()
 
     def on_handle_style(self) -> None:
-        dialog = HandleStyleDialog(self.overlay.style, self)
-        if dialog.exec():
-            self.overlay.set_style(dialog.style)
-            self._save_preference("handle_style", asdict(dialog.style))
+        style = self.ask.handle_style(self.overlay.style)
+        if style is not None:
+            self.overlay.set_style(style)
+            self._save_preference("handle_style", asdict(style))
 
     def on_fit_view(self) -> None:
         self.canvas.fit_to_window()
@@ -931,10 +853,9 @@ class MainWindow(QMainWindow):
         if self.state.session is None:
             return
         last = self.state.session.source.clip.num_frames - 1
-        value, ok = QInputDialog.getInt(self, "Go to frame", f"frame (0–{last}):",
-                                        self.state.frame_idx, 0, last)
-        if ok:
-            self._seek(value)
+        frame_idx = self.ask.frame_number(self.state.frame_idx, last)
+        if frame_idx is not None:
+            self._seek(frame_idx)
 
     def on_show_masks(self, checked: bool) -> None:
         self.masks.layer.set_visible(checked)
@@ -964,7 +885,7 @@ class MainWindow(QMainWindow):
     # ------------------------------------------------------------------ actions: Clip
     def _current_clip(self) -> int | None:
         if self.model.clip_idx is None:
-            self._error("No clip", "open a clip, an image or a folder of frames first")
+            self.notifier.error("No clip", "open a clip, an image or a folder of frames first")
         return self.model.clip_idx
 
     def on_altitude(self) -> None:
@@ -972,7 +893,8 @@ class MainWindow(QMainWindow):
         if clip_idx is None or self.state.session is None:
             return
         clip = self.model.project.clips[clip_idx]
-        spec = self._ask_altitude(clip)
+        spec = self.ask.altitude(media_path(self.model.path, clip), self.model.path.parent,
+                                 self.state.session.source.clip, clip.altitude)
         if spec is not None:
             push_edit(self.model, with_clip(self.model.project, clip_idx,
                                             replace(clip, altitude=spec)),
@@ -984,11 +906,11 @@ class MainWindow(QMainWindow):
             return
         clip = self.model.project.clips[clip_idx]
         media = self.state.session.source.clip
-        dialog = CameraDialog(clip.camera, clip.preset_name, media.width_px, media.height_px,
-                              self)
-        if dialog.exec():
+        chosen = self.ask.camera(clip.camera, clip.preset_name, media.width_px, media.height_px)
+        if chosen is not None:
+            camera, preset_name = chosen
             push_edit(self.model, with_clip(self.model.project, clip_idx, replace(
-                clip, camera=dialog.camera, preset_name=dialog.preset_name)),
+                clip, camera=camera, preset_name=preset_name)),
                 "set camera", Change("clip", clip=clip_idx))
 
     def on_add_animal(self) -> None:
@@ -1004,15 +926,16 @@ class MainWindow(QMainWindow):
     def on_edit_animal(self) -> None:
         m = self.model
         if m.animal_idx is None:
-            self._error("No animal", "select an animal first")
+            self.notifier.error("No animal", "select an animal first")
             return
         clip = m.project.clips[m.clip_idx]
         animal = clip.animals[m.animal_idx]
         others = [a.animal_id for i, a in enumerate(clip.animals) if i != m.animal_idx]
-        dialog = AnimalDialog(animal.animal_id, animal.notes, others, self)
-        if dialog.exec():
+        answer = self.ask.animal(animal, others)
+        if answer is not None:
+            animal_id, notes = answer
             push_edit(m, with_animal(m.project, m.clip_idx, m.animal_idx, replace(
-                animal, animal_id=dialog.animal_id, notes=dialog.notes)),
+                animal, animal_id=animal_id, notes=notes)),
                 "edit animal", Change("structure"))
 
     def on_remove_animal(self) -> None:
@@ -1020,9 +943,7 @@ class MainWindow(QMainWindow):
         if m.animal_idx is None:
             return
         animal = m.project.clips[m.clip_idx].animals[m.animal_idx]
-        if QMessageBox.question(self, "Remove animal", f"Remove {animal.animal_id} and its "
-                                f"{len(animal.measurements)} measured frames? (Undo brings "
-                                "them back.)") == QMessageBox.Yes:
+        if self.ask.remove_animal(animal):
             push_edit(m, remove_animal(m.project, m.clip_idx, m.animal_idx),
                       f"remove {animal.animal_id}", Change("structure"))
 
@@ -1082,11 +1003,11 @@ class MainWindow(QMainWindow):
         session, path = self.state.session, self.model.path
         measurement = self.model.current_measurement()
         if session is None or measurement is None or not measurement.has_length:
-            self._error("Suggest edges", "measure a length on this frame first")
+            self.notifier.error("Suggest edges", "measure a length on this frame first")
             return
         clip = self.model.project.clips[session.clip_idx]
         if clip.masks_path is None:
-            self._error("Suggest edges", "this clip has no masks: choose them with "
+            self.notifier.error("Suggest edges", "this clip has no masks: choose them with "
                         "Clip → Masks…")
             return
         masks = (path.parent / clip.masks_path).resolve()
@@ -1108,21 +1029,18 @@ class MainWindow(QMainWindow):
             try:
                 self.overlay.suggest_edges(mask)
             except InputError as exc:
-                self._error("Suggest edges", str(exc))
+                self.notifier.error("Suggest edges", str(exc))
 
-        self.jobs.run(read_mask, apply, lambda why: self._error("Suggest edges", why))
+        self.jobs.run(read_mask, apply, lambda why: self.notifier.error("Suggest edges", why))
 
     def on_masks(self) -> None:
         """Choose the clip's masks (a PNG folder, an .npz or a mask video), checked first."""
         clip_idx = self._current_clip()
         if clip_idx is None or self.state.session is None:
             return
-        name = QFileDialog.getExistingDirectory(self, "Folder of mask PNGs (%06d.png)")
-        if not name:
-            name, _ = QFileDialog.getOpenFileName(self, "Mask file", "",
-                                                  "Masks (*.npz *.mp4 *.avi *.mkv)")
-        if name:
-            self.set_masks(clip_idx, Path(name))
+        masks = self.ask.masks_source()
+        if masks is not None:
+            self.set_masks(clip_idx, masks)
 
     def set_masks(self, clip_idx: int, masks: Path) -> None:
         """Check that ``masks`` fit the clip and keep a lossless copy with the project (in the
@@ -1141,14 +1059,11 @@ class MainWindow(QMainWindow):
                 f"masks from {masks.name}", Change("clip", clip=clip_idx))
             self.masks.load()  # the same file may hold new masks: read them again
 
-        self.jobs.run(keep, stored, lambda why: self._error("Cannot use these masks", why))
+        self.jobs.run(keep, stored, lambda why: self.notifier.error("Cannot use these masks", why))
 
     # ------------------------------------------------------------------ actions: Help
     def on_shortcuts(self) -> None:
-        ShortcutsDialog(self).exec()
+        self.ask.show_shortcuts()
 
     def on_about(self) -> None:
-        QMessageBox.about(self, "About dolphinfit",
-                          "dolphinfit: body length, volume, body condition and mass of "
-                          "dolphins from nadir drone video.\nElliptical baseline "
-                          "(Christiansen et al. 2019) and a model-based 3D fit.")
+        self.ask.show_about()

@@ -73,14 +73,14 @@ def shown_canvas(qtbot):
 @pytest.fixture
 def make_window(qtbot):
     """Makes shown, active main windows that close without asking about unsaved work (a test
-    that cares overrides ``_ask_save_changes``); every worker stops after the test."""
+    that cares overrides ``ask.save_changes``); every worker stops after the test."""
     from ui.main_window import MainWindow
 
     windows = []
 
     def make(size: tuple[int, int] = (1500, 950)) -> MainWindow:
         window = MainWindow()
-        window._ask_save_changes = lambda: "discard"
+        window.ask.save_changes = lambda: "discard"
         qtbot.addWidget(window)
         window.resize(*size)
         window.show()

@@ -52,7 +52,7 @@ def new_window(make_window):
     def make() -> MainWindow:
         window = make_window((1400, 900))
         # what the altitude dialog returns for a constant (the dialog is tested on its own)
-        window._ask_altitude = lambda clip: AltitudeSpec(constant_m=ALTITUDE_M, source="laser")
+        window.ask.altitude = lambda *asked: AltitudeSpec(constant_m=ALTITUDE_M, source="laser")
         return window
 
     return make
@@ -201,7 +201,7 @@ def test_unsaved_work_comes_back_after_a_crash(qtbot, new_window, still):
     # the first window never closes (a crash); a new one opens the same project
     again = new_window()
     asked = []
-    again._ask_restore_autosave = lambda path: asked.append(path) or True
+    again.ask.restore_autosave = lambda path: asked.append(path) or True
     open_and_wait(qtbot, again, window.model.path)
     assert asked == [window.model.path]
     m = again.model.current_measurement()
@@ -228,7 +228,7 @@ def test_moved_media_is_found_and_relinked(qtbot, new_window, still):
         offered.extend(find_moved_media(project_dir, Path(stored).name))
         return offered[0]
 
-    again._ask_relink = relink
+    again.ask.relink = relink
     open_and_wait(qtbot, again, path)
     assert offered == [moved]
     assert again.model.project.clips[0].media_path == "2024-06-01/DJI_0001.png"
@@ -239,7 +239,7 @@ def test_exports_of_the_project_read_back(qtbot, measured, tmp_path):
     window = measured
     volume = shown_volume(qtbot, window)
     out = tmp_path / "exports"
-    window._ask_export_dir = lambda: out
+    window.ask.export_dir = lambda start: out
     with qtbot.waitSignal(window.exporter.finished, timeout=60_000):
         window.actions_by_name["export_project"].trigger()
     stem = "DJI_0001"

@@ -92,7 +92,7 @@ def test_fit_runs_saves_shows_and_cancels(qtbot, sample_copy, make_window):
 
         # the fitted meshes in another format, read back with trimesh
         meshes = path.parent / "meshes"
-        window._ask_mesh_export = lambda: (meshes, ".obj")
+        window.ask.mesh_export = lambda start: (meshes, ".obj")
         with qtbot.waitSignal(window.exporter.finished, timeout=120_000):
             window.actions_by_name["export_meshes"].trigger()
         rest = trimesh.load(meshes / "rest_mesh.obj", force="mesh")
@@ -141,9 +141,9 @@ def test_fit_runs_saves_shows_and_cancels(qtbot, sample_copy, make_window):
         assert window.save()
 
         # the comparison CSV: none before a frame is measured, then one row for the animal
-        window._ask_comparison_path = lambda: path.with_name("comparison.csv")
+        window.ask.comparison_path = lambda start: path.with_name("comparison.csv")
         errors = []
-        window._error = lambda title, text: errors.append(text)  # the dialog's words
+        window.ask.warn = lambda title, text: errors.append(text)  # the dialog's words
         with qtbot.waitSignal(window.exporter.failed, timeout=60_000):
             window.actions_by_name["export_comparison"].trigger()
         assert "nothing to compare" in errors[-1]

@@ -299,3 +299,35 @@ def test_handle_style_values(qtbot, monkeypatch):
     assert dialog.style == HandleStyle(size_px=30.0, side_b_colour="#123456", opacity=0.75,
                                        shape="cross")
     assert child(dialog, QPushButton, "colour_b").text() == "#123456"
+
+
+def test_questions_save_path_adds_the_project_suffix_and_cancel_is_none(qtbot, monkeypatch,
+                                                                        tmp_path):
+    from core.project.project_file import PROJECT_SUFFIX
+    from ui.dialogs.questions import Questions
+
+    parent = QWidget()
+    qtbot.addWidget(parent)
+    answers = [str(tmp_path / "survey"), str(tmp_path / f"b{PROJECT_SUFFIX}"), ""]
+    monkeypatch.setattr(QFileDialog, "getSaveFileName",
+                        staticmethod(lambda *args: (answers.pop(0), "")))
+    ask = Questions(parent)
+    assert ask.save_path(None) == tmp_path / f"survey{PROJECT_SUFFIX}"
+    assert ask.save_path(tmp_path / f"a{PROJECT_SUFFIX}") == tmp_path / f"b{PROJECT_SUFFIX}"
+    assert ask.save_path(None) is None
+
+
+def test_questions_mesh_export_asks_the_format_then_the_folder(qtbot, monkeypatch, tmp_path):
+    from ui.dialogs.questions import Questions
+
+    parent = QWidget()
+    qtbot.addWidget(parent)
+    formats, folders = [(".obj", True), (".ply", False), (".stl", True)], [str(tmp_path), ""]
+    monkeypatch.setattr(QInputDialog, "getItem", staticmethod(lambda *a: formats.pop(0)))
+    monkeypatch.setattr(QFileDialog, "getExistingDirectory",
+                        staticmethod(lambda *a: folders.pop(0)))
+    ask = Questions(parent)
+    assert ask.mesh_export(tmp_path) == (tmp_path, ".obj")
+    assert ask.mesh_export(tmp_path) is None     # format cancelled: no folder asked
+    assert ask.mesh_export(tmp_path) is None     # folder cancelled
+    assert not formats and not folders

@@ -1,0 +1,180 @@
+"""Every question the main window asks the user, apart from what the answers lead to (the
+asking apart from the doing, as SLEAP's commands): each method opens one dialog and returns
+the answer, or None (False, "cancel") when the user cancels. The window's handlers ask here,
+then act; tests answer by replacing a method, with no dialog shown."""
+
+from pathlib import Path
+
+from PySide6.QtWidgets import QFileDialog, QInputDialog, QMessageBox, QWidget
+
+from core.camera_presets import CameraPreset
+from core.errors import InputError
+from core.io.frame_source import Clip
+from core.io.media import MEDIA_SUFFIXES
+from core.project.model import AltitudeSpec, Animal
+from core.project.project_file import PROJECT_SUFFIX, autosave_path, find_moved_media
+from core.segment.sam2_backend import check_checkpoint, config_for
+from ui.dialogs.altitude_dialog import AltitudeDialog
+from ui.dialogs.animal_dialog import AnimalDialog
+from ui.dialogs.camera_dialog import CameraDialog
+from ui.dialogs.handle_style_dialog import HandleStyleDialog
+from ui.dialogs.relink_dialog import RelinkDialog
+from ui.dialogs.shortcuts_dialog import ShortcutsDialog
+from ui.state.handle_style import HandleStyle
+
+ABOUT = ("dolphinfit: body length, volume, body condition and mass of dolphins from nadir "
+         "drone video.\nElliptical baseline (Christiansen et al. 2019) and a model-based 3D "
+         "fit.")
+
+
+def _path(name: str) -> Path | None:
+    return Path(name) if name else None
+
+
+class Questions:
+    """The dialogs of the main window (module doc); ``parent`` is the window."""
+
+    def __init__(self, parent: QWidget) -> None:
+        self.parent = parent
+
+    # ------------------------------------------------------------------ telling
+    def warn(self, title: str, text: str) -> None:
+        """Something failed: a warning the user closes."""
+        QMessageBox.warning(self.parent, title, text)
+
+    def show_shortcuts(self) -> None:
+        ShortcutsDialog(self.parent).exec()
+
+    def show_about(self) -> None:
+        QMessageBox.about(self.parent, "About dolphinfit", ABOUT)
+
+    # ------------------------------------------------------------------ files and folders
+    def media_to_open(self) -> Path | None:
+        """A project, clip or image to open."""
+        suffixes = " ".join(f"*{s}" for s in sorted(MEDIA_SUFFIXES))
+        name, _ = QFileDialog.getOpenFileName(
+            self.parent, "Open project, clip or image", "",
+            f"Projects and media (*{PROJECT_SUFFIX} {suffixes});;All files (*)")
+        return _path(name)
+
+    def media_to_add(self) -> Path | None:
+        """A clip or image to add to the open project."""
+        name, _ = QFileDialog.getOpenFileName(self.parent, "Add clip or image", "",
+                                              " ".join(f"*{s}" for s in MEDIA_SUFFIXES))
+        return _path(name)
+
+    def frames_folder(self, title: str) -> Path | None:
+        """A folder of numbered frames."""
+        return _path(QFileDialog.getExistingDirectory(self.parent, title))
+
+    def save_path(self, current: Path | None) -> Path | None:
+        """Where to save the project, with the project suffix."""
+        start = str(current or Path.cwd() / f"untitled{PROJECT_SUFFIX}")
+        name, _ = QFileDialog.getSaveFileName(self.parent, "Save project as", start,
+                                              f"dolphinfit projects (*{PROJECT_SUFFIX})")
+        if not name:
+            return None
+        path = Path(name)
+        return path if path.suffix == PROJECT_SUFFIX else path.with_name(path.name + PROJECT_SUFFIX)
+
+    def export_dir(self, start: Path) -> Path | None:
+        """A folder to export into."""
+        return _path(QFileDialog.getExistingDirectory(self.parent, "Export into folder",
+                                                      str(start)))
+
+    def comparison_path(self, start: Path) -> Path | None:
+        """The comparison CSV to write."""
+        name, _ = QFileDialog.getSaveFileName(self.parent, "Export comparison", str(start),
+                                              "CSV (*.csv)")
+        return _path(name)
+
+    def mesh_export(self, start: Path) -> tuple[Path, str] | None:
+        """A mesh format, then a folder."""
+        from core.io.mesh_export import MESH_SUFFIXES  # trimesh: loaded when first needed
+
+        suffix, ok = QInputDialog.getItem(self.parent, "Export 3D fit meshes", "Format:",
+                                          list(MESH_SUFFIXES), 0, False)
+        if not ok:
+            return None
+        folder = self.export_dir(start)
+        return None if folder is None else (folder, suffix)
+
+    def masks_source(self) -> Path | None:
+        """A folder of mask PNGs, else a mask file (.npz or a mask video)."""
+        name = QFileDialog.getExistingDirectory(self.parent, "Folder of mask PNGs (%06d.png)")
+        if not name:
+            name, _ = QFileDialog.getOpenFileName(self.parent, "Mask file", "",
+                                                  "Masks (*.npz *.mp4 *.avi *.mkv)")
+        return _path(name)
+
+    def sam2_checkpoint(self) -> Path | None:
+        """A SAM-2 checkpoint whose model can be told (a warning and None otherwise)."""
+        name, _ = QFileDialog.getOpenFileName(
+            self.parent, "SAM-2 checkpoint (e.g. sam2.1_hiera_tiny.pt)", "",
+            "SAM-2 checkpoint (*.pt)")
+        if not name:
+            return None
+        try:
+            config_for(check_checkpoint(name))
+        except InputError as exc:
+            self.warn("SAM-2 checkpoint", str(exc))
+            return None
+        return Path(name)
+
+    def relink(self, stored: str, project_dir: Path) -> Path | None:
+        """Where the moved media of a clip now is."""
+        dialog = RelinkDialog(stored, project_dir,
+                              find_moved_media(project_dir, Path(stored).name), self.parent)
+        return dialog.chosen if dialog.exec() else None
+
+    # ------------------------------------------------------------------ choices
+    def restore_autosave(self, path: Path) -> bool:
+        """Whether to restore the project's unsaved work."""
+        answer = QMessageBox.question(
+            self.parent, "Restore unsaved work?",
+            f"{autosave_path(path).name} holds changes to {path.name} that were never saved "
+            "(the app closed without saving). Restore them?")
+        return answer == QMessageBox.Yes
+
+    def save_changes(self) -> str:
+        """"save", "discard" or "cancel" the open project's changes."""
+        answer = QMessageBox.question(
+            self.parent, "Unsaved changes", "Save the changes to this project before closing?",
+            QMessageBox.Save | QMessageBox.Discard | QMessageBox.Cancel)
+        return {QMessageBox.Save: "save", QMessageBox.Discard: "discard"}.get(answer, "cancel")
+
+    def remove_animal(self, animal: Animal) -> bool:
+        """Whether to remove the animal and its measured frames."""
+        return QMessageBox.question(
+            self.parent, "Remove animal", f"Remove {animal.animal_id} and its "
+            f"{len(animal.measurements)} measured frames? (Undo brings them back.)"
+        ) == QMessageBox.Yes
+
+    def frame_number(self, current: int, last: int) -> int | None:
+        """A frame to go to, 0 … ``last``."""
+        value, ok = QInputDialog.getInt(self.parent, "Go to frame", f"frame (0–{last}):",
+                                        current, 0, last)
+        return value if ok else None
+
+    # ------------------------------------------------------------------ settings dialogs
+    def altitude(self, media: Path, project_dir: Path, clip: Clip,
+                 current: AltitudeSpec | None) -> AltitudeSpec | None:
+        """The clip's altitude (its SRT sidecar offered first)."""
+        dialog = AltitudeDialog(media, project_dir, clip, current, self.parent)
+        return dialog.spec if dialog.exec() else None
+
+    def camera(self, camera: CameraPreset, preset_name: str | None, width_px: int,
+               height_px: int) -> tuple[CameraPreset, str | None] | None:
+        """The clip's camera: (custom camera, preset name)."""
+        dialog = CameraDialog(camera, preset_name, width_px, height_px, self.parent)
+        return (dialog.camera, dialog.preset_name) if dialog.exec() else None
+
+    def animal(self, animal: Animal, others: list[str]) -> tuple[str, str] | None:
+        """The animal's (id, notes); ``others``: the clip's other animals' ids."""
+        dialog = AnimalDialog(animal.animal_id, animal.notes, others, self.parent)
+        return (dialog.animal_id, dialog.notes) if dialog.exec() else None
+
+    def handle_style(self, current: HandleStyle) -> HandleStyle | None:
+        """How the measuring handles are drawn."""
+        dialog = HandleStyleDialog(current, self.parent)
+        return dialog.style if dialog.exec() else None
