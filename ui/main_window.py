@@ -3,7 +3,6 @@ panel to the project model, and turns each menu action (resources/ui/actions.jso
 command. Its questions to the user are asked through ``self.ask`` (ui.dialogs.questions),
 apart from the changes they lead to; errors reach the user through the notifier."""
 
-import threading
 from collections.abc import Callable
 from dataclasses import asdict, replace
 from pathlib import Path
@@ -15,7 +14,6 @@ from PySide6.QtWidgets import (
     QDockWidget,
     QLabel,
     QMainWindow,
-    QProgressDialog,
     QVBoxLayout,
     QWidget,
 )
@@ -23,19 +21,13 @@ from PySide6.QtWidgets import (
 from core.camera_presets import preset_resolution_mismatch
 from core.errors import InputError
 from core.io.masks import read_masks
-from core.model.template import load_template
-from core.progress import Progress, ProgressCallback
-from core.project.comparison import project_comparison_rows, write_comparison_csv
-from core.project.evaluate import all_keys
 from core.project.mask_store import masks_file, save_track
 from core.project.model import (
     Animal,
     Measurement,
-    MeasurementKey,
     Project,
     add_animal,
     add_measurement,
-    get_measurement,
     next_animal_id,
     remove_animal,
     remove_measurement,
@@ -56,7 +48,7 @@ from core.project.project_file import (
     write_project,
 )
 from core.project.recent import add_recent, recent_projects
-from core.project.results import frame_altitude, image_id
+from core.project.results import frame_altitude
 from core.segment.backends import BACKENDS, COLOUR, DEFAULT_BACKEND, NETWORK, SAM2
 from core.segment.sam2_backend import INSTALL_HINT, PACKAGE, installed
 from ui.action_table import load_action_table
@@ -66,7 +58,7 @@ from ui.widgets.canvas import FrameCanvas
 from ui.state.clip_session import ClipSession, open_session, read_session_telemetry
 from ui.state.commands import push_edit
 from ui.dialogs.questions import Questions
-from ui.workers.export_worker import ExportWorker
+from ui.controllers.export_controller import ExportController
 from ui.controllers.fit_controller import FitController
 from ui.workers.frame_loader import FrameLoader
 from ui.state.handle_style import HandleStyle
@@ -107,7 +99,6 @@ class MainWindow(QMainWindow):
         self.state = ViewerState(self)
         self.notifier = Notifier(self)
         self.ask = Questions(self)
-        self.last_export: list[Path] = []
         self._opening_clip: int | None = None
         self._pending_frame: int | None = None
 
@@ -119,12 +110,12 @@ class MainWindow(QMainWindow):
         self.results = ResultsPanel(self.model)
         self.results.set_altitude_lookup(self.altitude_at)
         self.project_panel = ProjectPanel(self.model)
-        self.exporter = ExportWorker(self)
         self.fits = FitController(self.model, self.state, self.jobs, self.canvas, self.results,
                                   parent=self)
         self.masks = MaskController(self.model, self.state, self.notifier, self.jobs,
                                     self.canvas, self.fits.fit_frames, parent=self)
-        self._export_progress: QProgressDialog | None = None
+        self.exports = ExportController(self.model, self.notifier, self.ask,
+                                        self.fits.shown_fit, parent=self)
         self._build_layout()
         self.actions_by_name = self._build_menus()
         self._apply_preferences()
@@ -263,10 +254,6 @@ class MainWindow(QMainWindow):
         self.canvas.space_tapped.connect(self.on_play)
         self.overlay.status_message.connect(lambda text: self.statusBar().showMessage(text, 5000))
         self.results.animal_figures.connect(self.project_panel.set_figures)
-        self.exporter.progress.connect(self._on_export_progress)
-        self.exporter.finished.connect(self._on_export_finished)
-        self.exporter.failed.connect(self._on_export_failed)
-        self.exporter.cancelled.connect(self._on_export_cancelled)
 
     def _apply_preferences(self) -> None:
         prefs = load_preferences()
@@ -656,7 +643,7 @@ class MainWindow(QMainWindow):
         self._close_session()
         self.loader.shutdown()
         self.results.shutdown()
-        self.exporter.shutdown()
+        self.exports.shutdown()
         self.fits.shutdown()
         self.masks.shutdown()
         self.jobs.wait()
@@ -704,117 +691,20 @@ class MainWindow(QMainWindow):
         if path is not None:
             self.save(path)
 
-    def _export(self, keys: list[MeasurementKey], stem: str) -> None:
-        """Export measured frames (all four formats) into a folder the user picks."""
-        if self.model.path is None or not keys:
-            self.notifier.error("Export", "nothing measured to export yet")
-            return
-        if self.exporter.is_running:
-            self.notifier.error("Export", "an export is already running")
-            return
-        out_dir = self.ask.export_dir(self._export_start())
-        if out_dir is None:
-            return
-        self.exporter.start(self.model.project, self.model.path, keys, out_dir, stem)
-        self._export_progress = QProgressDialog("Measuring and writing…", "Cancel", 0,
-                                                len(keys), self)
-        self._export_progress.setWindowTitle("Export")
-        self._export_progress.setMinimumDuration(500)
-        self._export_progress.canceled.connect(self.exporter.cancel)
-
     def on_export_frame(self) -> None:
-        key = self.model.current_key()
-        if key is None:
-            self.notifier.error("Export", "no measured frame is selected")
-            return
-        clip = self.model.project.clips[key.clip]
-        self._export([key], image_id(clip, get_measurement(self.model.project, key).frame_idx))
+        self.exports.export_frame()
 
     def on_export_animal(self) -> None:
-        m = self.model
-        if m.animal_idx is None:
-            self.notifier.error("Export", "no animal is selected")
-            return
-        clip = m.project.clips[m.clip_idx]
-        animal_id = clip.animals[m.animal_idx].animal_id
-        self._export(all_keys(m.project, m.clip_idx, m.animal_idx),
-                     f"{Path(clip.media_path).stem}_{animal_id}".replace(" ", "-"))
+        self.exports.export_animal()
 
     def on_export_project(self) -> None:
-        path = self.model.path
-        self._export(all_keys(self.model.project), path.stem if path else "project")
-
-    def _export_start(self) -> Path:
-        """Where export dialogs start: the project's folder."""
-        return self.model.path.parent if self.model.path else Path.cwd()
+        self.exports.export_project()
 
     def on_export_comparison(self) -> None:
-        """One row per animal with a 3D fit: both methods' figures and their difference."""
-        if self.model.path is None or self.exporter.is_running:
-            self.notifier.error("Export", "open a project first" if self.model.path is None
-                        else "an export is already running")
-            return
-        target = self.ask.comparison_path(
-            self.model.path.with_name(self.model.path.stem + "_comparison.csv"))
-        if target is None:
-            return
-        project, path, draws = self.model.project, self.model.path, self.exporter.num_draws
-
-        def job(progress: ProgressCallback, cancel: threading.Event) -> tuple[list, list]:
-            rows, notes = project_comparison_rows(project, path, draws, progress, cancel)
-            write_comparison_csv(target, rows)
-            return [target], notes
-
-        self.exporter.run_job(job)
+        self.exports.export_comparison()
 
     def on_export_meshes(self) -> None:
-        """The current animal's fitted meshes: rest pose and every fitted frame."""
-        fit = self.fits.shown_fit()
-        if fit is None or self.exporter.is_running:
-            self.notifier.error("Export", "this animal has no 3D fit" if fit is None
-                        else "an export is already running")
-            return
-        choice = self.ask.mesh_export(self._export_start())
-        if choice is None:
-            return
-        folder, suffix = choice
-
-        def job(progress: ProgressCallback, cancel: threading.Event) -> tuple[list, list]:
-            from core.fit.mesh_files import export_fit_meshes  # trimesh, in the worker
-            return export_fit_meshes(fit, load_template(), folder, suffix, progress, cancel), []
-
-        self.exporter.run_job(job)
-
-    def _close_export_progress(self) -> None:
-        if self._export_progress is not None:
-            self._export_progress.reset()
-            self._export_progress.deleteLater()
-            self._export_progress = None
-
-    def _on_export_progress(self, progress: Progress) -> None:
-        if self._export_progress is not None:
-            self._export_progress.setMaximum(progress.total)
-            self._export_progress.setValue(progress.step)
-            self._export_progress.setLabelText(f"{progress.stage}: {progress.message}")
-
-    def _on_export_failed(self, why: str) -> None:
-        self._close_export_progress()
-        self.notifier.error("Export failed", why)
-
-    def _on_export_cancelled(self) -> None:
-        self._close_export_progress()
-        self.statusBar().showMessage("export cancelled: nothing written", 10_000)
-
-    def _on_export_finished(self, outcome: tuple[list, list]) -> None:
-        paths, skipped = outcome
-        self._close_export_progress()
-        self.last_export = list(paths)
-        text = f"wrote {len(paths)} files"
-        if paths:
-            text += f" into {Path(paths[0]).parent}"
-        if skipped:
-            self.notifier.error("Export", text + "\n\nnot exported:\n" + "\n".join(skipped))
-        self.statusBar().showMessage(text, 10_000)
+        self.exports.export_meshes()
 
     def on_quit(self) -> None:
         self.close()

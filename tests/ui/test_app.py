@@ -240,7 +240,7 @@ def test_exports_of_the_project_read_back(qtbot, measured, tmp_path):
     volume = shown_volume(qtbot, window)
     out = tmp_path / "exports"
     window.ask.export_dir = lambda start: out
-    with qtbot.waitSignal(window.exporter.finished, timeout=60_000):
+    with qtbot.waitSignal(window.exports.worker.finished, timeout=60_000):
         window.actions_by_name["export_project"].trigger()
     stem = "DJI_0001"
     with open(out / f"{stem}_wide.csv", newline="", encoding="utf-8") as f:
@@ -256,7 +256,7 @@ def test_exports_of_the_project_read_back(qtbot, measured, tmp_path):
     assert results["animals"][0]["frames"] == [stem]
     receipt = cv2.imread(str(out / f"{stem}_receipts" / f"{stem}.png"))
     assert receipt.shape[:2] == dolphin_frame().shape[:2]
-    assert set(window.last_export) == {p for p in out.rglob("*") if p.is_file()}
+    assert set(window.exports.last_export) == {p for p in out.rglob("*") if p.is_file()}
 
 
 def test_sample_project_frames_step_with_keys(qtbot, new_window):

@@ -93,7 +93,7 @@ def test_fit_runs_saves_shows_and_cancels(qtbot, sample_copy, make_window):
         # the fitted meshes in another format, read back with trimesh
         meshes = path.parent / "meshes"
         window.ask.mesh_export = lambda start: (meshes, ".obj")
-        with qtbot.waitSignal(window.exporter.finished, timeout=120_000):
+        with qtbot.waitSignal(window.exports.worker.finished, timeout=120_000):
             window.actions_by_name["export_meshes"].trigger()
         rest = trimesh.load(meshes / "rest_mesh.obj", force="mesh")
         np.testing.assert_allclose(rest.bounds, [result.rest_verts.min(axis=0),
@@ -144,12 +144,12 @@ def test_fit_runs_saves_shows_and_cancels(qtbot, sample_copy, make_window):
         window.ask.comparison_path = lambda start: path.with_name("comparison.csv")
         errors = []
         window.ask.warn = lambda title, text: errors.append(text)  # the dialog's words
-        with qtbot.waitSignal(window.exporter.failed, timeout=60_000):
+        with qtbot.waitSignal(window.exports.worker.failed, timeout=60_000):
             window.actions_by_name["export_comparison"].trigger()
         assert "nothing to compare" in errors[-1]
         masks = read_masks(path.parent / clip.masks_path)
         _measure_from_mask(window, masks.mask(window.state.frame_idx))
-        with qtbot.waitSignal(window.exporter.finished, timeout=120_000):
+        with qtbot.waitSignal(window.exports.worker.finished, timeout=120_000):
             window.actions_by_name["export_comparison"].trigger()
         with path.with_name("comparison.csv").open(newline="", encoding="utf-8") as file:
             rows = list(csv.DictReader(file))
