@@ -8,7 +8,7 @@ from dataclasses import asdict, replace
 from pathlib import Path
 
 import numpy as np
-from PySide6.QtCore import QByteArray, Qt
+from PySide6.QtCore import QByteArray, Qt, QTimer
 from PySide6.QtGui import QAction, QActionGroup, QCloseEvent, QKeySequence
 from PySide6.QtWidgets import (
     QDockWidget,
@@ -170,6 +170,15 @@ class MainWindow(QMainWindow):
         height = self.docks["Results"].height() + dock.height()
         self.resizeDocks([self.docks["Results"], dock], [3 * height // 5, 2 * height // 5],
                          Qt.Vertical)
+        QTimer.singleShot(0, self._share_width)  # once the docks have their new sizes
+
+    def _share_width(self) -> None:
+        """Give the right-hand docks (the comparison's table and plots, the 3D view) what the
+        video does not need of half the window: the video keeps at least half the width, as
+        far as the docks' smallest sizes allow, since it is what a user measures on."""
+        right = self.docks["Results"]
+        spare = self.centralWidget().width() - self.width() // 2
+        self.resizeDocks([right], [max(right.width() + spare, 0)], Qt.Horizontal)
 
     def _build_menus(self) -> dict[str, QAction]:
         menus, specs = load_action_table()

@@ -112,6 +112,10 @@ def test_fit_runs_saves_shows_and_cancels(qtbot, sample_copy, make_window):
         # the 3D viewer holds the fitted mesh and poses it at the frame shown
         # shown with the first fit, the 3D view loads then (not when the app opens)
         qtbot.waitUntil(lambda: fits.viewer is not None, timeout=10_000)
+        # the video keeps half the window beside the 3D view and the comparison
+        qtbot.waitUntil(lambda: window.docks["3D view"].isVisible(), timeout=10_000)
+        qtbot.waitUntil(lambda: window.centralWidget().width() >= window.width() // 2 - 4,
+                        timeout=5_000)
         if fits.viewer.plotter is not None:
             first = np.array(fits.viewer.fitted_points(), copy=True)
             with qtbot.waitSignal(window.state.frame_shown, timeout=10_000):

@@ -13,7 +13,7 @@ The view renders only after a change (no auto-update timer). Under the "offscree
 import numpy as np
 import pyvista as pv
 from PySide6.QtGui import QCloseEvent, QGuiApplication
-from PySide6.QtWidgets import QCheckBox, QHBoxLayout, QLabel, QPushButton, QVBoxLayout, QWidget
+from PySide6.QtWidgets import QCheckBox, QGridLayout, QLabel, QPushButton, QVBoxLayout, QWidget
 from pyvistaqt import QtInteractor
 
 from core.project.fit_playback import posed_at
@@ -24,14 +24,17 @@ ARROW_HEIGHT = 0.5     # camera arrow start above the animal's top, × body leng
 ARROW_LENGTH = 0.3     # × body length
 SCALE_BAR_M = 1.0
 BACKGROUND = "white"
-# toggle key → (checkbox text, actor names it shows or hides)
+# toggle key → (checkbox text, its tooltip, actor names it shows or hides); short texts in
+# two rows keep the dock narrow enough to leave the video half the window
 TOGGLES = {
-    "fitted": ("Fitted mesh", ("posed", "rest")),
-    "elliptical": ("Elliptical solid", ("elliptical",)),
-    "water": ("Water (z = 0 m)", ("water",)),
-    "camera": ("Camera direction", ("camera",)),
-    "scale": (f"Scale bar ({SCALE_BAR_M:g} m)", ("scale_bar", "scale_label")),
+    "fitted": ("Fit", "the fitted mesh, posed at the frame shown", ("posed", "rest")),
+    "elliptical": ("Elliptical", "the elliptical method's solid", ("elliptical",)),
+    "water": ("Water", "the water surface (z = 0 m)", ("water",)),
+    "camera": ("Camera", "the direction the camera looks from", ("camera",)),
+    "scale": (f"{SCALE_BAR_M:g} m bar", f"a scale bar {SCALE_BAR_M:g} m long",
+              ("scale_bar", "scale_label")),
 }
+TOOLBAR_COLUMNS = 3
 
 
 def _bounds(points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -72,18 +75,19 @@ class Viewer3D(QWidget):
                                                   render=False)
         layout.addWidget(self.plotter, stretch=1)
 
-    def _build_toolbar(self) -> QHBoxLayout:
-        bar = QHBoxLayout()
-        for key, (text, _) in TOGGLES.items():
+    def _build_toolbar(self) -> QGridLayout:
+        bar = QGridLayout()
+        for i, (key, (text, tip, _)) in enumerate(TOGGLES.items()):
             box = QCheckBox(text)
+            box.setToolTip(f"Show {tip}")
             box.setChecked(True)
             box.toggled.connect(self._on_toggled)
             self.toggles[key] = box
-            bar.addWidget(box)
-        bar.addStretch(1)
+            bar.addWidget(box, *divmod(i, TOOLBAR_COLUMNS))
         reset = QPushButton("Reset view")
         reset.clicked.connect(self.reset_view)
-        bar.addWidget(reset)
+        bar.addWidget(reset, *divmod(len(TOGGLES), TOOLBAR_COLUMNS))
+        bar.setColumnStretch(TOOLBAR_COLUMNS, 1)
         return bar
 
     # ------------------------------------------------------------------ content
@@ -132,7 +136,7 @@ class Viewer3D(QWidget):
             return
         self._fit, self._rest, self._solid, self._posed_mesh = None, None, None, None
         self.frame_label = ""
-        self.plotter.remove_actor([name for _, names in TOGGLES.values() for name in names],
+        self.plotter.remove_actor([name for *_, names in TOGGLES.values() for name in names],
                                   render=False)
         self._label_actor.set_text("upper_left", "")
         self.plotter.render()
@@ -231,7 +235,7 @@ class Viewer3D(QWidget):
 
     def _apply_toggles(self) -> None:
         actors = self.plotter.renderer.actors
-        for key, (_, names) in TOGGLES.items():
+        for key, (*_, names) in TOGGLES.items():
             for name in names:
                 if name in actors:
                     actors[name].SetVisibility(self.toggles[key].isChecked())
