@@ -56,6 +56,10 @@ def used_stations(tail: str) -> np.ndarray:
     return is_used
 
 
+class NoWidthError(ValueError):
+    """A measurement with no width the volume uses: its length alone can be shown."""
+
+
 def fill_skipped(widths: np.ndarray, tail: str) -> tuple[np.ndarray, np.ndarray]:
     """Fill unmeasured (NaN) stations that the volume uses by linear interpolation.
 
@@ -63,13 +67,13 @@ def fill_skipped(widths: np.ndarray, tail: str) -> tuple[np.ndarray, np.ndarray]
     measured stations, those the tail option later replaces included (a measured 90 % width
     says how the body narrows after 85 %), and the zero widths at 0 % and 100 %. Returns the
     filled (S,) widths and an (S,) bool marking the stations filled. Stations the tail option
-    ignores are left as they are. Raises ValueError when no used station is measured.
+    ignores are left as they are. Raises NoWidthError when no used station is measured.
     """
     widths = np.asarray(widths, dtype=np.float64)
     is_used = used_stations(tail)
     is_known = np.isfinite(widths)
     if not (is_used & is_known).any():
-        raise ValueError("no station width is measured")
+        raise NoWidthError("no station width is measured")
     is_filled = is_used & ~is_known
     known_at = np.concatenate([[0.0], STATION_FRACTIONS[is_known], [1.0]])
     known_w = np.concatenate([[0.0], widths[is_known], [0.0]])

@@ -160,6 +160,23 @@ def draw_pixels(pixels: PixelMeasurements, sd_px: float, num_draws: int,
     return lengths, widths
 
 
+def draw_m_per_px(focal_px: float, altitude_m: float, errors: ErrorModel, num_draws: int,
+                  rng: np.random.Generator) -> np.ndarray:
+    """(D,) metres per pixel under the altitude's error, then the focal length's."""
+    altitude = altitude_m * (1 + rng.normal(0.0, errors.altitude_sd_fraction, num_draws))
+    focal = focal_px * (1 + rng.normal(0.0, errors.focal_sd_fraction, num_draws))
+    return altitude / focal
+
+
+def length_summary(length_px: float, focal_px: float, altitude_m: float, errors: ErrorModel,
+                   num_draws: int, rng: np.random.Generator) -> Summary:
+    """The length alone, in metres, under the errors of its two end points, the altitude and
+    the camera: for a frame whose widths are not placed yet."""
+    ends = rng.normal(0.0, errors.digitisation_sd_px, size=(num_draws, 2))   # rostrum, notch
+    return summarize((length_px + ends[:, 1] - ends[:, 0])
+                     * draw_m_per_px(focal_px, altitude_m, errors, num_draws, rng))
+
+
 def draw_results(pixels: PixelMeasurements, focal_px: float, altitude_m: float, hw: HWRatios,
                  tail: str, errors: ErrorModel, num_draws: int, rng: np.random.Generator,
                  mass_model: MassModel = MassModel(),
@@ -171,9 +188,7 @@ def draw_results(pixels: PixelMeasurements, focal_px: float, altitude_m: float, 
     pixels: filled widths (``fill_skipped``); focal_px, altitude_m: nominal calibration.
     """
     lengths_px, widths_px = draw_pixels(pixels, errors.digitisation_sd_px, num_draws, rng)
-    altitude = altitude_m * (1 + rng.normal(0.0, errors.altitude_sd_fraction, num_draws))
-    focal = focal_px * (1 + rng.normal(0.0, errors.focal_sd_fraction, num_draws))
-    m_per_px = altitude / focal
+    m_per_px = draw_m_per_px(focal_px, altitude_m, errors, num_draws, rng)
     ratios, ratio_sd = hw.completed()
     shape_z = rng.normal(0.0, 1.0, size=(num_draws, 1))
     draws_hw = ratios + shape_z * errors.hw_sd_scale * ratio_sd

@@ -22,6 +22,7 @@ from core.measure.hw_ratios import HWRatios
 from core.measure.records import (
     MeasureInput, default_error_model, measured_image_from_annotation, result_record,
 )
+from core.measure.uncertainty import Summary, length_summary
 from core.project.fit_settings import FitSettings, fit_config
 from core.project.model import ClipEntry, MeasurementKey, Project, get_measurement
 
@@ -85,13 +86,9 @@ class FrameResult:
     record: dict
 
 
-def measure_frame(project: Project, key: MeasurementKey, altitude_m: float,
-                  altitude_source: str, hw: HWRatios, num_draws: int,
-                  seed: int = 0) -> FrameResult:
-    """The elliptical estimate of one measured frame (with ``num_draws`` Monte Carlo draws).
-
-    Raises ValueError when the frame has no length or no width yet.
-    """
+def _frame_input(project: Project, key: MeasurementKey, altitude_m: float,
+                 altitude_source: str) -> tuple[str, MeasureInput]:
+    """The frame's export name and its measurement in pixels with its calibration."""
     clip = project.clips[key.clip]
     measurement = get_measurement(project, key)
     annotation = measurement.to_annotation()
@@ -101,13 +98,51 @@ def measure_frame(project: Project, key: MeasurementKey, altitude_m: float,
     name = image_id(clip, measurement.frame_idx)
     doc = AnnotationFile(annotation=annotation, calibration=calibration, image_id=name,
                          media_path=clip.media_path, notes=measurement.notes)
-    source = measured_image_from_annotation(doc, image_id=name)
+    return name, measured_image_from_annotation(doc, image_id=name)
+
+
+def measure_frame(project: Project, key: MeasurementKey, altitude_m: float,
+                  altitude_source: str, hw: HWRatios, num_draws: int,
+                  seed: int = 0) -> FrameResult:
+    """The elliptical estimate of one measured frame (with ``num_draws`` Monte Carlo draws).
+
+    Raises ValueError when the frame has no length yet, NoWidthError (a ValueError) when it
+    has no width yet.
+    """
+    name, source = _frame_input(project, key, altitude_m, altitude_source)
     settings = BaselineSettings(hw=hw, tail=project.tail)
-    errors = default_error_model(altitude_source, clip.camera.approximate)
+    errors = default_error_model(altitude_source, project.clips[key.clip].camera.approximate)
     estimate = estimate_baseline(source.pixels, source.focal_px, altitude_m, settings, errors,
                                  num_draws, np.random.default_rng(seed))
     return FrameResult(key=key, image_id=name, source=source, estimate=estimate,
                        record=result_record(source, estimate, input_name=name, seed=seed))
+
+
+@dataclass(frozen=True, eq=False)
+class LengthResult:
+    """A measured frame with its length and no width yet: the length (m), the altitude and
+    ground sampling distance, and with draws the length's Monte Carlo (None without)."""
+
+    key: MeasurementKey
+    image_id: str
+    length_m: float
+    altitude_m: float
+    m_per_px: float
+    interval: Summary | None
+
+
+def measure_length(project: Project, key: MeasurementKey, altitude_m: float,
+                   altitude_source: str, num_draws: int, seed: int = 0) -> LengthResult:
+    """The length of a measured frame alone (``length_summary``); ValueError without one."""
+    name, source = _frame_input(project, key, altitude_m, altitude_source)
+    m_per_px = altitude_m / source.focal_px
+    interval = None
+    if num_draws > 0:
+        errors = default_error_model(altitude_source, project.clips[key.clip].camera.approximate)
+        interval = length_summary(source.pixels.length_px, source.focal_px, altitude_m, errors,
+                                  num_draws, np.random.default_rng(seed))
+    return LengthResult(key=key, image_id=name, length_m=source.pixels.length_px * m_per_px,
+                        altitude_m=altitude_m, m_per_px=m_per_px, interval=interval)
 
 
 @dataclass(frozen=True)

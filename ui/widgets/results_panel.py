@@ -21,9 +21,10 @@ from core.measure.baseline import BaselineEstimate
 from core.measure.elliptical import TAIL_EXTRAPOLATED, TAIL_IDX, TAIL_MEASURED
 from core.measure.hw_ratios import preset_names
 from core.measure.stations import NUM_STATIONS, STATION_PCT
+from core.measure.uncertainty import Summary
 from core.project.comparison import interval_of
 from core.project.model import Measurement
-from core.project.results import FrameResult, Spread
+from core.project.results import FrameResult, LengthResult, Spread
 from ui.state.commands import push_edit
 from ui.state.project_model import Change, ProjectModel
 from ui.workers.results_worker import AnimalSummary, ResultsWorker
@@ -261,25 +262,19 @@ class ResultsPanel(QWidget):
                       Change("settings"))
 
     # ----- results
-    def _on_result(self, request_id: int, result: FrameResult) -> None:
+    def _on_result(self, request_id: int, result: FrameResult | LengthResult) -> None:
         if request_id != self._request_id:
             return
+        if isinstance(result, LengthResult):
+            self._show_length(result)
+            return
         self._result = result
-        measurement, source = self._requested
+        measurement = self._requested[0]
         estimate, record = result.estimate, result.record
         self._set_message("")
-        self.values["frame"].setText(str(measurement.frame_idx))
-        self.values["altitude_m"].setText(f"{record['altitude_m']:.2f}")
-        self.values["altitude_source"].setText(source)
-        self.values["gsd"].setText(f"{estimate.m_per_px * 100:.3f}")
+        self._show_frame(record["altitude_m"], estimate.m_per_px)
         for key, _, fmt in FRAME_ROWS:
-            self.values[key].setText(format(record[key], fmt))
-            summary = interval_of(estimate, key)
-            self.intervals[key].setText(PENDING if summary is None else
-                                        _range_text(float(summary.low), float(summary.high), fmt))
-            self.intervals[key].setToolTip("" if summary is None else
-                                           f"mean {format(float(summary.mean), fmt)}, "
-                                           f"SD {format(float(summary.sd), fmt.lstrip('+'))}")
+            self._show_value(key, record[key], interval_of(estimate, key), fmt)
         for row in range(NUM_STATIONS):
             self.stations.setItem(row, 1, self._cell(f"{estimate.point.widths_m[row]:.3f}"))
             self.stations.setItem(row, 2, self._cell(_station_state(estimate, measurement, row)))
@@ -287,6 +282,33 @@ class ResultsPanel(QWidget):
         self.warnings.setText("\n".join(f"⚠ {text}".replace(" %", "\u00a0%")
                                         for text in record["warnings"]))
         self.result_shown.emit(result)
+
+    def _show_frame(self, altitude_m: float, m_per_px: float) -> None:
+        """The frame, its altitude and its ground sampling distance."""
+        measurement, source = self._requested
+        self.values["frame"].setText(str(measurement.frame_idx))
+        self.values["altitude_m"].setText(f"{altitude_m:.2f}")
+        self.values["altitude_source"].setText(source)
+        self.values["gsd"].setText(f"{m_per_px * 100:.3f}")
+
+    def _show_length(self, result: LengthResult) -> None:
+        """A frame with a length and no width yet: its length and interval, the rest
+        waiting for the widths."""
+        self._result = None
+        self._blank()
+        self._set_message("Volume, BCI and mass follow once a width is placed.")
+        self._show_frame(result.altitude_m, result.m_per_px)
+        key, _, fmt = FRAME_ROWS[0]
+        self._show_value(key, result.length_m, result.interval, fmt)
+
+    def _show_value(self, key: str, value: float, summary: Summary | None, fmt: str) -> None:
+        """A figure, and its interval (with mean and SD as a tooltip) or that it is coming."""
+        self.values[key].setText(format(value, fmt))
+        self.intervals[key].setText(PENDING if summary is None else
+                                    _range_text(float(summary.low), float(summary.high), fmt))
+        self.intervals[key].setToolTip("" if summary is None else
+                                       f"mean {format(float(summary.mean), fmt)}, "
+                                       f"SD {format(float(summary.sd), fmt.lstrip('+'))}")
 
     def _on_failed(self, request_id: int, message: str) -> None:
         if request_id == self._request_id:
@@ -298,6 +320,10 @@ class ResultsPanel(QWidget):
         self._request_id = -1
         self._result = None
         self._set_message(message)
+        self._blank()
+
+    def _blank(self) -> None:
+        """Every figure and station cell empty."""
         for label in (*self.values.values(), *self.intervals.values()):
             label.setText(NONE)
             label.setToolTip("")

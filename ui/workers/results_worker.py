@@ -16,12 +16,14 @@ from dataclasses import dataclass
 from PySide6.QtCore import QObject, Qt, Signal, Slot
 
 from core.errors import InputError
+from core.measure.elliptical import NoWidthError
 from core.measure.hw_ratios import HWRatios
 from core.model.hw_spec import resolve_hw
 from core.measure.uncertainty import DEFAULT_NUM_DRAWS
 from core.project.model import MeasurementKey, Project
 from core.project.results import (
-    FrameResult, Spread, animal_summary, measure_frame, project_hw_spec,
+    FrameResult, LengthResult, Spread, animal_summary, measure_frame, measure_length,
+    project_hw_spec,
 )
 
 log = logging.getLogger(__name__)
@@ -70,8 +72,9 @@ class ResultsWorker(QObject):
     animal's inside its AnimalSummary). Call ``shutdown()`` when the owner closes.
     """
 
-    nominal_ready = Signal(int, object)   # request id, FrameResult without interval
-    interval_ready = Signal(int, object)  # request id, FrameResult with the Monte Carlo
+    # request id, FrameResult (LengthResult while the frame has no width) without interval
+    nominal_ready = Signal(int, object)
+    interval_ready = Signal(int, object)  # request id, the same with the Monte Carlo
     failed = Signal(int, str)             # request id, why the frame cannot be measured
     animal_ready = Signal(object, object)  # list[FrameResult], AnimalSummary
     _computed = Signal(str, int, object)  # kind, request id, payload (worker → GUI thread)
@@ -199,10 +202,15 @@ class ResultsWorker(QObject):
             self._hw_cache[name] = resolve_hw(name)
         return self._hw_cache[name]
 
-    def _measure(self, job: _FrameJob, num_draws: int) -> FrameResult:
-        return measure_frame(job.project, job.key, job.altitude_m, job.altitude_source,
-                             self._hw(project_hw_spec(job.project, self.project_dir)),
-                             num_draws, SEED)
+    def _measure(self, job: _FrameJob, num_draws: int) -> FrameResult | LengthResult:
+        """The frame's estimate; its length alone while it has no width."""
+        try:
+            return measure_frame(job.project, job.key, job.altitude_m, job.altitude_source,
+                                 self._hw(project_hw_spec(job.project, self.project_dir)),
+                                 num_draws, SEED)
+        except NoWidthError:
+            return measure_length(job.project, job.key, job.altitude_m, job.altitude_source,
+                                  num_draws, SEED)
 
     def _animal_results(self, job: _AnimalJob) -> tuple[list[FrameResult], AnimalSummary]:
         """Nominal results of the animal's frames; frames that cannot be measured left out

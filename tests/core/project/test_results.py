@@ -15,7 +15,10 @@ from core.measure.uncertainty import ErrorModel
 from core.project.evaluate import all_keys, frame_results
 from core.project.model import Measurement, MeasurementKey, with_measurement
 from core.project.project_file import write_project
-from core.project.results import animal_summary, frame_altitude, image_id, measure_frame, spread
+from core.measure.elliptical import NoWidthError
+from core.project.results import (
+    animal_summary, frame_altitude, image_id, measure_frame, measure_length, spread,
+)
 
 
 def test_frame_result_equals_the_engine_on_the_same_pixels(project):
@@ -31,6 +34,31 @@ def test_frame_result_equals_the_engine_on_the_same_pixels(project):
     assert result.record["volume_m3"] == pytest.approx(float(direct.point.volume_m3), rel=1e-12)
     assert result.record["length_m"] == pytest.approx(600 * 18.0 / focal_px, rel=1e-9)
     assert result.image_id == "clip_f000003"
+
+
+def test_a_frame_with_a_length_and_no_width_gets_its_length_and_interval(project):
+    """The length alone equals the full estimate's on the same midline, and its Monte Carlo
+    (laser altitude SD 1 %, verified camera 0.5 %, two end points at the digitisation SD)
+    centres on it with a 95 % interval about ±2 × 1.1 % wide; the full estimate refuses the
+    frame with NoWidthError."""
+    key = MeasurementKey(0, 0, 0)
+    full = measure_frame(project, key, 18.0, "laser", load_hw_preset(), num_draws=0)
+    measured = project.clips[0].animals[0].measurements[0]
+    bare = with_measurement(project, key, Measurement(3, midline_px=measured.midline_px))
+    with pytest.raises(NoWidthError):
+        measure_frame(bare, key, 18.0, "laser", load_hw_preset(), num_draws=0)
+    nominal = measure_length(bare, key, 18.0, "laser", num_draws=0)
+    assert nominal.interval is None and nominal.image_id == full.image_id
+    assert nominal.length_m == pytest.approx(full.record["length_m"], rel=1e-12)
+    assert nominal.m_per_px == pytest.approx(full.estimate.m_per_px, rel=1e-12)
+    drawn = measure_length(bare, key, 18.0, "laser", num_draws=20_000).interval
+    errors = ErrorModel.default("laser", False)
+    share = np.hypot(errors.altitude_sd_fraction, errors.focal_sd_fraction)
+    assert float(drawn.mean) == pytest.approx(nominal.length_m, rel=2e-3)
+    assert float(drawn.sd) / nominal.length_m == pytest.approx(share, rel=0.1)
+    assert float(drawn.low) < nominal.length_m < float(drawn.high)
+    with pytest.raises(ValueError, match="no body length"):
+        measure_length(with_measurement(project, key, Measurement(3)), key, 18.0, "laser", 0)
 
 
 def test_animal_summary_is_mean_sd_and_range_over_frames(project):

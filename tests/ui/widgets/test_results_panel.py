@@ -16,6 +16,7 @@ from core.measure.baseline import BaselineEstimate, BaselineSettings, estimate_b
 from core.measure.hw_ratios import load_hw_preset
 from core.measure.records import default_error_model
 from core.project.model import Animal, ClipEntry, Measurement, MeasurementKey, Project
+from core.project.results import measure_length
 from ui.state.commands import edit_measurement
 from ui.state.project_model import ProjectModel
 from ui.widgets.results_panel import ResultsPanel
@@ -188,6 +189,29 @@ def test_frame_without_length_says_why(setup, qtbot):
         model.select(0, 0, 2)
     assert panel.message.text().startswith("no body length yet")
     assert panel.current_result() is None
+
+
+def test_a_length_without_widths_shows_the_length_and_its_interval(setup, qtbot):
+    """Once the midline is drawn, before any width: the length (600 px × the GSD), then its
+    interval; volume and mass wait for a width, and say so."""
+    model, panel = setup
+    panel.set_altitude_lookup(_constant)
+    midline = model.project.clips[0].animals[0].measurements[0].midline_px
+    with qtbot.waitSignal(panel.worker.nominal_ready, timeout=TIMEOUT_MS):
+        model.select(0, 0, 2)
+        edit_measurement(model, MeasurementKey(0, 0, 2), Measurement(12, midline), "length")
+    length_m = 600 * ALTITUDE_M / CAMERA.intrinsics().focal_px
+    assert panel.values["length_m"].text() == f"{length_m:.3f}"
+    assert panel.values["frame"].text() == "12"
+    assert panel.values["volume_m3"].text() == panel.values["mass_kg"].text() == "—"
+    assert "once a width is placed" in panel.message.text()
+    assert panel.current_result() is None
+    with qtbot.waitSignal(panel.worker.interval_ready, timeout=TIMEOUT_MS):
+        pass
+    core = measure_length(model.project, MeasurementKey(0, 0, 2), ALTITUDE_M, SOURCE,
+                          panel.worker.num_draws).interval
+    assert panel.intervals["length_m"].text() == f"{core.low:.3f} – {core.high:.3f}"
+    assert core.low < length_m < core.high
 
 
 def test_event_loop_turns_during_a_long_monte_carlo(make_panel, qtbot):
