@@ -98,7 +98,8 @@ class NetTracker:
                 cancel: threading.Event | None = None) -> MaskTrack:
         """Masks for the chosen frames of ``frames``, tracked from ``seed``.
 
-        InputError if the seed finds no animal; core.progress.Cancelled once ``cancel`` is set.
+        InputError if the seed finds no animal; core.progress.Cancelled once ``cancel`` is set
+        (TrackingCancelled, with the frames tracked, once tracking has begun).
         """
         num_frames = len(frames)
         check_seed_frame(seed, num_frames)
@@ -116,19 +117,18 @@ class NetTracker:
             frames = ScaledFrames(frames, scale, height, width)
             first = frames[seed.frame_idx]
         animal, water = models_near(first, mask)
-        crops = track_both_ways(
-            frames, seed.frame_idx, mask, chosen,
-            lambda: _State(mask, mask, float(mask.sum()), separation(animal, water), animal,
-                           water),
-            self._next, progress, cancel)
         source = f"{BACKEND_NAME}, {self.look.edges.name}, from {seed}{note}" + (
             f"; tracked at {scale:.3g}× (the animal is longer than "
             f"{self.settings.max_length_px} px)" if scale < 1.0 else "")
-        if scale < 1.0:
-            seen_height, seen_width = first.shape[:2]
-            return track_of(crops, num_frames, width, height, source, lambda crop: upscaled(
-                crop.paste(seen_height, seen_width), height, width))
-        return track_of(crops, num_frames, width, height, source)
+        seen_height, seen_width = first.shape[:2]
+        paste = None if scale >= 1.0 else (lambda crop: upscaled(
+            crop.paste(seen_height, seen_width), height, width))
+        return track_both_ways(
+            frames, seed.frame_idx, mask, chosen,
+            lambda: _State(mask, mask, float(mask.sum()), separation(animal, water), animal,
+                           water),
+            self._next, lambda crops: track_of(crops, num_frames, width, height, source, paste),
+            progress, cancel)
 
     def _next(self, frame_rgb: np.ndarray, state: _State) -> np.ndarray | None:
         """The mask in the next chosen frame (None if lost), updating ``state``."""

@@ -27,9 +27,11 @@ import numpy as np
 
 from core.errors import InputError
 from core.io.masks import MaskTrack
-from core.progress import Progress, ProgressCallback, check_cancel
+from core.progress import Cancelled, Progress, ProgressCallback, check_cancel
 from core.segment.regions import MaskCrop, crop_of
-from core.segment.segmenter import TRACK_STAGE, AutoSeed, BoxSeed, Frames, PointSeed, Seed
+from core.segment.segmenter import (
+    TRACK_STAGE, AutoSeed, BoxSeed, Frames, PointSeed, Seed, TrackingCancelled,
+)
 from core.segment.tracking_loop import check_seed_frame, track_of
 
 PACKAGE = "sam2"
@@ -154,15 +156,19 @@ class Sam2Segmenter:
             state = predictor.init_state(video_path=folder, offload_video_to_cpu=True)
             predictor.add_new_points_or_box(state, frame_idx=seed_local, obj_id=OBJECT_ID,
                                             **prompt(seed))
-            for done, (local_idx, mask) in enumerate(_propagate(predictor, state, seed_local),
-                                                     start=1):
-                if mask.any():
-                    crops[chosen[local_idx]] = crop_of(mask)
-                if progress is not None:
-                    progress(Progress(TRACK_STAGE, done, len(chosen)))
-                check_cancel(cancel)
-        return track_of(crops, num_frames, width, height,
-                        f"SAM-2 ({self.checkpoint.name}) from {seed}")
+            source, visited = f"SAM-2 ({self.checkpoint.name}) from {seed}", set()
+            try:
+                for local_idx, mask in _propagate(predictor, state, seed_local):
+                    visited.add(chosen[local_idx])
+                    if mask.any():
+                        crops[chosen[local_idx]] = crop_of(mask)
+                    if progress is not None:
+                        progress(Progress(TRACK_STAGE, len(visited), len(chosen)))
+                    check_cancel(cancel)
+            except Cancelled:
+                raise TrackingCancelled(track_of(crops, num_frames, width, height, source),
+                                        frozenset(visited)) from None
+        return track_of(crops, num_frames, width, height, source)
 
     def _load(self):
         """The video predictor on the CPU, built once."""

@@ -13,7 +13,7 @@ from typing import Protocol
 import numpy as np
 
 from core.io.masks import MaskTrack
-from core.progress import ProgressCallback
+from core.progress import Cancelled, ProgressCallback
 
 TRACK_STAGE = "track"
 
@@ -60,8 +60,19 @@ class AutoSeed:
 Seed = PointSeed | BoxSeed | AutoSeed
 
 
+class TrackingCancelled(Cancelled):
+    """Tracking stopped by the caller after it had tracked some frames: ``track`` holds their
+    masks (the frames it had not reached are not visible), ``visited`` which frames it had
+    reached (the animal may be lost in some of them)."""
+
+    def __init__(self, track: MaskTrack, visited: frozenset[int]) -> None:
+        super().__init__(f"cancelled after {len(visited)} of {track.num_frames} frames")
+        self.track, self.visited = track, visited
+
+
 class Segmenter(Protocol):
-    """Anything that turns frames and a seed into a MaskTrack."""
+    """Anything that turns frames and a seed into a MaskTrack; a tracker that is cancelled
+    once it has tracked frames raises TrackingCancelled with them."""
 
     def segment(self, frames: Frames, seed: Seed, progress: ProgressCallback | None = None,
                 cancel: threading.Event | None = None) -> MaskTrack: ...

@@ -90,7 +90,8 @@ class MaskTracker:
                 cancel: threading.Event | None = None) -> MaskTrack:
         """Masks for every frame of ``frames``, tracked from ``seed`` (see the module doc).
 
-        InputError if the seed finds no animal; core.progress.Cancelled once ``cancel`` is set.
+        InputError if the seed finds no animal; core.progress.Cancelled once ``cancel`` is set
+        (TrackingCancelled, with the frames tracked, once tracking has begun).
         """
         num_frames = len(frames)
         check_seed_frame(seed, num_frames)
@@ -99,12 +100,14 @@ class MaskTracker:
         height, width = first.shape[:2]
         mask = seed_mask(first, seed)
         animal, water = models_near(first, mask)
-        crops = track_both_ways(
+        return track_both_ways(
             frames, seed.frame_idx, mask, range(num_frames),
             lambda: _TrackState(mask, animal, water, float(mask.sum()),
                                 separation(animal, water)),
-            self._next, progress, cancel)
-        return track_of(crops, num_frames, width, height, f"built-in tracker from {seed}")
+            self._next,
+            lambda crops: track_of(crops, num_frames, width, height,
+                                   f"built-in tracker from {seed}"),
+            progress, cancel)
 
     def _next(self, frame_rgb: np.ndarray, state: _TrackState) -> np.ndarray | None:
         """The mask in the next frame (None if lost), updating ``state``."""

@@ -1,6 +1,7 @@
 """The loop every tracker shares: from the seed frame forwards over the chosen frames, then
 backwards, each pass from the seed's mask with a fresh state; and the MaskTrack of what it
-found. A tracker brings only its step from one frame to the next."""
+found, also when it is cancelled (TrackingCancelled). A tracker brings only its step from one
+frame to the next."""
 
 import threading
 from collections.abc import Callable, Sequence
@@ -9,9 +10,9 @@ from typing import TypeVar
 import numpy as np
 
 from core.io.masks import MaskTrack
-from core.progress import Progress, ProgressCallback, check_cancel
+from core.progress import Cancelled, Progress, ProgressCallback, check_cancel
 from core.segment.regions import MaskCrop, crop_of
-from core.segment.segmenter import TRACK_STAGE, Frames, Seed
+from core.segment.segmenter import TRACK_STAGE, Frames, Seed, TrackingCancelled
 
 State = TypeVar("State")
 
@@ -26,30 +27,35 @@ def check_seed_frame(seed: Seed, num_frames: int) -> None:
 def track_both_ways(frames: Frames, seed_idx: int, seed_mask: np.ndarray,
                     chosen: Sequence[int], start: Callable[[], State],
                     step: Callable[[np.ndarray, State], np.ndarray | None],
+                    finish: Callable[[dict[int, MaskCrop]], MaskTrack],
                     progress: ProgressCallback | None = None,
-                    cancel: threading.Event | None = None) -> dict[int, MaskCrop]:
-    """The animal's crops in the seed frame and the ``chosen`` frames: ``step(frame, state)``
-    gives each frame's mask (None: not seen) from the state ``start()`` makes afresh for the
-    pass forwards from the seed, then for the pass backwards. core.progress.Cancelled once
-    ``cancel`` is set."""
+                    cancel: threading.Event | None = None) -> MaskTrack:
+    """``finish`` of the animal's crops in the seed frame and the ``chosen`` frames:
+    ``step(frame, state)`` gives each frame's mask (None: not seen) from the state
+    ``start()`` makes afresh for the pass forwards from the seed, then for the pass
+    backwards. Once ``cancel`` is set, TrackingCancelled with ``finish`` of the crops so
+    far."""
     forward = [t for t in chosen if t > seed_idx]
     backward = [t for t in reversed(chosen) if t < seed_idx]
     total = 1 + len(forward) + len(backward)
     crops = {seed_idx: crop_of(seed_mask)}
-    done = 1
+    visited = [seed_idx]
     if progress is not None:
-        progress(Progress(TRACK_STAGE, done, total))
-    for order in (forward, backward):
-        state = start()
-        for frame_idx in order:
-            check_cancel(cancel)
-            found = step(frames[frame_idx], state)
-            if found is not None:
-                crops[frame_idx] = crop_of(found)
-            done += 1
-            if progress is not None:
-                progress(Progress(TRACK_STAGE, done, total))
-    return crops
+        progress(Progress(TRACK_STAGE, len(visited), total))
+    try:
+        for order in (forward, backward):
+            state = start()
+            for frame_idx in order:
+                check_cancel(cancel)
+                found = step(frames[frame_idx], state)
+                if found is not None:
+                    crops[frame_idx] = crop_of(found)
+                visited.append(frame_idx)
+                if progress is not None:
+                    progress(Progress(TRACK_STAGE, len(visited), total))
+    except Cancelled:
+        raise TrackingCancelled(finish(crops), frozenset(visited)) from None
+    return finish(crops)
 
 
 def track_of(crops: dict[int, MaskCrop], num_frames: int, width: int, height: int,

@@ -12,6 +12,7 @@ from core.project.mask_store import masks_file
 from core.project.project_file import relative_media_path
 from core.project.sample import ensure_sample_project
 from ui.main_window import MainWindow
+from ui.workers.tracker_jobs import Tracked
 
 TIMEOUT_MS = 120_000
 LEFT = Qt.MouseButton.LeftButton
@@ -45,7 +46,7 @@ def test_track_every_frame_asks_the_tracker_for_all_of_them(qtbot, window, monke
 
     def track_job(*args, **kwargs):
         asked.append(args)
-        return lambda progress, cancel: window.masks.track
+        return lambda progress, cancel: Tracked(window.masks.track, 1)
     monkeypatch.setattr(mask_controller, "track_job", track_job)
     qtbot.waitUntil(lambda: window.masks.track is not None, timeout=10_000)
     with qtbot.waitSignal(window.state.frame_shown, timeout=10_000):
@@ -69,7 +70,7 @@ def test_track_from_a_click_then_correct_with_the_brush(qtbot, window):
     with qtbot.waitSignal(window.masks.tracker.finished, timeout=TIMEOUT_MS) as tracked:
         qtbot.mouseClick(window.canvas.viewport(), LEFT,
                          pos=window.canvas.mapFromScene(QPointF(u.mean(), v.mean())))
-    track = tracked.args[0]
+    track = tracked.args[0].track
     assert window.model.current_measurement() is None  # the click seeded, measured nothing
     qtbot.waitUntil(lambda: window.model.project.clips[0].masks_path == _kept(window),
                     timeout=10_000)

@@ -30,7 +30,7 @@ from ui.state.commands import push_edit
 from ui.workers.job_worker import JobWorker
 from ui.widgets.mask_layer import MaskLayer
 from ui.state.project_model import Change, ProjectModel
-from ui.workers.tracker_jobs import track_job
+from ui.workers.tracker_jobs import Tracked, track_job
 from ui.state.viewer_state import Notifier, ViewerState
 
 
@@ -196,11 +196,18 @@ class MaskController(QObject):
         self._target = (path, session.clip_idx, only is not None)
         self.tracker.run_job(job)
 
-    def _on_tracked(self, track: MaskTrack) -> None:
+    def _on_tracked(self, outcome: Tracked) -> None:
         path, clip_idx, limited = self._target
         if path != self.model.path or self.state.session_for(clip_idx) is None:
             self.notifier.error("Tracking", "the tracked masks were not kept: another clip or "
                                 "project is open now")
+            return
+        track = outcome.track
+        if not outcome.complete:
+            self.notifier.status(f"tracking cancelled: the {outcome.num_tracked} frames "
+                                 "tracked keep their new masks, the others the masks they had",
+                                 10_000)
+            self._store(track, "track masks (cancelled)")
             return
         rest = "; the fit's frames only (Clip → Track every frame for all)" if limited else ""
         self.notifier.status(f"{int(track.is_visible.sum())} of {track.num_frames} frames "

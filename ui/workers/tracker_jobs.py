@@ -10,7 +10,7 @@ one of its passes. Frames outside the tracked range keep their existing masks.
 
 import threading
 from collections.abc import Sequence
-from dataclasses import replace
+from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Literal
 
@@ -22,7 +22,7 @@ from core.io.masks import MaskTrack, check_against_clip
 from core.io.media import open_media
 from core.progress import ProgressCallback
 from core.segment.backends import DEFAULT_BACKEND, make_segmenter
-from core.segment.segmenter import BoxSeed, PointSeed
+from core.segment.segmenter import BoxSeed, PointSeed, TrackingCancelled
 from ui.workers.job_worker import Job
 
 Direction = Literal["forward", "backward", "both"]
@@ -56,6 +56,17 @@ class _FrameView:
             self._block = dict(self._source.frames(range(first, frame_idx + 1)))
         frame = self._block.get(frame_idx)
         return self._source[frame_idx] if frame is None else frame
+
+
+@dataclass(frozen=True, eq=False)
+class Tracked:
+    """A tracking job's outcome: the clip's whole MaskTrack, how many frames the tracker
+    reached, and whether it reached all it was asked to (False: cancelled, the frames it had
+    tracked kept)."""
+
+    track: MaskTrack
+    num_tracked: int
+    complete: bool = True
 
 
 def box_around(mask: np.ndarray, frame_idx: int) -> BoxSeed:
@@ -105,13 +116,16 @@ def track_job(media_path: Path | str, seed: PointSeed | BoxSeed | np.ndarray,
               existing: MaskTrack | None = None, backend: str = DEFAULT_BACKEND,
               checkpoint: Path | None = None, only_frames: Sequence[int] | None = None) -> Job:
     """A job tracking the animal from frame ``start_frame`` in ``direction`` and returning the
-    clip's whole MaskTrack (frames outside the tracked range as in ``existing``).
+    clip's whole MaskTrack as ``Tracked`` (frames outside the tracked range as in
+    ``existing``; cancelled once tracking has begun, the frames tracked so far and the others
+    as in ``existing``).
     ``checkpoint`` and ``only_frames`` (clip frames) go to the back-end (make_segmenter).
 
     ``seed``: a click or a box on that frame (its own ``frame_idx`` is ignored), or that
     frame's corrected (H, W) bool mask ("re-track from here"): the tracker starts from a box
     around it and the frame keeps the mask as given. Progress is core.progress's contract
-    (stage "track", frames tracked); core.progress.Cancelled once cancelled.
+    (stage "track", frames tracked); core.progress.Cancelled when cancelled before any frame
+    is tracked.
     """
     if direction not in DIRECTIONS:
         raise ValueError(f"direction must be one of {DIRECTIONS}, got {direction!r}")
@@ -131,11 +145,17 @@ def track_job(media_path: Path | str, seed: PointSeed | BoxSeed | np.ndarray,
             view_seed = replace(seed, frame_idx=order.index(start_frame))
             view_only = (None if only_frames is None
                          else [order.index(t) for t in only_frames if t in order])
-            tracked = make_segmenter(backend, view_only, checkpoint).segment(
-                _FrameView(source, order), view_seed, progress, cancel)
             num_frames = len(source)
+            try:
+                tracked = make_segmenter(backend, view_only, checkpoint).segment(
+                    _FrameView(source, order), view_seed, progress, cancel)
+            except TrackingCancelled as stop:  # the frames it reached are kept
+                reached = {order[view_idx] for view_idx in stop.visited}
+                return Tracked(_merged(stop.track, order, num_frames, existing, kept,
+                                       start_frame, reached), len(reached), complete=False)
         # a back-end limited to some frames leaves the others' masks as they were
         segmented = None if only_frames is None else {*map(int, only_frames), start_frame}
-        return _merged(tracked, order, num_frames, existing, kept, start_frame, segmented)
+        return Tracked(_merged(tracked, order, num_frames, existing, kept, start_frame,
+                               segmented), len(order if segmented is None else segmented))
 
     return job

@@ -13,7 +13,7 @@ from core.progress import Cancelled
 from core.segment.evaluate import (
     box_seed_from, mask_iou, measure_tracker, outline_offset_px, track_iou,
 )
-from core.segment.segmenter import AutoSeed, PointSeed
+from core.segment.segmenter import AutoSeed, PointSeed, TrackingCancelled
 from core.segment.tracker import MaskTracker
 
 CALM_MIN_MEAN_IOU = 0.85  # the aim for calm water
@@ -96,9 +96,13 @@ def test_cancel_stops_within_a_frame(synthetic_clips):
             cancel.set()
 
     with VideoReader(synthetic_clips["calm"][0]) as frames:
-        with pytest.raises(Cancelled):
+        with pytest.raises(TrackingCancelled) as stopped:
             MaskTracker().segment(frames, AutoSeed(), progress=progress, cancel=cancel)
     assert calls == [1, 2, 3, 4, 5]
+    # what it tracked before the cancel is kept: the seed frame and the next four
+    assert stopped.value.visited == frozenset(range(5))
+    assert stopped.value.track.is_visible.tolist() == [True] * 5 + [False] * 43
+    assert isinstance(stopped.value, Cancelled)
 
 
 def test_seeds_that_find_nothing_raise(synthetic_clips):

@@ -52,7 +52,9 @@ def test_a_click_tracks_both_ways(clip):
     reports: list[Progress] = []
     centre = _centre(SEED_FRAME)
     job = track_job(path, PointSeed(*centre), SEED_FRAME, "both")
-    track = job(reports.append, threading.Event())
+    outcome = job(reports.append, threading.Event())
+    track = outcome.track
+    assert outcome.complete and outcome.num_tracked == NUM_FRAMES
     assert track.num_frames == NUM_FRAMES
     assert (track_iou(track, truth) > 0.8).all()
     assert [r.step for r in reports] == list(range(1, NUM_FRAMES + 1))
@@ -64,31 +66,47 @@ def test_one_direction_keeps_the_other_frames(clip, monkeypatch):
     monkeypatch.setattr(tracker_jobs, "BLOCK_BYTES", 4 * WIDTH * HEIGHT * 3)  # blocks of 4
     existing = MaskTrack.from_array(np.zeros((NUM_FRAMES, HEIGHT, WIDTH), bool), "old")
     backward = track_job(path, PointSeed(*_centre(SEED_FRAME)), SEED_FRAME, "backward",
-                         existing)(lambda _: None, threading.Event())
+                         existing)(lambda _: None, threading.Event()).track
     assert backward.is_visible.tolist() == [True] * (SEED_FRAME + 1) + [False] * 5
     assert (track_iou(backward, truth)[:SEED_FRAME + 1] > 0.8).all()
     corrected = truth.mask(SEED_FRAME).copy()
     corrected[:, :_centre(SEED_FRAME)[0] - 38] = False  # the tip erased; the frame keeps it
     assert corrected.sum() < truth.mask(SEED_FRAME).sum()
     both = track_job(path, corrected, SEED_FRAME, "forward", backward)(
-        lambda _: None, threading.Event())
+        lambda _: None, threading.Event()).track
     assert (track_iou(both, truth) > 0.8).all()
     np.testing.assert_array_equal(both.mask(SEED_FRAME), corrected)
     for t in range(SEED_FRAME):
         np.testing.assert_array_equal(both.mask(t), backward.mask(t))
 
 
-def test_cancel_raises_cancelled(clip):
-    path, _ = clip
+def test_a_cancel_keeps_the_frames_tracked_and_the_others_masks(clip):
+    """Cancelled after the seed frame and two frames forwards (progress step 3): those three
+    get their tracked masks, every other frame keeps the mask it had (here the truth shifted
+    by 3 px), and the outcome says it is incomplete. A cancel before tracking has begun
+    keeps nothing (Cancelled)."""
+    path, truth = clip
+    existing = MaskTrack.from_array(np.roll([truth.mask(t) for t in range(NUM_FRAMES)], 3,
+                                            axis=2), "old")
     cancel = threading.Event()
 
     def progress(report: Progress) -> None:
         if report.step == 3:
             cancel.set()
 
-    job = track_job(path, PointSeed(*_centre(SEED_FRAME)), SEED_FRAME, "both")
+    outcome = track_job(path, PointSeed(*_centre(SEED_FRAME)), SEED_FRAME, "both",
+                        existing)(progress, cancel)
+    assert not outcome.complete and outcome.num_tracked == 3
+    reached = {SEED_FRAME, SEED_FRAME + 1, SEED_FRAME + 2}
+    iou = track_iou(outcome.track, truth)
+    for t in range(NUM_FRAMES):
+        if t in reached:
+            assert iou[t] > 0.8
+        else:
+            np.testing.assert_array_equal(outcome.track.mask(t), existing.mask(t))
+    cancel.set()
     with pytest.raises(Cancelled):
-        job(progress, cancel)
+        track_job(path, PointSeed(*_centre(SEED_FRAME)), SEED_FRAME, "both")(progress, cancel)
 
 
 def test_a_bad_direction_is_refused(clip):
@@ -105,7 +123,7 @@ def test_a_back_end_limited_to_some_frames_keeps_the_others_masks(clip):
                                             axis=2), "old")
     chosen = [2, 8, 10]
     track = track_job(path, PointSeed(*_centre(SEED_FRAME)), SEED_FRAME, "both", existing,
-                      only_frames=np.array(chosen))(lambda _: None, threading.Event())
+                      only_frames=np.array(chosen))(lambda _: None, threading.Event()).track
     segmented = {*chosen, SEED_FRAME}
     for t in range(NUM_FRAMES):
         if t in segmented:
