@@ -11,7 +11,7 @@ import math
 import sys
 from pathlib import Path
 
-from core.bench.real_bench import PARTS, SEEDS, bench_real
+from core.bench.real_bench import DEFAULT_PARTS, PARTS, SEEDS, bench_real
 from core.limits import count, one_of
 from core.segment.backends import ALWAYS_AVAILABLE, DEFAULT_BACKEND, make_segmenter
 
@@ -20,8 +20,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     """The data folder, the seeds and back-end of the masks, how many outlines."""
     parser.add_argument("--data", type=Path, default=None, metavar="DIR",
                         help="the real data sets (default: the clone's tests/data/real)")
-    parser.add_argument("--parts", default=",".join(PARTS),
-                        help=f"comma-separated, of {', '.join(PARTS)} (default all)")
+    parser.add_argument("--parts", default=",".join(DEFAULT_PARTS),
+                        help=f"comma-separated, of {', '.join(PARTS)} (default all but fit, "
+                             "which takes minutes)")
     parser.add_argument("--seeds", default=",".join(SEEDS),
                         help=f"comma-separated, of {', '.join(SEEDS)} (default all)")
     parser.add_argument("--backend", choices=ALWAYS_AVAILABLE, default=DEFAULT_BACKEND,
@@ -69,6 +70,8 @@ def format_real(figures: dict) -> str:
         lines += _right_whale_lines(figures["right_whale"])
     if "outlines" in figures:
         lines += _outline_lines(figures["outlines"])
+    if "minke_fit" in figures:
+        lines += _fit_lines(figures["minke_fit"])
     return "\n".join(lines).rstrip("\n")
 
 
@@ -133,4 +136,26 @@ def _outline_lines(out: dict) -> list[str]:
                           f"{v['worst_px']:5.0f} {100 * v['worst_share']:3.0f}%"
                           for v in p.values())
         lines.append(f"{pair:15s} {cells}")
+    return lines
+
+
+def _fit_lines(fit: dict) -> list[str]:
+    interval = fit["interval"]
+
+    def shown(key: str, fmt: str) -> str:
+        return (f"{fit[key]:{fmt}} ({interval[key]['low']:{fmt}}–"
+                f"{interval[key]['high']:{fmt}})")
+
+    lines = ["", f"Minke whale, the 3D fit from a click ({fit['status']}, mean IoU "
+             f"{fit['mean_iou']:.3f}, {fit['seconds']:.0f} s; 95 % intervals with the altitude "
+             f"from the {fit['altitude_source']} and the outline ±{fit['outline_sd_px']:.2g} px)"
+             f": length {shown('length_m', '.3f')} m, volume {shown('volume_m3', '.3f')} m³, "
+             f"mass {shown('mass_kg', '.0f')} kg",
+             "person                  length m  fit vs person  in the interval  widths: "
+             "median |fit − person|"]
+    for person in fit["people"]:
+        lines.append(f"{person['source']:22s} {person['length_m']:9.3f}  "
+                     f"{_pct(person['length_error_share']):>13s}  "
+                     f"{'yes' if person['length_in_interval'] else 'no':>15s}  "
+                     f"{100 * person['median_width_error_share']:8.1f} %")
     return lines

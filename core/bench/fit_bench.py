@@ -70,6 +70,11 @@ VARIANTS: dict[str, Variant] = {
     "true_masks_colour_all_stages": Variant(None, {"colour_geometry": "all_stages"}),
     "true_masks_colour_pose_stages": Variant(None, {"colour_geometry": "pose_stages"}),
     "true_masks_paper_pose_prior": Variant(None, {"weights": LossWeights(pose=2.0)}),
+    # the body free to bend up or down for good (no pitch-bend prior), as before it
+    "true_masks_free_bend": Variant(None, {"weights": LossWeights(pitch_bend=0.0)}),
+    "product_masks_auto_seed_free_bend": Variant(DEFAULT_BACKEND,
+                                                 {"weights": LossWeights(pitch_bend=0.0)},
+                                                 seed=AUTO),
     # the shape stage on every frame, pitched and rolled ones included (none set aside)
     "true_masks_all_shape_frames": Variant(None, {"shape_iou_margin": 1.0}),
     # the axes prior (each part's axes scale together) off, and ten times the default

@@ -20,6 +20,8 @@ Four parts, each on data in ``core.bench.real_data``:
    that station against the person's (the straight distance between their points), beside
    the outline's own width along the person's line (how far the outline and the hand points
    disagree in the data itself).
+5. **Fit** (``core.bench.real_fit``, not among the default parts: it takes minutes): the 3D
+   fit on the minke still against the two people, with its 95 % intervals.
 """
 
 import time
@@ -30,6 +32,7 @@ from pathlib import Path
 import cv2
 import numpy as np
 
+from core.bench.real_fit import fit_minke
 from core.bench.real_overlay import overlay, write_overlay
 from core.bench.real_data import (
     OUTLINE_PAIRS, HumanMeasurement, MedidorImage, MinkeImage, WhaleOutlines, load_medidor,
@@ -129,15 +132,10 @@ def measure_still(rgb: np.ndarray, kind: str, click_px: tuple[float, float],
             mask, annotation)
 
 
-def human_widths(human: HumanMeasurement) -> np.ndarray:
-    """(19,) a person's widths on the station grid, NaN where not measured."""
-    return np.array([human.widths_m.get(float(pct), np.nan) for pct in STATION_PCT])
-
-
 def human_spread(humans: tuple[HumanMeasurement, ...]) -> dict:
     """The people against each other: length and the widths at the stations all measured,
     in metres and as shares of their mean."""
-    people = np.array([human_widths(h) for h in humans])
+    people = np.array([h.station_widths() for h in humans])
     shared = np.all(np.isfinite(people), axis=0)
     mean, spread = people.mean(axis=0)[shared], np.ptp(people, axis=0)[shared]
     lengths = np.array([h.length_m for h in humans])
@@ -153,7 +151,7 @@ def against_humans(measure: MaskMeasure, humans: tuple[HumanMeasurement, ...]) -
     """Our length and widths against the people's mean, at the stations all measured, in
     metres and as shares; how many widths lie within half the people's spread of their
     mean (inside the range the two people span)."""
-    people = np.array([human_widths(h) for h in humans])
+    people = np.array([h.station_widths() for h in humans])
     shared = np.all(np.isfinite(people), axis=0)
     mean, spread = people.mean(axis=0)[shared], np.ptp(people, axis=0)[shared]
     error = np.asarray(measure.widths_m)[shared] - mean
@@ -291,15 +289,16 @@ def outline_scores(data: WhaleOutlines, limit: int | None = None) -> dict:
             "ends": ends, "pairs": pairs}
 
 
-PARTS = ("replay", "minke", "right-whale", "outlines")
+PARTS = ("replay", "minke", "right-whale", "outlines", "fit")
+DEFAULT_PARTS = PARTS[:-1]   # the fit takes minutes: asked for by name
 
 
-def bench_real(folder: Path | None = None, parts: tuple[str, ...] = PARTS,
+def bench_real(folder: Path | None = None, parts: tuple[str, ...] = DEFAULT_PARTS,
                seeds: tuple[str, ...] = SEEDS, backend: str = DEFAULT_BACKEND,
                outlines_limit: int | None = None,
                progress: Callable[[str], None] | None = None,
                overlays: Path | None = None) -> dict:
-    """The chosen ``parts`` of the module doc (1–4), as one JSON-ready dict; with
+    """The chosen ``parts`` of the module doc (1–5), as one JSON-ready dict; with
     ``overlays``, a picture per image and seed there (``real_overlay``)."""
     def say(line: str) -> None:
         if progress is not None:
@@ -317,6 +316,9 @@ def bench_real(folder: Path | None = None, parts: tuple[str, ...] = PARTS,
     if "outlines" in parts:
         figures["outlines"] = outline_scores(load_outlines(folder), outlines_limit)
         say("outlines done")
+    if "fit" in parts:
+        figures["minke_fit"] = fit_minke(load_minke(folder), backend)
+        say("minke fit done")
     return figures
 
 

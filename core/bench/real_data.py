@@ -24,6 +24,7 @@ from core.errors import InputError
 from core.io.medidor import MedidorRow, read_medidor
 from core.measure.morphometrix import MorphoMetrixRecord, read_morphometrix
 from core.measure.annotation import Calibration
+from core.measure.stations import STATION_PCT
 
 REAL_DATA_DIR = Path(__file__).resolve().parents[2] / "tests" / "data" / "real"
 MINKE_HUMANS = ("demo-annotated.csv", "test-image.csv")
@@ -54,6 +55,10 @@ class HumanMeasurement:
     source: str                    # file name
     length_m: float
     widths_m: dict[float, float]   # percent of body length → width, m
+
+    def station_widths(self) -> np.ndarray:
+        """(19,) the widths on the station grid, NaN where not measured."""
+        return np.array([self.widths_m.get(float(pct), np.nan) for pct in STATION_PCT])
 
 
 @dataclass(frozen=True)

@@ -34,6 +34,14 @@ def pose_prior(body_pose: torch.Tensor) -> torch.Tensor:
     return (body_pose ** 2).sum((1, 2)).mean()
 
 
+def pitch_bend_prior(body_pose: torch.Tensor, spine: torch.Tensor) -> torch.Tensor:
+    """Σ over the ``spine`` parts (M − 1,) bool of their rotation about the lateral (y) axis
+    averaged over frames, squared (body_pose: T, M − 1, 3). A stroking tail bends up and down
+    about straight, so its bend averages out over a clip; a lasting bend is what a top view
+    cannot tell from a shorter animal."""
+    return (body_pose[:, spine, 1].mean(0) ** 2).sum()
+
+
 def scale_prior(betas: torch.Tensor) -> torch.Tensor:
     """Squared norm of the part log scales (M, 4)."""
     return (betas ** 2).sum()

@@ -223,6 +223,7 @@ class FitProblem:
         rotations = axis_angle_to_matrix(params.root_aa)
         terms = {
             "pose": losses.pose_prior(params.body_pose),
+            "pitch_bend": losses.pitch_bend_prior(params.body_pose, ~self.model.fin_groups[1:]),
             "scale": losses.scale_prior(params.betas),
             "scale_axes": losses.scale_axes_prior(params.betas),
             "scale_smooth": losses.scale_smooth_prior(params.betas, self.model.group_parents),

@@ -11,6 +11,7 @@ from torch import nn
 
 from core.model import lbs
 from core.model.profile_field import ProfileField
+from core.model.skeleton import fin_group_names
 from core.model.template import Template, load_template
 
 NUM_SHAPE_PARAMS = 4  # log uniform scale + log scales along the part's x, y, z axes
@@ -48,6 +49,8 @@ class DolphinModel(nn.Module):
                              torch.tensor(template.group_parents, dtype=torch.int64))
         self.register_buffer("station_rings",
                              torch.tensor(template.station_rings, dtype=torch.int64))
+        self.register_buffer("fin_groups", torch.tensor(
+            [name in fin_group_names() for name in template.group_names], dtype=torch.bool))
         self.profile_field = ProfileField(template, dtype)
 
     @property

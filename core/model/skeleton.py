@@ -67,6 +67,11 @@ def group_names() -> tuple[str, ...]:
     return tuple(dict.fromkeys(joint.group for joint in JOINTS))
 
 
+def fin_group_names() -> frozenset[str]:
+    """The parts that are fins (dorsal fin, flippers, flukes)."""
+    return frozenset(joint.group for joint in JOINTS if joint.fin is not None)
+
+
 def smoothstep(x: np.ndarray) -> np.ndarray:
     """0 below −1, 1 above +1, C¹-smooth in between."""
     u = np.clip((x + 1.0) * 0.5, 0.0, 1.0)

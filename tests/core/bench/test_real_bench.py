@@ -17,7 +17,9 @@ from core.bench.real_data import (
     OUTLINE_PAIRS, crossings, distance_to_outline, load_medidor, load_minke, load_outlines,
     real_data_dir,
 )
+from core.bench.real_fit import fit_minke
 from core.errors import InputError
+from core.fit.config import FitConfig
 from core.segment.backends import DEFAULT_BACKEND
 
 
@@ -120,7 +122,7 @@ def test_bench_real_command_prints_the_parts_asked_for(capsys):
     out = capsys.readouterr().out
     assert "largest difference of length and 9 widths" in out
     assert "Whale outlines with hand points (5 outlines" in out and "peduncle_width" in out
-    assert main(["bench", "real", "--parts", "fit"]) == 2
+    assert main(["bench", "real", "--parts", "fitting"]) == 2
     assert "--parts" in capsys.readouterr().err
 
 
@@ -145,3 +147,21 @@ def test_the_automatic_seed_takes_the_right_whale_not_the_caption():
     assert auto["error"] == ""
     assert auto["length_px"] == pytest.approx(medidor.sheet.length_px, rel=0.1)
     assert auto["offsets_found"] == 18
+
+
+def test_the_fit_part_fits_the_minke_and_scores_it_against_both_people():
+    """The fit part on the minke still, a quick fit at 720 px wide (the default takes
+    minutes): a complete fit whose length lies within 10 % of each person's and whose
+    interval is ordered around it, with one entry per person."""
+    minke = load_minke()
+    quick = FitConfig(heading_trial_steps=4, steps_global=10, steps_body=10, steps_shape=20,
+                      use_roi=False)
+    fit = fit_minke(minke, DEFAULT_BACKEND, quick)
+    assert fit["status"] == "complete" and fit["mean_iou"] > 0.85
+    low, high = fit["interval"]["length_m"]["low"], fit["interval"]["length_m"]["high"]
+    assert low < fit["length_m"] < high
+    assert [p["source"] for p in fit["people"]] == [h.source for h in minke.humans]
+    for person in fit["people"]:
+        assert abs(person["length_error_share"]) < 0.1
+        assert person["length_in_interval"] == (low <= person["length_m"] <= high)
+        assert person["median_width_error_share"] < 0.15

@@ -46,3 +46,25 @@ def test_glide_prior_is_zero_along_the_axis_and_charges_a_level_tilted_animal():
     value.backward()
     assert level.grad[1, 2] > 0      # descent lowers the later root: it sinks as it points
     assert losses.glide_prior(level[:1], tilted[:1], time_s[:1]).detach().item() == 0.0
+
+
+def test_pitch_bend_prior_charges_a_lasting_bend_not_a_stroke():
+    """Two spine parts and a fin over four frames. A stroke that bends the tail ±0.1 rad
+    about straight averages to nothing and costs nothing; a tail held 0.1 rad down in every
+    frame costs 0.1² per part, 0.02 for two, as one frame does alone. Roll, lateral bend and
+    the fin's rotations are free."""
+    spine = torch.tensor([True, True, False])
+    stroke = torch.zeros(4, 3, 3)
+    stroke[:, :2, 1] = torch.tensor([0.1, -0.1, 0.1, -0.1])[:, None]
+    stroke[:, :, 0], stroke[:, :, 2], stroke[:, 2, 1] = 0.3, -0.2, 0.5
+    assert float(losses.pitch_bend_prior(stroke, spine)) == pytest.approx(0.0, abs=1e-12)
+
+    held = stroke.clone()
+    held[:, :2, 1] = -0.1
+    held.requires_grad_(True)
+    value = losses.pitch_bend_prior(held, spine)
+    assert value.item() == pytest.approx(0.02)
+    assert losses.pitch_bend_prior(held[:1], spine).item() == pytest.approx(0.02)
+    value.backward()
+    assert (held.grad[:, :2, 1] < 0).all()            # descent straightens the tail
+    assert held.grad[:, :, [0, 2]].abs().max() == 0 and held.grad[:, 2].abs().max() == 0
