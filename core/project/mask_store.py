@@ -16,6 +16,7 @@ import numpy as np
 from core.io.masks import NPZ_SUFFIX, MaskTrack, check_against_clip, read_npz, write_npz
 from core.io.video import Clip
 from core.project.fit_settings import clip_key
+from core.segment.regions import touches_border
 
 MASKS_SUFFIX = ".masks"  # beside PROJECT.dolphinfit: PROJECT.masks/<clip stem>.npz
 
@@ -60,8 +61,7 @@ def coverage(track: MaskTrack) -> Coverage:
     for frame_idx in np.flatnonzero(track.is_visible):
         mask = track.mask(int(frame_idx))
         area_px[frame_idx] = np.count_nonzero(mask)
-        touches[frame_idx] = (mask[0].any() or mask[-1].any() or mask[:, 0].any()
-                              or mask[:, -1].any())
+        touches[frame_idx] = touches_border(mask)
     return Coverage(track.is_visible.copy(), touches, area_px)
 
 

@@ -26,6 +26,11 @@ class MaskCrop:
         return mask
 
 
+def touches_border(mask: np.ndarray) -> bool:
+    """Whether a (H, W) mask has a pixel in the frame's outermost row or column."""
+    return bool(mask[0].any() or mask[-1].any() or mask[:, 0].any() or mask[:, -1].any())
+
+
 def window(mask: np.ndarray, margin_px: int) -> tuple[slice, slice]:
     """Row and column slices of the mask's bounding box grown by ``margin_px``."""
     col0, row0, width, height = cv2.boundingRect(mask.astype(np.uint8))

@@ -28,9 +28,9 @@ import numpy as np
 from core.errors import InputError
 from core.io.masks import MaskTrack
 from core.progress import Cancelled, Progress, ProgressCallback, check_cancel
-from core.segment.regions import MaskCrop, crop_of
+from core.segment.regions import MaskCrop, crop_of, touches_border
 from core.segment.segmenter import (
-    TRACK_STAGE, AutoSeed, BoxSeed, Frames, PointSeed, Seed, TrackingCancelled,
+    TRACK_STAGE, AutoSeed, BoxSeed, Frames, FrameTracked, PointSeed, Seed, TrackingCancelled,
 )
 from core.segment.tracking_loop import check_seed_frame, track_of
 
@@ -163,7 +163,9 @@ class Sam2Segmenter:
                     if mask.any():
                         crops[chosen[local_idx]] = crop_of(mask)
                     if progress is not None:
-                        progress(Progress(TRACK_STAGE, len(visited), len(chosen)))
+                        progress(Progress(TRACK_STAGE, len(visited), len(chosen),
+                                          preview=FrameTracked(chosen[local_idx], mask.any(),
+                                                               touches_border(mask))))
                     check_cancel(cancel)
             except Cancelled:
                 raise TrackingCancelled(track_of(crops, num_frames, width, height, source),

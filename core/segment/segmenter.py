@@ -60,6 +60,17 @@ class AutoSeed:
 Seed = PointSeed | BoxSeed | AutoSeed
 
 
+@dataclass(frozen=True)
+class FrameTracked:
+    """The preview of a tracking progress report: the frame just tracked, whether the animal
+    was seen there, and whether its mask touches the frame's border (a coverage strip fills
+    as frames arrive)."""
+
+    frame_idx: int
+    visible: bool
+    touches_border: bool
+
+
 class TrackingCancelled(Cancelled):
     """Tracking stopped by the caller after it had tracked some frames: ``track`` holds their
     masks (the frames it had not reached are not visible), ``visited`` which frames it had

@@ -11,8 +11,8 @@ import numpy as np
 
 from core.io.masks import MaskTrack
 from core.progress import Cancelled, Progress, ProgressCallback, check_cancel
-from core.segment.regions import MaskCrop, crop_of
-from core.segment.segmenter import TRACK_STAGE, Frames, Seed, TrackingCancelled
+from core.segment.regions import MaskCrop, crop_of, touches_border
+from core.segment.segmenter import TRACK_STAGE, FrameTracked, Frames, Seed, TrackingCancelled
 
 State = TypeVar("State")
 
@@ -33,26 +33,28 @@ def track_both_ways(frames: Frames, seed_idx: int, seed_mask: np.ndarray,
     """``finish`` of the animal's crops in the seed frame and the ``chosen`` frames:
     ``step(frame, state)`` gives each frame's mask (None: not seen) from the state
     ``start()`` makes afresh for the pass forwards from the seed, then for the pass
-    backwards. Once ``cancel`` is set, TrackingCancelled with ``finish`` of the crops so
-    far."""
+    backwards. Each progress report's preview is the FrameTracked just done. Once ``cancel``
+    is set, TrackingCancelled with ``finish`` of the crops so far."""
     forward = [t for t in chosen if t > seed_idx]
     backward = [t for t in reversed(chosen) if t < seed_idx]
     total = 1 + len(forward) + len(backward)
-    crops = {seed_idx: crop_of(seed_mask)}
-    visited = [seed_idx]
-    if progress is not None:
-        progress(Progress(TRACK_STAGE, len(visited), total))
+    crops, visited = {}, []
+
+    def keep(frame_idx: int, found: np.ndarray | None) -> None:
+        if found is not None:
+            crops[frame_idx] = crop_of(found)
+        visited.append(frame_idx)
+        if progress is not None:
+            progress(Progress(TRACK_STAGE, len(visited), total, preview=FrameTracked(
+                frame_idx, found is not None, found is not None and touches_border(found))))
+
+    keep(seed_idx, seed_mask)
     try:
         for order in (forward, backward):
             state = start()
             for frame_idx in order:
                 check_cancel(cancel)
-                found = step(frames[frame_idx], state)
-                if found is not None:
-                    crops[frame_idx] = crop_of(found)
-                visited.append(frame_idx)
-                if progress is not None:
-                    progress(Progress(TRACK_STAGE, len(visited), total))
+                keep(frame_idx, step(frames[frame_idx], state))
     except Cancelled:
         raise TrackingCancelled(finish(crops), frozenset(visited)) from None
     return finish(crops)

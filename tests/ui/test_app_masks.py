@@ -8,9 +8,11 @@ import pytest
 from PySide6.QtCore import QPointF, Qt
 
 from core.io.masks import read_masks
+from core.progress import Progress
 from core.project.mask_store import masks_file
 from core.project.project_file import relative_media_path
 from core.project.sample import ensure_sample_project
+from core.segment.segmenter import FrameTracked
 from ui.main_window import MainWindow
 from ui.workers.tracker_jobs import Tracked
 
@@ -57,6 +59,32 @@ def test_track_every_frame_asks_the_tracker_for_all_of_them(qtbot, window, monke
     with qtbot.waitSignal(window.masks.tracker.finished, timeout=10_000):
         window.actions_by_name["track_every_frame"].trigger()
     assert asked[1][2] == 20 and asked[1][-1] is None
+
+
+def test_the_coverage_strip_fills_as_frames_are_tracked(qtbot, window, monkeypatch):
+    """Each frame a running tracker reports shows on the coverage strip at once: a frame
+    found lost turns lost before the run ends."""
+    from ui.controllers import mask_controller
+    qtbot.waitUntil(lambda: window.masks.track is not None, timeout=10_000)
+    qtbot.waitUntil(lambda: window.masks._coverage is not None, timeout=10_000)
+    assert window.masks._coverage.visible[21]
+    shown = []
+    window.masks.coverage_changed.connect(lambda c: shown.append(c))
+
+    def track_job(*args, **kwargs):
+        def job(progress, cancel):
+            for step, (frame_idx, seen) in enumerate(((20, True), (21, False)), start=1):
+                progress(Progress("track", step, 2, preview=FrameTracked(frame_idx, seen,
+                                                                         False)))
+            return Tracked(window.masks.track, 2)
+        return job
+    monkeypatch.setattr(mask_controller, "track_job", track_job)
+    with qtbot.waitSignal(window.state.frame_shown, timeout=10_000):
+        window.go_to_frame(20)
+    with qtbot.waitSignal(window.masks.tracker.finished, timeout=10_000):
+        window.masks.retrack_here()
+    assert shown and not shown[-1].visible[21] and shown[-1].visible[20]
+    assert shown[-1].visible.sum() == window.masks.track.is_visible.sum() - 1
 
 
 def test_track_from_a_click_then_correct_with_the_brush(qtbot, window):

@@ -13,7 +13,9 @@ from PySide6.QtCore import QObject, Signal
 
 from core.errors import InputError
 from core.io.masks import MaskTrack, read_masks
+from core.progress import Progress
 from core.project.mask_store import (
+    Coverage,
     coverage,
     masks_file,
     outlines,
@@ -23,7 +25,7 @@ from core.project.mask_store import (
 from core.project.model import with_clip
 from core.project.project_file import relative_media_path
 from core.segment.backends import COLOUR, DEFAULT_BACKEND
-from core.segment.segmenter import PointSeed
+from core.segment.segmenter import FrameTracked, PointSeed
 from ui.workers.background import BackgroundJobs
 from ui.widgets.canvas import FrameCanvas
 from ui.state.commands import push_edit
@@ -60,10 +62,10 @@ class MaskController(QObject):
         self._reading: object | None = None  # the read of the clip's masks under way, if any
         self._target: tuple | None = None  # project path, clip index, limited to fit frames
         self._seeding = False
+        self._coverage: Coverage | None = None  # what the coverage strip shows
         self.backend = DEFAULT_BACKEND  # who draws the masks (the Clip menu; a preference)
         self.sam2_checkpoint: Path | None = None  # asked for once (a preference)
-        self.tracker.progress.connect(lambda p: notifier.status(
-            f"tracking ({self.backend}): frame {p.step} of {p.total}"))
+        self.tracker.progress.connect(self._on_tracking_progress)
         self.tracker.finished.connect(self._on_tracked)
         self.tracker.failed.connect(lambda why: notifier.error("Tracking failed", why))
         self.tracker.cancelled.connect(lambda: notifier.status("tracking cancelled", 5000))
@@ -88,7 +90,7 @@ class MaskController(QObject):
         self.track, self._track_clip, self._reading = None, None, None
         self._loaded = None if clip is None else clip.masks_path
         self.layer.clear()
-        self.coverage_changed.emit(None)
+        self._emit_coverage(None)
         if clip is None or clip.masks_path is None:
             return
         masks = (self.model.path.parent / clip.masks_path).resolve()
@@ -114,11 +116,36 @@ class MaskController(QObject):
         self.show_frame(self.state.frame_idx)
 
     def _show_coverage(self, track: MaskTrack) -> None:
-        def shown(result: object) -> None:
+        def shown(result: Coverage) -> None:
             if track is self.track:  # not a track replaced meanwhile
-                self.coverage_changed.emit(result)
+                self._emit_coverage(result)
 
         self.jobs.run(lambda: coverage(track), shown, lambda why: None)
+
+    def _emit_coverage(self, shown: Coverage | None) -> None:
+        self._coverage = shown
+        self.coverage_changed.emit(shown)
+
+    def _on_tracking_progress(self, progress: Progress) -> None:
+        """The status line, and the coverage strip filled with each frame as it is tracked."""
+        self.notifier.status(f"tracking ({self.backend}): frame {progress.step} of "
+                             f"{progress.total}")
+        frame = progress.preview
+        session = self.state.session
+        if not isinstance(frame, FrameTracked) or session is None or self._target is None \
+                or self.state.session_for(self._target[1]) is None:
+            return
+        before = self._coverage
+        if before is None:
+            num_frames = session.source.clip.num_frames
+            before = Coverage(np.zeros(num_frames, bool), np.zeros(num_frames, bool),
+                              np.zeros(num_frames, np.int64))
+        if frame.frame_idx < before.num_frames:
+            after = Coverage(before.visible.copy(), before.touches_border.copy(),
+                             before.area_px)
+            after.visible[frame.frame_idx] = frame.visible
+            after.touches_border[frame.frame_idx] = frame.touches_border
+            self._emit_coverage(after)
 
     def show_frame(self, frame_idx: int) -> None:
         """The frame's mask outline (and, with a tool on, its mask to edit)."""

@@ -20,9 +20,9 @@ import numpy as np
 from core.io.frame_source import FrameSource
 from core.io.masks import MaskTrack, check_against_clip
 from core.io.media import open_media
-from core.progress import ProgressCallback
+from core.progress import Progress, ProgressCallback
 from core.segment.backends import DEFAULT_BACKEND, make_segmenter
-from core.segment.segmenter import BoxSeed, PointSeed, TrackingCancelled
+from core.segment.segmenter import BoxSeed, FrameTracked, PointSeed, TrackingCancelled
 from ui.workers.job_worker import Job
 
 Direction = Literal["forward", "backward", "both"]
@@ -124,8 +124,8 @@ def track_job(media_path: Path | str, seed: PointSeed | BoxSeed | np.ndarray,
     ``seed``: a click or a box on that frame (its own ``frame_idx`` is ignored), or that
     frame's corrected (H, W) bool mask ("re-track from here"): the tracker starts from a box
     around it and the frame keeps the mask as given. Progress is core.progress's contract
-    (stage "track", frames tracked); core.progress.Cancelled when cancelled before any frame
-    is tracked.
+    (stage "track", frames tracked, each report's preview the FrameTracked of a clip frame);
+    core.progress.Cancelled when cancelled before any frame is tracked.
     """
     if direction not in DIRECTIONS:
         raise ValueError(f"direction must be one of {DIRECTIONS}, got {direction!r}")
@@ -146,9 +146,16 @@ def track_job(media_path: Path | str, seed: PointSeed | BoxSeed | np.ndarray,
             view_only = (None if only_frames is None
                          else [order.index(t) for t in only_frames if t in order])
             num_frames = len(source)
+
+            def in_clip_frames(report: Progress) -> None:  # previews name the clip's frames
+                if isinstance(report.preview, FrameTracked):
+                    report = replace(report, preview=replace(
+                        report.preview, frame_idx=order[report.preview.frame_idx]))
+                progress(report)
+
             try:
                 tracked = make_segmenter(backend, view_only, checkpoint).segment(
-                    _FrameView(source, order), view_seed, progress, cancel)
+                    _FrameView(source, order), view_seed, in_clip_frames, cancel)
             except TrackingCancelled as stop:  # the frames it reached are kept
                 reached = {order[view_idx] for view_idx in stop.visited}
                 return Tracked(_merged(stop.track, order, num_frames, existing, kept,

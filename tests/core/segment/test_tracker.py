@@ -77,12 +77,23 @@ def test_tracks_backwards_from_a_later_seed(synthetic_clips):
 
 
 def test_progress_counts_every_frame(synthetic_clips):
-    """Progress comes once per frame, from step 1 of T to T of T."""
-    calls = []
+    """Progress comes once per frame, from step 1 of T to T of T, each naming the frame just
+    tracked (the seed's, then forwards, then backwards) and what its mask is like."""
+    calls, previews = [], []
+
+    def progress(report):
+        calls.append((report.stage, report.step, report.total))
+        previews.append(report.preview)
+
     with VideoReader(synthetic_clips["calm"][0]) as frames:
-        MaskTracker().segment(frames, AutoSeed(10),
-                              progress=lambda p: calls.append((p.stage, p.step, p.total)))
+        track = MaskTracker().segment(frames, AutoSeed(10), progress=progress)
     assert calls == [("track", k, 48) for k in range(1, 49)]
+    assert [p.frame_idx for p in previews] == [10, *range(11, 48), *range(9, -1, -1)]
+    for preview in previews:
+        mask = track.mask(preview.frame_idx)
+        assert preview.visible == bool(track.is_visible[preview.frame_idx])
+        assert preview.touches_border == bool(mask[0].any() or mask[-1].any()
+                                              or mask[:, 0].any() or mask[:, -1].any())
 
 
 def test_cancel_stops_within_a_frame(synthetic_clips):

@@ -59,6 +59,8 @@ def test_a_click_tracks_both_ways(clip):
     assert (track_iou(track, truth) > 0.8).all()
     assert [r.step for r in reports] == list(range(1, NUM_FRAMES + 1))
     assert reports[-1].total == NUM_FRAMES
+    assert sorted(r.preview.frame_idx for r in reports) == list(range(NUM_FRAMES))
+    assert reports[0].preview.frame_idx == SEED_FRAME  # the clip's frame, not the view's
 
 
 def test_one_direction_keeps_the_other_frames(clip, monkeypatch):
