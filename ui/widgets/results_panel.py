@@ -38,6 +38,7 @@ FRAME_ROWS = (("length_m", "Length (m)", ".3f"), ("volume_m3", "Volume (m³)", "
 ANIMAL_ROWS = tuple(row for row in FRAME_ROWS if row[0] != "density_kg_m3")
 TAIL_LABELS = {TAIL_EXTRAPOLATED: "from 85 % (CollatriX)", TAIL_MEASURED: "as measured"}
 PENDING, NONE = "…", "—"
+PROBLEM_COLOUR, HINT_COLOUR = "#b00020", "#505050"
 STATION_ROWS_VISIBLE = 10
 RIGHT = Qt.AlignmentFlag.AlignRight | Qt.AlignmentFlag.AlignVCenter
 
@@ -80,7 +81,6 @@ class ResultsPanel(QWidget):
         self._preset_names = preset_names()
 
         self.message = QLabel(wordWrap=True)
-        self.message.setStyleSheet("color: #b00020;")
         self.values: dict[str, QLabel] = {}
         self.intervals: dict[str, QLabel] = {}
         self.warnings = QLabel(wordWrap=True)
@@ -296,7 +296,8 @@ class ResultsPanel(QWidget):
         waiting for the widths."""
         self._result = None
         self._blank()
-        self._set_message("Volume, BCI and mass follow once a width is placed.")
+        self._set_message("Volume, BCI and mass follow once a width is placed.",
+                          is_problem=False)
         self._show_frame(result.altitude_m, result.m_per_px)
         key, _, fmt = FRAME_ROWS[0]
         self._show_value(key, result.length_m, result.interval, fmt)
@@ -332,7 +333,9 @@ class ResultsPanel(QWidget):
                 self.stations.setItem(row, col, self._cell(""))
         self.warnings.setText("")
 
-    def _set_message(self, text: str) -> None:
+    def _set_message(self, text: str, is_problem: bool = True) -> None:
+        """Why figures are missing: in red when something is wrong, else a plain hint."""
+        self.message.setStyleSheet(f"color: {PROBLEM_COLOUR if is_problem else HINT_COLOUR};")
         self.message.setText(text)
         self.message.setVisible(bool(text))
 
