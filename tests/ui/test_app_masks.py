@@ -2,6 +2,7 @@
 its masks kept beside the project and shown as an outline and a coverage strip, a frame
 corrected with the brush, and the switch of masks undone."""
 
+from dataclasses import replace
 
 import numpy as np
 import pytest
@@ -10,10 +11,13 @@ from PySide6.QtCore import QPointF, Qt
 from core.io.masks import read_masks
 from core.progress import Progress
 from core.project.mask_store import masks_file
+from core.project.model import with_animal
 from core.project.project_file import relative_media_path
 from core.project.sample import ensure_sample_project
 from core.segment.segmenter import FrameTracked
 from ui.main_window import MainWindow
+from ui.state.commands import push_edit
+from ui.state.project_model import Change
 from ui.workers.tracker_jobs import Tracked
 
 TIMEOUT_MS = 120_000
@@ -89,6 +93,12 @@ def test_the_coverage_strip_fills_as_frames_are_tracked(qtbot, window, monkeypat
 
 def test_track_from_a_click_then_correct_with_the_brush(qtbot, window):
     truth = read_masks(window.model.path.parent / window.model.project.clips[0].masks_path)
+    # the sample's dolphin fitted at 2 frames/s: the network tracks 10 of the 50 frames
+    animal = window.model.project.clips[0].animals[0]
+    push_edit(window.model, with_animal(window.model.project, 0, 0, replace(
+        animal, fit_settings=replace(animal.fit_settings, fps=2.0))),
+        "fit at 2 frames/s", Change("structure"))
+    window.model.select(0, 0)
     with qtbot.waitSignal(window.state.frame_shown, timeout=10_000):
         window.go_to_frame(20)
     v, u = np.nonzero(truth.mask(20))
@@ -103,7 +113,7 @@ def test_track_from_a_click_then_correct_with_the_brush(qtbot, window):
     qtbot.waitUntil(lambda: window.model.project.clips[0].masks_path == _kept(window),
                     timeout=10_000)
     fit_frames = window.fits.fit_frames()
-    assert 20 in fit_frames and 49 not in fit_frames
+    assert len(fit_frames) == 10 and 20 in fit_frames and 49 not in fit_frames
     for frame in fit_frames:  # the network tracked only the frames the fit uses
         assert _iou(track.mask(frame), truth.mask(frame)) > 0.7
     assert np.array_equal(track.mask(49), truth.mask(49))  # the others keep their masks
