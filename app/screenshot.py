@@ -51,10 +51,10 @@ def save_screenshot(project_path: Path, out_png: Path) -> int:
     window = MainWindow(restore_layout=False)
     window.resize(*WINDOW_SIZE)
     window.show()
-    window.open_path(project_path)
+    window.files.open_path(project_path)
     _wait_until(lambda: window.state.session is not None, "the clip to open")
     with tempfile.TemporaryDirectory() as work:
-        if not window.save(Path(work) / project_path.name):  # Save As: the fit goes there
+        if not window.files.save(Path(work) / project_path.name):  # Save As: the fit goes there
             raise OSError(f"{work}: could not save a working copy of the sample project")
         _measure_and_fit(window, out_png)
     print(f"wrote {out_png} and {_fit_png(out_png)}")

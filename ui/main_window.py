@@ -1,7 +1,8 @@
 """The main window: wires the canvas, timeline, measuring overlay, project tree and results
 panel to the project model, and turns each menu action (resources/ui/actions.json) into a
 command. Its questions to the user are asked through ``self.ask`` (ui.dialogs.questions),
-apart from the changes they lead to; errors reach the user through the notifier."""
+apart from the changes they lead to; errors reach the user through the notifier. Opening and
+saving are ``self.files`` (ui.controllers.project_files), exports ``self.exports``."""
 
 from collections.abc import Callable
 from dataclasses import asdict, replace
@@ -25,7 +26,6 @@ from core.project.mask_store import masks_file, save_track
 from core.project.model import (
     Animal,
     Measurement,
-    Project,
     add_animal,
     add_measurement,
     next_animal_id,
@@ -34,20 +34,8 @@ from core.project.model import (
     with_animal,
     with_clip,
 )
-from core.project.new_project import project_path_for, project_with_media
-from core.project.project_file import (
-    PROJECT_SUFFIX,
-    autosave_path,
-    has_newer_autosave,
-    media_path,
-    missing_media,
-    read_project,
-    rebase_media,
-    relative_media_path,
-    relink_clip,
-    write_project,
-)
-from core.project.recent import add_recent, recent_projects
+from core.project.project_file import media_path, relative_media_path
+from core.project.recent import recent_projects
 from core.project.results import frame_altitude
 from core.segment.backends import BACKENDS, COLOUR, DEFAULT_BACKEND, NETWORK, SAM2
 from core.segment.sam2_backend import INSTALL_HINT, PACKAGE, installed
@@ -60,6 +48,7 @@ from ui.state.commands import push_edit
 from ui.dialogs.questions import Questions
 from ui.controllers.export_controller import ExportController
 from ui.controllers.fit_controller import FitController
+from ui.controllers.project_files import ProjectFiles
 from ui.workers.frame_loader import FrameLoader
 from ui.state.handle_style import HandleStyle
 from ui.controllers.mask_controller import MaskController
@@ -99,6 +88,7 @@ class MainWindow(QMainWindow):
         self.state = ViewerState(self)
         self.notifier = Notifier(self)
         self.ask = Questions(self)
+        self.files = ProjectFiles(self.model, self.ask, self.notifier, self.jobs, parent=self)
         self._opening_clip: int | None = None
         self._pending_frame: int | None = None
 
@@ -246,6 +236,8 @@ class MainWindow(QMainWindow):
         self.notifier.status_shown.connect(self.statusBar().showMessage)
         self.fits.fit_frames_changed.connect(self.timeline.set_fit_frames)
         self.masks.coverage_changed.connect(self.timeline.set_coverage)
+        self.files.session_closing.connect(self._close_session)
+        self.files.clip_chosen.connect(self._open_current_clip)
         self.masks.seeding.connect(
             lambda on: self.overlay.set_frame(None if on else self.state.frame_idx))
         m = self.model
@@ -304,124 +296,6 @@ class MainWindow(QMainWindow):
 
     def _show_error(self, title: str, text: str) -> None:
         self.ask.warn(title, text)
-
-    # ------------------------------------------------------------------ opening and saving
-    def open_path(self, path: Path) -> None:
-        """Open a project file, or media (a clip, an image or a folder of frames)."""
-        path = Path(path).expanduser().resolve()
-        if not path.exists():
-            self.notifier.error("Cannot open", f"{path}: no such file or folder")
-            return
-        if path.suffix == PROJECT_SUFFIX:
-            self.open_project(path)
-            return
-        project_path = project_path_for(path)
-        if project_path == self.model.path:
-            self._add_media(path)
-            return
-        if project_path.exists() or autosave_path(project_path).exists():
-            self.open_project(project_path)
-        elif self.may_leave_project():
-            self._close_session()
-            self.model.reset(Project(), project_path)
-        else:
-            return
-        if self.model.path == project_path:
-            self._add_media(path)
-
-    def may_leave_project(self) -> bool:
-        """Whether the open project may be closed: saved, or the user saved or discarded."""
-        if not self.model.is_dirty:
-            return True
-        answer = self.ask.save_changes()
-        if answer == "cancel" or (answer == "save" and not self.save()):
-            return False
-        if answer == "discard" and self.model.path is not None:
-            autosave_path(self.model.path).unlink(missing_ok=True)
-        return True
-
-    def open_project(self, path: Path) -> None:
-        """Read a project (offering its autosave), relink moved media, show its first clip."""
-        if path != self.model.path and not self.may_leave_project():
-            return
-        try:
-            project = read_project(path)
-        except InputError as exc:
-            if not (has_newer_autosave(path) and self.ask.restore_autosave(path)):
-                self.notifier.error("Cannot open project", str(exc))
-                return
-            project = None
-        self._close_session()
-        self.model.reset(project if project is not None else Project(),
-                         path)
-        if has_newer_autosave(path) and (project is None or self.ask.restore_autosave(path)):
-            try:
-                restored = read_project(autosave_path(path))
-            except InputError as exc:
-                self.notifier.error("Cannot restore", str(exc))
-            else:
-                push_edit(self.model, restored, "restore unsaved work", Change("structure"))
-                self.model.select_first()
-        self._relink_missing()
-        self._remember_recent(path)
-        self._open_current_clip()
-
-    def _relink_missing(self) -> None:
-        path = self.model.path
-        for clip_idx in missing_media(path, self.model.project):
-            stored = self.model.project.clips[clip_idx].media_path
-            chosen = self.ask.relink(stored, path.parent)
-            if chosen is not None:
-                push_edit(self.model, relink_clip(self.model.project, path, clip_idx, chosen),
-                          f"relink {Path(stored).name}", Change("clip", clip=clip_idx))
-
-    def _add_media(self, media: Path) -> None:
-        """Open media in the background and add it to the project (or select its clip)."""
-        from core.io.media import open_media
-
-        def opened(source: object) -> None:
-            project, clip_idx = project_with_media(self.model.project, media,
-                                                   self.model.path.parent, source)
-            source.close()
-            if project is not self.model.project:
-                push_edit(self.model, project, f"add {media.name}", Change("structure"))
-            self.model.select(clip_idx)
-            self._open_current_clip()
-
-        self.jobs.run(lambda: open_media(media), opened,
-                      lambda why: self.notifier.error("Cannot open media", why))
-
-    def save(self, path: Path | None = None) -> bool:
-        """Write the project (to ``path``: Save As); False when it could not be written."""
-        old = self.model.path
-        target = path or old
-        if target is None:
-            return False
-        project = self.model.project
-        if old is not None and target.parent.resolve() != old.parent.resolve():
-            project = rebase_media(project, old.parent, target.parent)
-        try:
-            write_project(target, project)
-        except OSError as exc:
-            self.notifier.error("Cannot save", f"{target}: {exc.strerror or exc}")
-            return False
-        if old is not None and target != old:
-            autosave_path(old).unlink(missing_ok=True)
-        if project is not self.model.project:
-            self.model.reset(project, target)
-        elif target != old:
-            self.model.set_path(target)
-        self.model.mark_saved()
-        self._remember_recent(target)
-        self.statusBar().showMessage(f"saved {target}", 5000)
-        return True
-
-    def _remember_recent(self, path: Path) -> None:
-        try:
-            add_recent(path)
-        except OSError as exc:
-            self.statusBar().showMessage(f"recent projects not updated: {exc.strerror or exc}",
-                                         10_000)
 
     # ------------------------------------------------------------------ clips and frames
     def _close_session(self) -> None:
@@ -625,7 +499,7 @@ class MainWindow(QMainWindow):
         self.setWindowTitle(f"{name}{' *' if self.model.is_dirty else ''} — {APP_NAME}")
 
     def closeEvent(self, event: QCloseEvent) -> None:  # noqa: N802 (Qt's name)
-        if not self.may_leave_project():
+        if not self.files.may_leave_project():
             event.ignore()
             return
         self._save_layout()
@@ -661,12 +535,12 @@ class MainWindow(QMainWindow):
     def on_open(self) -> None:
         path = self.ask.media_to_open()
         if path is not None:
-            self.open_path(path)
+            self.files.open_path(path)
 
     def on_open_folder(self) -> None:
         path = self.ask.frames_folder("Open a folder of numbered frames")
         if path is not None:
-            self.open_path(path)
+            self.files.open_path(path)
 
     def on_add_media(self) -> None:
         if self.model.path is None:
@@ -674,7 +548,7 @@ class MainWindow(QMainWindow):
             return
         path = self.ask.media_to_add()
         if path is not None:
-            self._add_media(path)
+            self.files.add_media(path)
 
     def on_add_folder(self) -> None:
         if self.model.path is None:
@@ -682,23 +556,23 @@ class MainWindow(QMainWindow):
             return
         path = self.ask.frames_folder("Add a folder of numbered frames")
         if path is not None:
-            self._add_media(path)
+            self.files.add_media(path)
 
     def _fill_recent_menu(self) -> None:
         self.recent_menu.clear()
         for path in recent_projects():
-            self.recent_menu.addAction(str(path), lambda p=path: self.open_path(p))
+            self.recent_menu.addAction(str(path), lambda p=path: self.files.open_path(p))
 
     def on_save(self) -> None:
         if self.model.path is None:
             self.on_save_as()
         else:
-            self.save()
+            self.files.save()
 
     def on_save_as(self) -> None:
         path = self.ask.save_path(self.model.path)
         if path is not None:
-            self.save(path)
+            self.files.save(path)
 
     def on_export_frame(self) -> None:
         self.exports.export_frame()

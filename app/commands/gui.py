@@ -77,5 +77,5 @@ def run_app(path: Path | None = None, quit_when_shown: bool = False) -> int:
         window.state.frame_shown.connect(lambda _: app.quit())
     window.show()
     if path is not None:
-        window.open_path(path)
+        window.files.open_path(path)
     return app.exec()

@@ -60,7 +60,7 @@ def new_window(make_window):
 
 def open_and_wait(qtbot, window: MainWindow, path: Path) -> None:
     with qtbot.waitSignal(window.state.session_opened, timeout=SIGNAL_TIMEOUT_MS):
-        window.open_path(path)
+        window.files.open_path(path)
     qtbot.waitUntil(lambda: window.canvas.image_rect().width() > 0, timeout=SIGNAL_TIMEOUT_MS)
 
 

@@ -35,7 +35,7 @@ def sample_copy(tmp_path) -> Path:
 
 def _open(qtbot, window: MainWindow, path: Path) -> None:
     with qtbot.waitSignal(window.state.session_opened, timeout=30_000):
-        window.open_path(path)
+        window.files.open_path(path)
 
 
 def _measure_from_mask(window: MainWindow, mask: np.ndarray) -> None:
@@ -54,7 +54,7 @@ def test_fit_runs_saves_shows_and_cancels(qtbot, sample_copy, make_window):
     window = make_window()
     try:
         _open(qtbot, window, source)
-        assert window.save(path)  # Save As into the test folder: the fit goes beside it
+        assert window.files.save(path)  # Save As into the test folder: the fit goes beside it
         # Save As rebases the altitude file's path: the clip's altitude is read again first
         qtbot.waitUntil(lambda: window.state.session.altitude
                         == window.model.project.clips[0].altitude, timeout=10_000)
@@ -142,7 +142,7 @@ def test_fit_runs_saves_shows_and_cancels(qtbot, sample_copy, make_window):
         assert partial.status == "cancelled" and "cancelled by the user" in partial.status_message
         assert "partial result" in fits.panel.status.text()
         assert np.isfinite(partial.volume_m3)
-        assert window.save()
+        assert window.files.save()
 
         # the comparison CSV: none before a frame is measured, then one row for the animal
         window.ask.comparison_path = lambda start: path.with_name("comparison.csv")
@@ -177,7 +177,7 @@ def test_fit_runs_saves_shows_and_cancels(qtbot, sample_copy, make_window):
                         == "3D fit of dolphin 1 (clip.mp4)", timeout=60_000)
         hw = window.results.current_result().record["settings"]["hw_ratios"]
         assert "survey.fits" in hw["source"] and not hw["is_provisional"]
-        assert window.save()  # else the autosave, 1.5 s after the change, asks on reopening
+        assert window.files.save()  # else the autosave, 1.5 s after the change, asks on reopening
     finally:
         window.shutdown()
 

@@ -28,8 +28,8 @@ LEFT = Qt.MouseButton.LeftButton
 def window(qtbot, tmp_path, make_window) -> MainWindow:
     window = make_window()
     with qtbot.waitSignal(window.state.session_opened, timeout=30_000):
-        window.open_path(ensure_sample_project())
-    assert window.save(tmp_path / "survey.dolphinfit")
+        window.files.open_path(ensure_sample_project())
+    assert window.files.save(tmp_path / "survey.dolphinfit")
     return window
 
 

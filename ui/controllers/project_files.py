@@ -1,0 +1,160 @@
+"""Opening and saving: a project file, or media (a clip, an image, a folder of frames) that
+opens the project beside it or starts one; the autosave offered back, moved media relinked,
+unsaved work saved or discarded before another project opens, and the recent-projects list.
+Questions go through the window's ``Questions``, failures to the notifier. The window closes
+its clip session on ``session_closing`` and opens the model's current clip on
+``clip_chosen``."""
+
+from pathlib import Path
+
+from PySide6.QtCore import QObject, Signal
+
+from core.errors import InputError
+from core.project.model import Project
+from core.project.new_project import project_path_for, project_with_media
+from core.project.project_file import (
+    PROJECT_SUFFIX,
+    autosave_path,
+    has_newer_autosave,
+    missing_media,
+    read_project,
+    rebase_media,
+    relink_clip,
+    write_project,
+)
+from core.project.recent import add_recent
+from ui.dialogs.questions import Questions
+from ui.state.commands import push_edit
+from ui.state.project_model import Change, ProjectModel
+from ui.state.viewer_state import Notifier
+from ui.workers.background import BackgroundJobs
+
+STATUS_MS = 10_000
+
+
+class ProjectFiles(QObject):
+    """File → Open, Add, Save (module doc)."""
+
+    session_closing = Signal()   # the open clip's session must close: the project changes
+    clip_chosen = Signal()       # the model's current clip should be shown
+
+    def __init__(self, model: ProjectModel, ask: Questions, notifier: Notifier,
+                 jobs: BackgroundJobs, parent: QObject | None = None) -> None:
+        super().__init__(parent)
+        self.model, self.ask, self.notifier, self.jobs = model, ask, notifier, jobs
+
+    def open_path(self, path: Path) -> None:
+        """Open a project file, or media (a clip, an image or a folder of frames)."""
+        path = Path(path).expanduser().resolve()
+        if not path.exists():
+            self.notifier.error("Cannot open", f"{path}: no such file or folder")
+            return
+        if path.suffix == PROJECT_SUFFIX:
+            self.open_project(path)
+            return
+        project_path = project_path_for(path)
+        if project_path == self.model.path:
+            self.add_media(path)
+            return
+        if project_path.exists() or autosave_path(project_path).exists():
+            self.open_project(project_path)
+        elif self.may_leave_project():
+            self.session_closing.emit()
+            self.model.reset(Project(), project_path)
+        else:
+            return
+        if self.model.path == project_path:
+            self.add_media(path)
+
+    def may_leave_project(self) -> bool:
+        """Whether the open project may be closed: saved, or the user saved or discarded."""
+        if not self.model.is_dirty:
+            return True
+        answer = self.ask.save_changes()
+        if answer == "cancel" or (answer == "save" and not self.save()):
+            return False
+        if answer == "discard" and self.model.path is not None:
+            autosave_path(self.model.path).unlink(missing_ok=True)
+        return True
+
+    def open_project(self, path: Path) -> None:
+        """Read a project (offering its autosave), relink moved media, show its first clip."""
+        if path != self.model.path and not self.may_leave_project():
+            return
+        try:
+            project = read_project(path)
+        except InputError as exc:
+            if not (has_newer_autosave(path) and self.ask.restore_autosave(path)):
+                self.notifier.error("Cannot open project", str(exc))
+                return
+            project = None
+        self.session_closing.emit()
+        self.model.reset(project if project is not None else Project(), path)
+        if has_newer_autosave(path) and (project is None or self.ask.restore_autosave(path)):
+            try:
+                restored = read_project(autosave_path(path))
+            except InputError as exc:
+                self.notifier.error("Cannot restore", str(exc))
+            else:
+                push_edit(self.model, restored, "restore unsaved work", Change("structure"))
+                self.model.select_first()
+        self._relink_missing()
+        self._remember_recent(path)
+        self.clip_chosen.emit()
+
+    def _relink_missing(self) -> None:
+        path = self.model.path
+        for clip_idx in missing_media(path, self.model.project):
+            stored = self.model.project.clips[clip_idx].media_path
+            chosen = self.ask.relink(stored, path.parent)
+            if chosen is not None:
+                push_edit(self.model, relink_clip(self.model.project, path, clip_idx, chosen),
+                          f"relink {Path(stored).name}", Change("clip", clip=clip_idx))
+
+    def add_media(self, media: Path) -> None:
+        """Open media in the background and add it to the project (or select its clip)."""
+        from core.io.media import open_media
+
+        def opened(source: object) -> None:
+            project, clip_idx = project_with_media(self.model.project, media,
+                                                   self.model.path.parent, source)
+            source.close()
+            if project is not self.model.project:
+                push_edit(self.model, project, f"add {media.name}", Change("structure"))
+            self.model.select(clip_idx)
+            self.clip_chosen.emit()
+
+        self.jobs.run(lambda: open_media(media), opened,
+                      lambda why: self.notifier.error("Cannot open media", why))
+
+    def save(self, path: Path | None = None) -> bool:
+        """Write the project (to ``path``: Save As); False when it could not be written."""
+        old = self.model.path
+        target = path or old
+        if target is None:
+            return False
+        project = self.model.project
+        if old is not None and target.parent.resolve() != old.parent.resolve():
+            project = rebase_media(project, old.parent, target.parent)
+        try:
+            write_project(target, project)
+        except OSError as exc:
+            self.notifier.error("Cannot save", f"{target}: {exc.strerror or exc}")
+            return False
+        if old is not None and target != old:
+            autosave_path(old).unlink(missing_ok=True)
+        if project is not self.model.project:
+            self.model.reset(project, target)
+        elif target != old:
+            self.model.set_path(target)
+        self.model.mark_saved()
+        self._remember_recent(target)
+        self.notifier.status(f"saved {target}", 5000)
+        return True
+
+    def _remember_recent(self, path: Path) -> None:
+        try:
+            add_recent(path)
+        except OSError as exc:
+            self.notifier.status(f"recent projects not updated: {exc.strerror or exc}",
+                                 STATUS_MS)
