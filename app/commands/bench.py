@@ -6,7 +6,7 @@
   dolphinfit bench masks [--split P] [--clips N | --only NAME,…] [--shapes S] [--frame-size F]
                          [--backends B,…] [--seeds S,…] [--sam2-checkpoint PATH] [--stride K]
                          [--json]
-  dolphinfit bench app [--repeats N] [--json]
+  dolphinfit bench app [--parts startup,click] [--repeats N] [--json]
   dolphinfit bench batch [--clips N] [--quick] [--json]
   dolphinfit bench real [--data DIR] [--seeds S,…] [--backend B] [--outlines N] [--json]
 
@@ -47,7 +47,9 @@ network-colour-edges, colour); SAM-2 joins them with --backends network,colour,s
 app: how long the desktop app takes from the command to the sample project's first frame on
 screen (``dolphinfit gui --sample --quit-when-shown``), beside the floor of an empty PySide6
 window in a fresh Python; min, median and max over --repeats runs. Needs a display (run it
-under xvfb-run on a server).
+under xvfb-run on a server). Then (part "click", core/bench/click_bench.py) how long a user
+waits after a click on the animal of a 10-s 1080p clip: to that frame's mask, and to the
+masks of every frame a default fit uses.
 
 batch: throughput of `dolphinfit batch` (clips per hour) on a LocalCluster of 1 worker and of
 2 workers, on the same 4 short synthetic clips (640×360, 1.5 s, 3 frames fitted, quick
@@ -68,6 +70,7 @@ import sys
 from app.commands import bench_real
 from app.commands.masks import add_sam2_argument, sam2_checkpoint
 from core.bench.batch_bench import bench_batch
+from core.bench.click_bench import bench_click
 from core.bench.fit_bench import DEFAULT_VARIANTS, VARIANTS, bench_speed, bench_suite
 from core.bench.mask_bench import DEFAULT_STRIDE, SEED_KINDS, bench_masks
 from core.bench.render_bench import RenderBench, bench_render, bench_to_json
@@ -83,6 +86,7 @@ from core.segment.backends import ALWAYS_AVAILABLE, BACKENDS, make_segmenter
 
 CLIP_WIDTH = 21   # the longest clip name of the splits (slender_pair_touching)
 # The floor of the app's start-up: Python, PySide6 and one empty window shown, then quit
+APP_PARTS = ("startup", "click")
 EMPTY_WINDOW = ("from PySide6.QtCore import QTimer\n"
                 "from PySide6.QtWidgets import QApplication, QMainWindow\n"
                 "app = QApplication([])\nwindow = QMainWindow()\nwindow.show()\n"
@@ -131,8 +135,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     masks.add_argument("--stride", type=int, default=DEFAULT_STRIDE,
                        help=f"score every K-th frame (default {DEFAULT_STRIDE})")
     masks.add_argument("--json", action="store_true", help="one JSON object on stdout")
-    app = suites.add_parser("app", help="desktop app start-up against an empty Qt window")
-    app.add_argument("--repeats", type=int, default=5, help="timed runs of each command")
+    app = suites.add_parser("app", help="desktop app start-up against an empty Qt window, "
+                                        "and the wait from a click to masks")
+    app.add_argument("--parts", default=",".join(APP_PARTS),
+                     help=f"comma-separated, of {', '.join(APP_PARTS)} (default both)")
+    app.add_argument("--repeats", type=int, default=5, help="timed start-ups of each command")
     app.add_argument("--json", action="store_true", help="one JSON object on stdout")
     batch = suites.add_parser("batch", help="batch throughput on 1 and 2 Dask workers")
     batch.add_argument("--clips", type=int, default=4, help="synthetic clips (default 4)")
@@ -147,7 +154,14 @@ def run(args: argparse.Namespace) -> int:
     if args.suite_name == "real":
         return bench_real.run(args)
     if args.suite_name == "app":
-        figures = bench_app(max(1, args.repeats))
+        parts = tuple(args.parts.split(","))
+        for part in parts:
+            one_of(part, APP_PARTS, "--parts")
+        figures = {}
+        if "startup" in parts:
+            figures["startup"] = bench_app(max(1, args.repeats))
+        if "click" in parts:
+            figures["click"] = bench_click()
         print(json.dumps(figures, indent=2) if args.json else format_app(figures))
         return 0
     if args.suite_name == "batch":
@@ -215,11 +229,25 @@ def bench_app(repeats: int) -> dict:
 
 
 def format_app(figures: dict) -> str:
-    """The start-up figures, one line each."""
-    lines = [f"{name:22s} min {t['min']:.2f} s  median {t['median']:.2f} s  "
-             f"max {t['max']:.2f} s" for name, t in figures.items() if isinstance(t, dict)]
-    lines.append(f"app / empty window: {figures['ratio_vs_empty_window']:.1f}× "
-                 f"({figures['repeats']} runs each)")
+    """The start-up figures, one line each, then the wait from a click."""
+    lines = []
+    if "startup" in figures:
+        startup = figures["startup"]
+        lines += [f"{name:22s} min {t['min']:.2f} s  median {t['median']:.2f} s  "
+                  f"max {t['max']:.2f} s" for name, t in startup.items() if isinstance(t, dict)]
+        lines.append(f"app / empty window: {startup['ratio_vs_empty_window']:.1f}× "
+                     f"({startup['repeats']} runs each)")
+    if "click" in figures:
+        click = figures["click"]
+        aims = click["aims_s"]
+        lines.append(
+            f"a click on the animal ({click['width_px']}×{click['height_px']}, "
+            f"{click['video_s']:.0f} s at {click['clip_fps']:.0f} fps, frame "
+            f"{click['clicked_frame']}, {click['backend']}): its mask after "
+            f"{click['first_mask_s']:.1f} s (aim ≤ {aims['first_mask_s']:.0f}), the fit's "
+            f"{click['fit_frames']} frames after {click['fit_masks_s']:.1f} s (aim ≤ "
+            f"{aims['fit_masks_s']:.0f}); IoU {click['mean_iou']:.3f} (worst "
+            f"{click['worst_iou']:.3f})")
     return "\n".join(lines)
 
 

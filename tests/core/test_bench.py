@@ -235,3 +235,25 @@ def test_the_held_out_split_is_chosen_by_name_and_kept_apart(capsys):
         main(["bench", "masks", "--split", "test"])
     assert exit_.value.code == 2
     assert "--split: invalid choice: 'test'" in capsys.readouterr().err
+
+
+def test_the_click_bench_clicks_the_middle_frame_and_prints_its_waits(capsys):
+    """The click lands on the target in the visible frame nearest the clip's middle; the
+    table gives both waits beside their aims; an unknown part is refused before any work."""
+    from app.commands.bench import format_app
+    from core.bench.click_bench import AIMS_S, middle_click
+
+    truth = {"frames": [{"frame": t, "visible": t not in (4, 5), "seed_px": [10.0 + t, 20.0]}
+                        for t in range(10)]}
+    seed = middle_click(truth)  # 4 and 5 hidden: 6 lies nearer the middle (5.0) than 3
+    assert (seed.x_px, seed.y_px, seed.frame_idx) == (16.0, 20.0, 6)
+    with pytest.raises(ValueError, match="never visible"):
+        middle_click({"frames": [{"frame": 0, "visible": False}]})
+    click = {"backend": "network", "video_s": 10.0, "clip_fps": 25.0, "width_px": 1920,
+             "height_px": 1080, "clicked_frame": 125, "fit_frames": 51, "first_mask_s": 2.4,
+             "fit_masks_s": 61.0, "mean_iou": 0.93, "worst_iou": 0.88, "aims_s": AIMS_S}
+    text = format_app({"click": click})
+    assert "its mask after 2.4 s (aim ≤ 3)" in text
+    assert "the fit's 51 frames after 61.0 s (aim ≤ 15)" in text
+    assert main(["bench", "app", "--parts", "clicks"]) == 2
+    assert "--parts" in capsys.readouterr().err

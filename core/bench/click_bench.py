@@ -1,0 +1,59 @@
+"""How long a user waits after a click (``dolphinfit bench app``): on the 10-s 1080p speed clip
+(25 fps), the default mask back-end from a click on the target in the frame nearest the
+clip's middle, tracking the frames a default fit uses, as the app does after a click: seconds
+from opening the clip to the clicked frame's mask (the tracker's first report), and to the
+masks of every frame the fit uses; their IoU against the true masks."""
+
+import time
+
+import numpy as np
+
+from core.bench.fit_bench import SPEED_CACHE, SPEED_CLIP
+from core.fit.config import FitConfig
+from core.io.json_file import read_json
+from core.io.masks import read_masks
+from core.io.video import VideoReader, frame_range, open_clip, step_for_fps
+from core.iou import mask_iou
+from core.progress import Progress
+from core.segment.backends import DEFAULT_BACKEND, make_segmenter
+from core.segment.segmenter import PointSeed
+from core.synth.config import SynthConfig
+from core.synth.sample import cache_dir, ensure_clip
+
+AIMS_S = {"first_mask_s": 3.0, "fit_masks_s": 15.0}   # issue 28, two cores
+
+
+def middle_click(truth: dict) -> PointSeed:
+    """The click on the target in the visible frame nearest the clip's middle."""
+    frames = [f for f in truth["frames"] if f.get("visible") and f.get("seed_px") is not None]
+    if not frames:
+        raise ValueError("the clip's target is never visible")
+    middle = len(truth["frames"]) / 2
+    frame = min(frames, key=lambda f: abs(f["frame"] - middle))
+    return PointSeed(float(frame["seed_px"][0]), float(frame["seed_px"][1]), int(frame["frame"]))
+
+
+def bench_click(clip: SynthConfig = SPEED_CLIP, backend: str = DEFAULT_BACKEND) -> dict:
+    """Seconds to the clicked frame's mask and to the fit's frames' masks (module doc)."""
+    files = ensure_clip(clip, cache_dir() / SPEED_CACHE / "speed")
+    seed = middle_click(read_json(files.truth_json, "the clip's truth"))
+    first: list[float] = []
+
+    def progress(_: Progress) -> None:
+        if not first:
+            first.append(time.perf_counter() - start)
+
+    start = time.perf_counter()  # as in the app: the clip opened, the back-end made, tracked
+    media = open_clip(files.video)
+    chosen = sorted({*frame_range(media, None, None, step_for_fps(media, FitConfig().fps))
+                     .tolist(), seed.frame_idx})
+    with VideoReader(media, cache_bytes=0) as frames:
+        track = make_segmenter(backend, only_frames=chosen).segment(frames, seed, progress)
+    total = time.perf_counter() - start
+    truth = read_masks(files.masks_dir, media)
+    iou = [float(mask_iou(track.mask(t), truth.mask(t))) for t in chosen]
+    return {"backend": backend, "video_s": clip.duration_s, "clip_fps": clip.fps,
+            "width_px": clip.width_px, "height_px": clip.height_px,
+            "clicked_frame": seed.frame_idx, "fit_frames": len(chosen),
+            "first_mask_s": first[0], "fit_masks_s": total, "mean_iou": float(np.mean(iou)),
+            "worst_iou": float(np.min(iou)), "aims_s": AIMS_S}
