@@ -36,6 +36,7 @@ from core.progress import Progress
 from core.segment.backends import BACKENDS, DEFAULT_BACKEND, SAM2, make_segmenter
 from core.segment.sam2_backend import check_checkpoint
 from core.segment.segmenter import AutoSeed, BoxSeed, PointSeed, Seed
+from core.segment.tracking_loop import check_seed_inside
 
 PROGRESS_STEPS = 10  # progress lines per run
 
@@ -128,6 +129,10 @@ def run(args: argparse.Namespace) -> int:
     clip = open_clip(args.clip)
     if not 0 <= args.frame < clip.num_frames:
         raise InputError(f"--frame {args.frame}: {clip.path} has frames 0…{clip.num_frames - 1}")
+    try:
+        check_seed_inside(seed, clip.width_px, clip.height_px)
+    except InputError as exc:
+        raise InputError(f"{'--seed' if args.seed is not None else '--box'}: {exc}") from None
     segmenter = make_segmenter(args.backend, range(0, clip.num_frames, every), checkpoint)
     with VideoReader(clip) as frames:
         try:

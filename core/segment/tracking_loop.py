@@ -9,10 +9,13 @@ from typing import TypeVar
 
 import numpy as np
 
+from core.errors import InputError
 from core.io.masks import MaskTrack
 from core.progress import Cancelled, Progress, ProgressCallback, check_cancel
 from core.segment.regions import MaskCrop, crop_of, touches_border
-from core.segment.segmenter import TRACK_STAGE, FrameTracked, Frames, Seed, TrackingCancelled
+from core.segment.segmenter import (
+    TRACK_STAGE, BoxSeed, FrameTracked, Frames, PointSeed, Seed, TrackingCancelled,
+)
 
 State = TypeVar("State")
 
@@ -22,6 +25,20 @@ def check_seed_frame(seed: Seed, num_frames: int) -> None:
     if not 0 <= seed.frame_idx < num_frames:
         raise IndexError(f"seed frame {seed.frame_idx} is outside the clip "
                          f"(0…{num_frames - 1})")
+
+
+def check_seed_inside(seed: Seed, width_px: int, height_px: int) -> None:
+    """InputError unless a click lies in the frame and a box wholly inside it (an automatic
+    seed has no place)."""
+    frame = f"the {width_px}×{height_px} frame"
+    if isinstance(seed, PointSeed) and not (0 <= seed.x_px < width_px
+                                            and 0 <= seed.y_px < height_px):
+        raise InputError(f"the click ({seed.x_px:g}, {seed.y_px:g}) lies outside {frame}")
+    if isinstance(seed, BoxSeed) and not (
+            0 <= seed.x_px and 0 <= seed.y_px and seed.x_px + seed.width_px <= width_px
+            and seed.y_px + seed.height_px <= height_px):
+        raise InputError(f"the box at ({seed.x_px}, {seed.y_px}), {seed.width_px}×"
+                         f"{seed.height_px} px, is not wholly inside {frame}")
 
 
 def track_both_ways(frames: Frames, seed_idx: int, seed_mask: np.ndarray,

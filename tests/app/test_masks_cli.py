@@ -70,6 +70,10 @@ def test_npz_output_and_later_seed_frame(clip, tmp_path):
     (["--seed", "40,50", "--every", "0"], "--every: must be at least 1, got 0"),
     (["--auto", "--backend", "sam"], None),
     (["--auto", "--frame", "40"], "--frame 40"),
+    (["--box", "500,500,20,20"], "--box: the box at (500, 500), 20×20 px, is not wholly "
+                                 "inside the 160×120 frame"),
+    (["--box", "150,10,20,20"], "is not wholly inside the 160×120 frame"),
+    (["--seed", "160,10"], "--seed: the click (160, 10) lies outside the 160×120 frame"),
 ])
 def test_bad_seeds_exit_2(clip, tmp_path, capsys, args, problem):
     """Malformed seeds, seeds on open water and frames outside the clip exit with code 2."""
