@@ -68,6 +68,9 @@ def build_parser(command: str | None = None) -> argparse.ArgumentParser:
     return parser
 
 
+INTERRUPTED = 130   # 128 + SIGINT, as shells report a Ctrl-C
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     """Parse ``argv``, run the subcommand and return its exit code."""
     argv = list(sys.argv[1:] if argv is None else argv)
@@ -83,6 +86,11 @@ def main(argv: Sequence[str] | None = None) -> int:
     except InputError as exc:
         print(f"dolphinfit: error: {exc}", file=sys.stderr)
         return 2
+    except KeyboardInterrupt:  # Ctrl-C: no traceback, the exit code shells expect
+        print(f"dolphinfit {args.command}: interrupted; every file is written whole or not at "
+              "all, so those finished before the interrupt are kept and none is half-written",
+              file=sys.stderr)
+        return INTERRUPTED
 
 
 if __name__ == "__main__":

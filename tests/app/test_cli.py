@@ -35,3 +35,29 @@ def test_gui_help_loads_no_torch():
 def test_bad_thread_count_is_an_input_error(capsys):
     assert main(["--threads", "0", "camera", "list"]) == 2
     assert "--threads" in capsys.readouterr().err
+
+
+def test_ctrl_c_stops_at_once_with_exit_130_and_no_traceback():
+    """A real SIGINT to a command at work: within a second it says it was interrupted and what
+    is kept, exits 130 as shells expect, and prints no traceback."""
+    import signal
+    import time
+
+    script = ("import sys, time\n"
+              "import app.commands.camera as camera\n"
+              "def work(args):\n"
+              "    print('working', flush=True)\n"
+              "    time.sleep(60)\n"
+              "camera.run = work\n"
+              "from app.cli import main\n"
+              "sys.exit(main(['camera', 'list']))\n")
+    process = subprocess.Popen([sys.executable, "-c", script], stdout=subprocess.PIPE,
+                               stderr=subprocess.PIPE, text=True)
+    assert process.stdout.readline().strip() == "working"
+    sent = time.monotonic()
+    process.send_signal(signal.SIGINT)
+    _, err = process.communicate(timeout=10)
+    assert time.monotonic() - sent < 1.0
+    assert process.returncode == 130
+    assert "dolphinfit camera: interrupted" in err and "half-written" in err
+    assert "Traceback" not in err
