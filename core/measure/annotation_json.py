@@ -111,6 +111,20 @@ def _stations(data: Any, mirror_side: str | None, where: str) -> np.ndarray:
     return edges
 
 
+def _check_inside(midline: list[np.ndarray], edges: np.ndarray, width_px: int,
+                  height_px: int, where: str) -> None:
+    """InputError naming the first clicked point outside the image (0 … width, 0 … height
+    px): nobody can click there, so the file is wrong."""
+    named = [(f"midline_px[{i}]", point) for i, point in enumerate(midline)] + [
+        (f"stations ({pct:g} %) {key}", edges[idx, side])
+        for idx, pct in enumerate(STATION_PCT.tolist())
+        for side, key in enumerate(SIDE_KEYS) if np.isfinite(edges[idx, side]).all()]
+    for name, (u, v) in named:
+        if not (0 <= u <= width_px and 0 <= v <= height_px):
+            raise InputError(f"{where}: {name} ({u:g}, {v:g}) lies outside the "
+                             f"{width_px}×{height_px} image")
+
+
 def annotation_from_json(data: Any, where: str) -> AnnotationFile:
     """Parse the JSON object of an annotation file; ``where`` names it in errors."""
     check_schema_version(data, SCHEMA_VERSION, where)
@@ -132,6 +146,7 @@ def annotation_from_json(data: Any, where: str) -> AnnotationFile:
     if mirror_side not in (None, *SIDES):
         raise InputError(f"{where}: mirror_side must be null, \"A\" or \"B\"")
     edges = _stations(json_field(data, "stations", list, where), mirror_side, f"{where}: stations")
+    _check_inside(midline, edges, camera.image_width_px, camera.image_height_px, where)
     try:
         annotation = Annotation(frame_idx=json_field(image, "frame_idx", int, f"{where}: image"),
                                 midline_px=np.asarray(midline).reshape(-1, 2), edges_px=edges,

@@ -99,6 +99,11 @@ def _mutated(change):
     (lambda d: d["stations"][5].update(station_pct=35), "stations\\[5\\]: station_pct 35"),
     (lambda d: d["stations"].pop(), "list of the 19 stations"),
     (lambda d: d["image"].update(frame_idx=True), "'frame_idx' has the wrong type"),
+    # a point nobody could click: outside the image, or huge
+    (lambda d: d["midline_px"].__setitem__(1, [1e12, 360.0]),
+     r"midline_px\[1\] \(1e\+12, 360\) lies outside the \d+×\d+ image"),
+    (lambda d: d["stations"][9].update(side_a_px=[300.0, -2.0]),
+     r"stations \(50 %\) side_a_px \(300, -2\) lies outside"),
 ])
 def test_bad_files_raise_input_errors_naming_the_entry(change, message):
     """Each malformed entry raises InputError whose message says where and what."""
