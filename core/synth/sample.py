@@ -9,6 +9,7 @@ It is not stored in the repository: ``ensure_sample`` renders it deterministical
 import os
 from pathlib import Path
 
+from core.errors import InputError
 from core.measure.hw_ratios import DEFAULT_PRESET
 from core.progress import ProgressCallback
 from core.synth.config import SynthConfig
@@ -38,6 +39,11 @@ def ensure_clip(config: SynthConfig, out_dir: Path,
     files = clip_files(out_dir, config)
     if made_from(files, config):
         return files
+    try:
+        out_dir.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:  # a file where a folder should be, no permission, a full disk
+        raise InputError(f"{out_dir}: the cache folder cannot be made ({exc.strerror or exc}); "
+                         f"set {CACHE_DIR_ENV} to a folder you can write") from None
     from core.synth.clip import make_clip
     return make_clip(config, out_dir, progress=progress)
 

@@ -3,6 +3,8 @@
 import json
 from dataclasses import replace
 
+import pytest
+
 from core.synth.config import SynthConfig
 from core.synth.files import clip_files, made_from
 
@@ -39,3 +41,15 @@ def test_unreadable_or_foreign_truths_are_stale(tmp_path):
     assert not made_from(files, CONFIG)
     files.truth_json.unlink()
     assert not made_from(files, CONFIG)
+
+
+def test_a_cache_folder_under_a_file_is_an_input_error_naming_it(tmp_path):
+    """`dolphinfit demo` with its cache under a file said NotADirectoryError in a traceback."""
+    from core.errors import InputError
+    from core.synth.sample import CACHE_DIR_ENV, SAMPLE_CONFIG, ensure_clip
+
+    blocker = tmp_path / "a_file"
+    blocker.write_text("not a folder")
+    with pytest.raises(InputError, match=f"a_file/sample: the cache folder cannot be made "
+                                         f".*set {CACHE_DIR_ENV}"):
+        ensure_clip(SAMPLE_CONFIG, blocker / "sample")
