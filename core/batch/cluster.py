@@ -6,9 +6,10 @@ Each worker runs one task at a time (one Dask thread); its fit uses ``torch_thre
 """
 
 from collections.abc import Iterator
-from contextlib import contextmanager
+from contextlib import contextmanager, suppress
 from dataclasses import dataclass
 
+import psutil
 from dask.system import CPU_COUNT
 from distributed import Client, LocalCluster, WorkerPlugin
 from distributed.system import MEMORY_LIMIT
@@ -71,7 +72,23 @@ def batch_client(scheduler: str | None = None, plan: ClusterPlan = ClusterPlan(N
     try:
         client.register_plugin(TorchThreads(plan.torch_threads))
         yield client
+    except KeyboardInterrupt:
+        if cluster is not None:
+            stop_workers(cluster)
+        raise
     finally:
         client.close()
         if cluster is not None:
             cluster.close()
+
+
+def stop_workers(cluster: LocalCluster) -> None:
+    """Kill the LocalCluster's worker processes: one busy in a fit answers a polite close
+    only when its task ends (Dask waits 4 s, then kills it). A task's outputs are written
+    whole or not at all, so nothing half-written is left."""
+    for nanny in list(cluster.workers.values()):
+        # a Nanny holds its worker in .process.process (workers as threads have none)
+        process = getattr(getattr(nanny, "process", None), "process", None)
+        if process is not None and process.pid is not None:
+            with suppress(psutil.NoSuchProcess):
+                psutil.Process(process.pid).kill()

@@ -22,3 +22,30 @@ def test_local_plan_shares_the_cores(workers, threads, cores, memory, plan):
 def test_more_workers_than_cores_is_refused():
     with pytest.raises(InputError, match="--workers 3: between 1 and the 2 cores"):
         local_plan(3, None, 2, 64 * WORKER_MEMORY_BYTES)
+
+
+def test_an_interrupt_kills_the_local_workers_at_once():
+    """Ctrl-C in a batch: the LocalCluster's worker processes are killed, not asked to
+    finish a task that may run for minutes (Dask's close would wait 4 s, then kill); the
+    cluster still closes, within 2 s."""
+    import os
+    import time
+
+    import psutil
+
+    from core.batch.cluster import batch_client
+
+    with pytest.raises(KeyboardInterrupt):
+        with batch_client(plan=ClusterPlan(1, 1)) as client:
+            pids = list(client.run(os.getpid).values())
+            assert pids and all(psutil.pid_exists(pid) for pid in pids)
+            busy = client.submit(time.sleep, 60)  # a long task: a polite close would wait 4 s
+            while not any(client.processing().values()):
+                time.sleep(0.05)
+            stopped = time.monotonic()
+            raise KeyboardInterrupt
+    assert busy.status != "finished"
+    assert time.monotonic() - stopped < 2.0
+    for pid in pids:
+        assert not psutil.pid_exists(pid) or psutil.Process(pid).status() == \
+            psutil.STATUS_ZOMBIE
