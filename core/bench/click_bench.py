@@ -9,10 +9,11 @@ import time
 import numpy as np
 
 from core.bench.fit_bench import SPEED_CACHE, SPEED_CLIP
+from core.bench.mask_bench import target_clicks
 from core.fit.config import FitConfig
 from core.io.json_file import read_json
 from core.io.masks import read_masks
-from core.io.video import VideoReader, frame_range, open_clip, step_for_fps
+from core.io.video import VideoReader, frames_at_fps, open_clip
 from core.iou import mask_iou
 from core.progress import Progress
 from core.segment.backends import DEFAULT_BACKEND, make_segmenter
@@ -25,12 +26,11 @@ AIMS_S = {"first_mask_s": 3.0, "fit_masks_s": 15.0}   # issue 28, two cores
 
 def middle_click(truth: dict) -> PointSeed:
     """The click on the target in the visible frame nearest the clip's middle."""
-    frames = [f for f in truth["frames"] if f.get("visible") and f.get("seed_px") is not None]
-    if not frames:
+    clicks = target_clicks(truth)
+    if not clicks:
         raise ValueError("the clip's target is never visible")
     middle = len(truth["frames"]) / 2
-    frame = min(frames, key=lambda f: abs(f["frame"] - middle))
-    return PointSeed(float(frame["seed_px"][0]), float(frame["seed_px"][1]), int(frame["frame"]))
+    return min(clicks, key=lambda click: abs(click.frame_idx - middle))
 
 
 def bench_click(clip: SynthConfig = SPEED_CLIP, backend: str = DEFAULT_BACKEND) -> dict:
@@ -45,8 +45,7 @@ def bench_click(clip: SynthConfig = SPEED_CLIP, backend: str = DEFAULT_BACKEND) 
 
     start = time.perf_counter()  # as in the app: the clip opened, the back-end made, tracked
     media = open_clip(files.video)
-    chosen = sorted({*frame_range(media, None, None, step_for_fps(media, FitConfig().fps))
-                     .tolist(), seed.frame_idx})
+    chosen = sorted({*frames_at_fps(media, FitConfig().fps).tolist(), seed.frame_idx})
     with VideoReader(media, cache_bytes=0) as frames:
         track = make_segmenter(backend, only_frames=chosen).segment(frames, seed, progress)
     total = time.perf_counter() - start

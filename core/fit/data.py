@@ -24,9 +24,10 @@ from core.intrinsics import CameraIntrinsics
 from core.io.masks import MaskTrack
 from core.io.report import list_some
 from core.io.telemetry import Telemetry
-from core.io.video import Clip, crop_roi, frame_range, step_for_fps
+from core.io.video import Clip, crop_roi, frames_at_fps
 from core.progress import Progress, ProgressCallback, check_cancel
 from core.render.settings import Viewport
+from core.segment.regions import touches_border
 
 ROI_MULTIPLE_PX = 8
 # Narrower than this the volume is unreliable: a volume moves by about 4 δ / width for an
@@ -76,14 +77,14 @@ def select_frames(clip: Clip, masks: MaskTrack,
                   config: FitConfig) -> tuple[np.ndarray, np.ndarray, list[str]]:
     """Frames to fit (in the time range, at the fit rate, with a visible dolphin inside the
     frame): their indices (T,), their masks (T, H, W) bool, and warnings."""
-    candidates = frame_range(clip, config.start_s, config.end_s, step_for_fps(clip, config.fps))
+    candidates = frames_at_fps(clip, config.fps, config.start_s, config.end_s)
     chosen, chosen_masks, skipped_border, empty = [], [], [], []
     for idx in candidates:
         mask = masks.mask(int(idx))
         if not mask.any():
             empty.append(f"{int(idx)}")
             continue
-        if mask[0].any() or mask[-1].any() or mask[:, 0].any() or mask[:, -1].any():
+        if touches_border(mask):
             skipped_border.append(int(idx))
             continue
         chosen.append(int(idx))

@@ -23,7 +23,7 @@ from core.intrinsics import CameraIntrinsics
 from core.io.frame_source import FrameSource
 from core.io.masks import MaskTrack, read_masks
 from core.io.telemetry import Telemetry, load_telemetry
-from core.io.video import Clip, VideoReader, frame_range, open_clip, step_for_fps
+from core.io.video import Clip, VideoReader, frames_at_fps, open_clip
 from core.progress import ProgressCallback
 from core.segment.backends import DEFAULT_BACKEND, make_segmenter
 from core.segment.segmenter import AutoSeed, Seed
@@ -119,8 +119,7 @@ def run_fit(clip_path: Path, altitude: str | Path | float | None, masks_path: Pa
         if masks_path is not None:
             masks = read_masks(masks_path, clip)
         else:
-            fit_frames = frame_range(clip, config.start_s, config.end_s,
-                                     step_for_fps(clip, config.fps))
+            fit_frames = frames_at_fps(clip, config.fps, config.start_s, config.end_s)
             if isinstance(seed, AutoSeed) and seed.length_px is None:
                 seed = sized_auto_seed(seed.frame_idx, intrinsics, telemetry)
             masks = make_segmenter(backend, only_frames=fit_frames).segment(

@@ -121,6 +121,13 @@ def frame_range(clip: Clip, start_s: float | None = None, end_s: float | None = 
     return np.arange(first, max(first, stop), step, dtype=np.int64)
 
 
+def frames_at_fps(clip: Clip, fps: float, start_s: float | None = None,
+                  end_s: float | None = None) -> np.ndarray:
+    """Indices of the frames in [start_s, end_s) subsampled closest to ``fps`` frames per
+    second (``frame_range`` at ``step_for_fps``): the frames a fit at that rate uses."""
+    return frame_range(clip, start_s, end_s, step_for_fps(clip, fps))
+
+
 def step_for_fps(clip: Clip, fps: float) -> int:
     """The frame step that subsamples ``clip`` closest to ``fps`` frames per second (≥ 1)."""
     if not fps > 0:

@@ -17,7 +17,7 @@ from core.errors import InputError
 from core.fit.reporter import FitPreview
 from core.fit.result import FitResult
 from core.fit.result_io import read_fit_result
-from core.io.video import frame_range, step_for_fps
+from core.io.video import frames_at_fps
 from core.measure.stations import STATION_PCT
 from core.model.template import load_template
 from core.progress import Progress
@@ -164,8 +164,7 @@ class FitController(QObject):
     def _frames(self, settings: FitSettings) -> np.ndarray:
         """The open clip's frames that a fit with ``settings`` uses."""
         media = self.state.session.source.clip
-        return frame_range(media, settings.start_s, settings.end_s,
-                           step_for_fps(media, settings.fps))
+        return frames_at_fps(media, settings.fps, settings.start_s, settings.end_s)
 
     def fit_frames(self) -> list[int]:
         """The open clip's frames that the current animal's fit uses (default settings when
