@@ -81,14 +81,19 @@ class MaskScore:
     seeds: dict[str, SeedScore] = field(default_factory=dict)
 
 
+def target_clicks(truth: dict) -> list[PointSeed]:
+    """A click on the target (truth's ``seed_px``) in each frame where it is visible."""
+    return [PointSeed(float(frame["seed_px"][0]), float(frame["seed_px"][1]), int(frame["frame"]))
+            for frame in truth["frames"]
+            if frame.get("visible") and frame.get("seed_px") is not None]
+
+
 def click_seed(files: ClipFiles) -> PointSeed:
-    """The click on the target in its first visible frame (truth's ``seed_px``)."""
-    truth = read_json(files.truth_json, "the clip's truth")
-    for frame in truth["frames"]:
-        if frame.get("visible") and frame.get("seed_px") is not None:
-            x_px, y_px = frame["seed_px"]
-            return PointSeed(float(x_px), float(y_px), int(frame["frame"]))
-    raise ValueError(f"{files.truth_json}: the target is never visible")
+    """The click on the target in its first visible frame."""
+    clicks = target_clicks(read_json(files.truth_json, "the clip's truth"))
+    if not clicks:
+        raise ValueError(f"{files.truth_json}: the target is never visible")
+    return clicks[0]
 
 
 def auto_seed(files: ClipFiles, clip: Clip, frame_idx: int) -> AutoSeed:
