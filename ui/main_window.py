@@ -245,15 +245,15 @@ class MainWindow(QMainWindow):
         m.selection_changed.connect(self._on_selection_changed)
         m.dirty_changed.connect(lambda _: self._update_title())
         m.path_changed.connect(self._update_title)
-        m.autosave_failed.connect(lambda why: self.statusBar().showMessage(
-            f"autosave failed: {why}", 10_000))
+        m.autosave_failed.connect(lambda why: self.notifier.status(f"autosave failed: {why}",
+                                                                    10_000))
         self.timeline.frame_requested.connect(self._seek)
         self.playback.frame_requested.connect(self.go_to_frame)
         self.loader.frame_ready.connect(self._on_frame_ready)
         self.loader.failed.connect(self._on_frame_failed)
         self.canvas.cursor_moved.connect(self._on_cursor_moved)
         self.canvas.space_tapped.connect(self.on_play)
-        self.overlay.status_message.connect(lambda text: self.statusBar().showMessage(text, 5000))
+        self.overlay.status_message.connect(lambda text: self.notifier.status(text, 5000))
         self.results.animal_figures.connect(self.project_panel.set_figures)
 
     def _apply_preferences(self) -> None:
@@ -311,8 +311,8 @@ class MainWindow(QMainWindow):
         if self._opening_clip == clip_idx or self.state.session_for(clip_idx) is not None:
             return
         if not media_path(path, self.model.project.clips[clip_idx]).exists():
-            self.statusBar().showMessage("this clip's media is missing: reopen the project "
-                                         "to relink it", 10_000)
+            self.notifier.status("this clip's media is missing: reopen the project to "
+                                 "relink it", 10_000)
             return
         self._close_session()
         self._opening_clip = clip_idx
@@ -402,7 +402,7 @@ class MainWindow(QMainWindow):
 
     def _on_frame_failed(self, frame_idx: int, why: str) -> None:
         self.playback.stop()
-        self.statusBar().showMessage(f"frame {frame_idx}: {why}", 10_000)
+        self.notifier.status(f"frame {frame_idx}: {why}", 10_000)
 
     def _on_frame_ready(self, frame_idx: int, rgb: np.ndarray) -> None:
         if frame_idx != self.state.frame_idx:
@@ -653,7 +653,7 @@ class MainWindow(QMainWindow):
         try:
             save_preference(key, value)
         except OSError as exc:
-            self.statusBar().showMessage(f"preference not saved: {exc.strerror or exc}", 10_000)
+            self.notifier.status(f"preference not saved: {exc.strerror or exc}", 10_000)
 
     # ------------------------------------------------------------------ actions: Clip
     def _current_clip(self) -> int | None:
@@ -796,8 +796,8 @@ class MainWindow(QMainWindow):
 
         def apply(mask: np.ndarray) -> None:
             if self.model.current_key() != key or self.state.frame_idx != frame_idx:
-                self.statusBar().showMessage("edges not suggested: another frame is shown now",
-                                             10_000)
+                self.notifier.status("edges not suggested: another frame is shown now",
+                                     10_000)
                 return
             try:
                 self.overlay.suggest_edges(mask)

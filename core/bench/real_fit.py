@@ -12,7 +12,6 @@ from core.bench.real_data import MinkeImage
 from core.fit.config import FitConfig
 from core.fit.interval import run_interval
 from core.fit.pipeline import fit_clip
-from core.intrinsics import CameraIntrinsics
 from core.io.media import open_media
 from core.io.telemetry import constant_telemetry
 from core.measure.records import default_error_model
@@ -30,10 +29,8 @@ def fit_minke(minke: MinkeImage, backend: str, config: FitConfig = FitConfig()) 
     with open_media(minke.image) as frames:
         clip = frames.clip
         masks = make_segmenter(backend).segment(frames, PointSeed(*minke.click_px))
-        intrinsics = CameraIntrinsics.from_sensor(camera.focal_mm, camera.sensor_width_mm,
-                                                  clip.width_px, clip.height_px)
         run = fit_clip(frames, constant_telemetry(calibration.altitude_m, clip), masks,
-                       intrinsics, config)
+                       camera.intrinsics(), config)  # the camera is at the image's size
     result = run.result
     interval = run_interval(run, default_error_model(calibration.altitude_source,
                                                      camera.approximate))

@@ -131,9 +131,10 @@ class MaskController(QObject):
         self.notifier.status(f"tracking ({self.backend}): frame {progress.step} of "
                              f"{progress.total}")
         frame = progress.preview
-        session = self.state.session
-        if not isinstance(frame, FrameTracked) or session is None or self._target is None \
-                or self.state.session_for(self._target[1]) is None:
+        if not isinstance(frame, FrameTracked) or self._target is None:
+            return
+        session = self.state.session_for(self._target[1])
+        if session is None:  # another clip is open now
             return
         before = self._coverage
         if before is None:
