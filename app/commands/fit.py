@@ -4,7 +4,8 @@
                  [--masks DIR|VIDEO|NPZ] [--camera PRESET | --sensor-width-mm X --focal-mm Y]
                  [--start S] [--end S] [--fps N] [--out DIR] [--no-roi] [--refraction]
                  [--vertical-prior] [--hw PRESET|CSV|model] [--config FILE.json]
-                 [--altitude-source laser|barometer|manual] [--outline-sd-px PX]
+                 [--altitude-source laser|barometer|manual] [--altitude-calibration CAL.json]
+                 [--outline-sd-px PX]
 
 Without --masks the built-in tracker finds the dolphin by itself (automatic seed). Writes
 DIR/result.json (volume_m3, length_m, mass_kg, bci, frames, timings, status, …), DIR/result.npz
@@ -16,7 +17,9 @@ ratios give the heights a camera above cannot see (as `dolphinfit measure --hw`;
 keeps the template's own). The figures print with their 95 % intervals
 (core.measure.fit_uncertainty: altitude and camera error, the masks' outline, the hidden
 heights); --altitude-source sets the altitude error (default: barometer for a DJI SRT, laser
-for a laser log, manual for a number or an altitude CSV); --outline-sd-px how far the masks'
+for a laser log, manual for a number or an altitude CSV); --altitude-calibration corrects the
+altitudes by a calibration of the clip's camera (`dolphinfit calibrate altitude`) and takes the
+altitude error from its spread; --outline-sd-px how far the masks'
 outline may lie off the animal's (default 0.36 px at 1920 px wide, 0.73 at 3840: measured on
 the bench suite's clips).
 
@@ -42,7 +45,9 @@ from core.io.json_file import read_json, write_json
 from core.measure.annotation import ALTITUDE_SOURCE_OF_KIND, ALTITUDE_SOURCES
 from core.measure.fit_uncertainty import FitInterval
 from core.model.hw_spec import resolve_hw
+from core.measure.altitude_calibration import AltitudeCalibration, read_altitude_calibration
 from core.measure.records import default_error_model
+from core.measure.uncertainty import ErrorModel
 from core.limits import (
     ALTITUDE_M, FOCAL_MM, FPS, LAUNCH_HEIGHT_M, MASK_OUTLINE_SD_PX, SENSOR_WIDTH_MM, in_range,
     result_figures, time_window,
@@ -81,6 +86,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                              "configuration's, else the default preset); model: the "
                              "template's own")
     parser.add_argument("--config", type=Path, default=None, help="a FitConfig JSON")
+    parser.add_argument("--altitude-calibration", type=Path, default=None, metavar="CAL.json",
+                        help="correct the altitudes with a calibration from `dolphinfit "
+                             "calibrate altitude` (its spread becomes the altitude's SD)")
     parser.add_argument("--altitude-source", choices=ALTITUDE_SOURCES, default=None,
                         help="what measured the altitude, for the intervals (default: "
                              "barometer for an SRT, laser for a laser log, else manual)")
@@ -142,9 +150,13 @@ def run(args: argparse.Namespace) -> int:
             altitude = in_range(float(altitude), ALTITUDE_M, "--altitude")
         except ValueError:
             raise InputError(f"--altitude {altitude!r}: neither a number of metres nor a file")
+    calibration = (None if args.altitude_calibration is None
+                   else read_altitude_calibration(args.altitude_calibration))
     fit_run = run_fit(args.clip, altitude, args.masks, camera, fit_config(args),
-                      args.launch_height, progress=terminal_progress())
-    return report(fit_run, args.out, camera, args.altitude_source, args.outline_sd_px)
+                      args.launch_height, progress=terminal_progress(),
+                      altitude_calibration=calibration)
+    return report(fit_run, args.out, camera, args.altitude_source, args.outline_sd_px,
+                  calibration)
 
 
 def _interval_lines(result: FitResult, interval: FitInterval, altitude_source: str) -> list[str]:
@@ -158,11 +170,23 @@ def _interval_lines(result: FitResult, interval: FitInterval, altitude_source: s
             f"±{interval.outline_sd_px:.2g} px, the HW table's heights)"]
 
 
+def fit_error_model(fit_run: FitRun, source: str, camera: CameraChoice,
+                    calibration: AltitudeCalibration | None) -> ErrorModel:
+    """The defaults of ``source`` and the camera; with a calibration (whose line absorbed
+    the camera's scale) its spread at the fitted frames' median altitude instead."""
+    if calibration is None:
+        return default_error_model(source, camera.is_approximate)
+    recorded = calibration.recorded_altitude(float(fit_run.data.camera.altitude_m.median()))
+    return default_error_model(source, camera.is_approximate,
+                               **calibration.error_overrides(recorded))
+
+
 def report(fit_run: FitRun, out_dir: Path, camera: CameraChoice,
-           altitude_source: str | None = None, outline_sd_px: float | None = None) -> int:
+           altitude_source: str | None = None, outline_sd_px: float | None = None,
+           calibration: AltitudeCalibration | None = None) -> int:
     """Write the outputs, print the figures with their intervals (``altitude_source``: by
-    default the one that goes with the altitude file) and the warnings; the exit code (module
-    docstring).
+    default the one that goes with the altitude file; ``calibration``: the altitudes' own,
+    if they were calibrated) and the warnings; the exit code (module docstring).
 
     A completed fit with an implausible length, or a volume or mass that is not positive, is
     refused (exit 2) and not written."""
@@ -177,9 +201,11 @@ def report(fit_run: FitRun, out_dir: Path, camera: CameraChoice,
     if result.volume_m3 > 0 and result.length_m > 0:
         source = altitude_source or ALTITUDE_SOURCE_OF_KIND.get(
             fit_run.telemetry.source.kind, "manual")
-        interval = run_interval(fit_run, default_error_model(source, camera.is_approximate),
+        interval = run_interval(fit_run, fit_error_model(fit_run, source, camera, calibration),
                                 outline_sd_px)
-        write_json(out_dir / INTERVAL_JSON, {"altitude_source": source, **interval.to_json()})
+        calibrated = {} if calibration is None else {"altitude_calibration": calibration.source}
+        write_json(out_dir / INTERVAL_JSON,
+                   {"altitude_source": source, **calibrated, **interval.to_json()})
         written.append(out_dir / INTERVAL_JSON)
         print("\n".join(_interval_lines(result, interval, source)))
     else:

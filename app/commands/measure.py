@@ -5,6 +5,7 @@
                      [--altitude-m M] [--altitude-source laser|barometer|manual]
                      [--digitisation-sd-px PX] [--altitude-sd-fraction F]
                      [--focal-sd-fraction F] [--mass-model JSON]
+                     [--altitude-calibration CAL.json]
   dolphinfit measure MORPHOMETRIX.csv [same options]
 
 The input is a dolphinfit annotation (JSON) or a MorphoMetriX v1/v2 CSV. Volume is the sum of
@@ -14,7 +15,9 @@ The input is a dolphinfit annotation (JSON) or a MorphoMetriX v1/v2 CSV. Volume 
 uses them. --from-mask takes each width where the station's perpendicular leaves the annotated
 frame's mask (a folder of %06d.png, an .npz or a mask video; non-zero = dolphin). --mc N draws
 N Monte Carlo samples (0: none) over altitude, camera, digitisation and HW-ratio errors, with
-defaults by altitude source (laser 1 %, barometer 5 %, manual 10 %).
+defaults by altitude source (laser 1 %, barometer 5 %, manual 10 %). --altitude-calibration
+corrects the altitude by a calibration of the image's camera (`dolphinfit calibrate altitude`)
+and takes the altitude error from its spread instead.
 
 Writes DIR/<name>_measure.json, DIR/<name>_mmx.csv (MorphoMetriX v2 long), DIR/<name>_wide.csv
 (ours: metres, pixels, Xcertainty's columns, results) and DIR/<name>_collatrix.csv (the table
@@ -32,6 +35,7 @@ from core.errors import InputError
 from core.measure.annotation_json import read_annotation_json
 from core.io.output_paths import check_output_folder
 from core.limits import ALTITUDE_M, at_least, body_measurements, count, in_range, result_figures
+from core.measure.altitude_calibration import AltitudeCalibration, read_altitude_calibration
 from core.measure.annotation import ALTITUDE_SOURCES
 from core.measure.baseline import BaselineEstimate, BaselineSettings, estimate_baseline
 from core.measure.condition import MassModel
@@ -40,6 +44,7 @@ from core.measure.hw_ratios import DEFAULT_PRESET, FROM_MODEL
 from core.model.hw_spec import resolve_hw
 from core.measure.records import (
     MeasureInput, annotated_frame_mask, default_error_model, default_image_id,
+    with_altitude_calibration,
     mass_model_from_json, measured_image_from_annotation, measured_image_from_morphometrix,
     result_record, with_mask_widths, write_exports,
 )
@@ -72,6 +77,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="replace the stored altitude, metres")
     parser.add_argument("--altitude-source", choices=ALTITUDE_SOURCES, default=None,
                         help="replace the stored altitude source")
+    parser.add_argument("--altitude-calibration", type=Path, default=None, metavar="CAL.json",
+                        help="correct the altitude with a calibration from `dolphinfit "
+                             "calibrate altitude` (its spread becomes the altitude's SD)")
     parser.add_argument("--digitisation-sd-px", type=float, default=None,
                         help="SD of one click per image axis, px")
     parser.add_argument("--altitude-sd-fraction", type=float, default=None,
@@ -88,13 +96,18 @@ def run(args: argparse.Namespace) -> int:
     _check_options(args)
     source = (_from_annotation(args) if args.input.suffix.lower() == ".json"
               else _from_morphometrix(args))
+    calibration = None
+    if args.altitude_calibration is not None:
+        calibration = read_altitude_calibration(args.altitude_calibration)
+        source = with_altitude_calibration(source, calibration, str(args.input))
     _check_body(source, args.input)
     mass_model = (MassModel() if args.mass_model is None
                   else mass_model_from_json(args.mass_model))
     settings = BaselineSettings(hw=resolve_hw(args.hw), tail=args.tail, mass_model=mass_model)
     try:
         estimate = estimate_baseline(source.pixels, source.focal_px, source.record.altitude_m,
-                                     settings, _error_model(args, source), args.mc,
+                                     settings, _error_model(args, source, calibration),
+                                     args.mc,
                                      np.random.default_rng(args.seed))
     except ValueError as exc:
         raise InputError(f"{args.input}: {exc}") from exc
@@ -160,11 +173,16 @@ def _from_morphometrix(args: argparse.Namespace) -> MeasureInput:
     return source
 
 
-def _error_model(args: argparse.Namespace, source: MeasureInput) -> ErrorModel:
-    """Defaults by altitude source and camera, overridden by the options given."""
-    overrides = {name: getattr(args, name) for name in
-                 ("altitude_sd_fraction", "focal_sd_fraction", "digitisation_sd_px")
-                 if getattr(args, name) is not None}
+def _error_model(args: argparse.Namespace, source: MeasureInput,
+                 calibration: AltitudeCalibration | None) -> ErrorModel:
+    """Defaults by altitude source and camera, the altitude's from a calibration, overridden
+    by the options given. A calibration's line also absorbed the camera's scale, so the
+    focal length's own error is then left out unless asked for."""
+    overrides = ({} if calibration is None
+                 else calibration.error_overrides(source.recorded_altitude_m))
+    overrides |= {name: getattr(args, name) for name in
+                  ("altitude_sd_fraction", "focal_sd_fraction", "digitisation_sd_px")
+                  if getattr(args, name) is not None}
     return default_error_model(source.altitude_source, source.is_camera_approximate,
                                **overrides)
 

@@ -38,6 +38,8 @@ def _fit_inputs(fit: FitInputs) -> tuple[dict[str, Path], dict[str, Any]]:
         files["altitude"] = altitude_file
     if fit.masks is not None:
         files["masks"] = fit.masks
+    if fit.altitude_calibration is not None:
+        files["altitude_calibration"] = fit.altitude_calibration
     constant = fit.altitude is not None and not isinstance(fit.altitude, Path)
     config = fit.config.to_json()
     if fit.config.hw_table is not None:  # the table's values, not where it lies

@@ -8,6 +8,8 @@ Columns (header names; only ``clip`` is required; paths are relative to the mani
   clip's SRT beside it). ``launch_height_m`` (added to relative SRT altitudes),
   ``time_offset_s`` (laser logs), ``altitude_source``: laser, barometer or manual (default
   barometer for an SRT, else manual), which sets the elliptical method's altitude error.
+  ``altitude_calibration``: a `dolphinfit calibrate altitude` file of the clip's camera: the
+  altitudes are corrected by it and both methods' intervals take its spread as their error.
 - ``camera``: a preset name, or ``sensor_width_mm`` and ``focal_mm``.
 - ``masks``: a mask PNG folder, mask video or .npz; or ``seed`` for the built-in tracker:
   ``auto``, a click ``X,Y`` or a box ``X,Y,W,H`` in pixels of frame ``seed_frame`` (default
@@ -38,12 +40,14 @@ from core.limits import (
     ALTITUDE_M, FOCAL_MM, FPS, LAUNCH_HEIGHT_M, SENSOR_WIDTH_MM, Limits, in_range, number,
     time_window,
 )
+from core.measure.altitude_calibration import read_altitude_calibration
 from core.measure.annotation import ALTITUDE_SOURCES
 from core.measure.uncertainty import DEFAULT_NUM_DRAWS
 from core.project.fit_settings import QUALITY_STEP_SCALE, FitSettings, fit_config, fit_dir
 from core.segment.segmenter import AutoSeed, BoxSeed, PointSeed, Seed
 
 COLUMNS = ("clip", "animal", "altitude", "launch_height_m", "time_offset_s", "altitude_source",
+           "altitude_calibration",
            "camera", "sensor_width_mm", "focal_mm", "masks", "seed", "seed_frame", "start_s",
            "end_s", "fps", "quality", "refraction", "roi", "config")
 REQUIRED = ("clip",)
@@ -135,6 +139,18 @@ def _altitude(row: Row, clip: Path) -> float | Path | None:
     return row.path("altitude")
 
 
+def _altitude_calibration(row: Row) -> Path | None:
+    """The calibration file, read once here so that a bad one stops the batch before any
+    work."""
+    path = row.path("altitude_calibration")
+    if path is not None:
+        try:
+            read_altitude_calibration(path)
+        except InputError as exc:
+            raise InputError(f"{row.where('altitude_calibration')}: {exc}") from None
+    return path
+
+
 def _camera(row: Row) -> CameraChoice:
     preset = row.text("camera") or None
     sensor = row.number("sensor_width_mm", SENSOR_WIDTH_MM)
@@ -204,7 +220,8 @@ def task_from_row(row: Row, num_draws: int = DEFAULT_NUM_DRAWS) -> BatchTask:
                     camera=_camera(row), masks=masks,
                     seed=row.parsed("seed", lambda text: _seed(text, seed_frame),
                                     AutoSeed(seed_frame)),
-                    config=_fit_config(row))
+                    config=_fit_config(row),
+                    altitude_calibration=_altitude_calibration(row))
     return BatchTask(name=fit_dir(row.manifest, row.text("clip"), animal).name,
                      clip=row.text("clip"), animal_id=animal,
                      where=f"{row.manifest}: row {row.row}", fit=fit,

@@ -13,6 +13,7 @@ from core.batch.summary import elliptical_values
 from core.batch.task import MaskMeasurement
 from core.camera_presets import DEFAULT_PRESET, CameraPreset, get_preset
 from core.fit.pipeline import CameraChoice, FitRun
+from core.measure.altitude_calibration import AltitudeCalibration
 from core.measure.annotation_json import AnnotationFile
 from core.measure.annotation import Calibration
 from core.measure.baseline import BaselineEstimate, BaselineSettings, estimate_baseline
@@ -46,9 +47,12 @@ def largest_mask_frame(run: FitRun) -> int:
 
 
 def mask_baseline(run: FitRun, choice: CameraChoice, measurement: MaskMeasurement,
-                  stem: Path) -> tuple[dict[str, Any], BaselineEstimate]:
+                  stem: Path, altitude_calibration: AltitudeCalibration | None = None
+                  ) -> tuple[dict[str, Any], BaselineEstimate]:
     """Measure the animal on its largest fitted mask, write STEM_measure.json, STEM_mmx.csv
-    and STEM_wide.csv; the summary's elliptical values and the estimate."""
+    and STEM_wide.csv; the summary's elliptical values and the estimate.
+    ``altitude_calibration``: the one the fit's altitudes were corrected by, which then sets
+    the altitude's error."""
     frame_idx = largest_mask_frame(run)
     mask = run.masks.mask(frame_idx)
     annotation = annotation_from_mask(mask, frame_idx)
@@ -60,10 +64,15 @@ def mask_baseline(run: FitRun, choice: CameraChoice, measurement: MaskMeasuremen
     doc = AnnotationFile(annotation=annotation, calibration=calibration, image_id=image_id,
                          media_path=str(clip.path), notes=NOTE)
     source = measured_image_from_annotation(doc, image_id=image_id, notes=[NOTE])
+    overrides = {}
+    if altitude_calibration is not None:
+        recorded = float(altitude_calibration.recorded_altitude(calibration.altitude_m))
+        source = replace(source, recorded_altitude_m=recorded)
+        overrides = altitude_calibration.error_overrides(recorded)
     estimate = estimate_baseline(
         source.pixels, source.focal_px, calibration.altitude_m,
         BaselineSettings(hw=resolve_hw(measurement.hw), tail=measurement.tail),
-        default_error_model(source.altitude_source, source.is_camera_approximate),
+        default_error_model(source.altitude_source, source.is_camera_approximate, **overrides),
         measurement.num_draws, np.random.default_rng(0))
     record = result_record(source, estimate, input_name=image_id, seed=0)
     write_exports(stem, source, estimate, record)

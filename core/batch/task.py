@@ -17,8 +17,8 @@ from core.segment.segmenter import AutoSeed, Seed
 @dataclass(frozen=True)
 class FitInputs:
     """What ``core.fit.pipeline.run_fit`` needs: the clip, its altitude (metres, an altitude
-    CSV, DJI SRT or laser log, or None for the clip's SRT sidecar), the camera, and the masks
-    or, without them, the tracker's seed."""
+    CSV, DJI SRT or laser log, or None for the clip's SRT sidecar) and its calibration, the
+    camera, and the masks or, without them, the tracker's seed."""
 
     clip: Path
     altitude: float | Path | None
@@ -28,6 +28,7 @@ class FitInputs:
     masks: Path | None = None
     seed: Seed = AutoSeed()
     config: FitConfig = FitConfig()
+    altitude_calibration: Path | None = None   # a `dolphinfit calibrate altitude` file
 
 
 @dataclass(frozen=True)

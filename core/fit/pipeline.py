@@ -24,6 +24,7 @@ from core.io.frame_source import FrameSource
 from core.io.masks import MaskTrack, read_masks
 from core.io.telemetry import Telemetry, load_telemetry
 from core.io.video import Clip, VideoReader, frames_at_fps, open_clip
+from core.measure.altitude_calibration import AltitudeCalibration, calibrated_telemetry
 from core.progress import ProgressCallback
 from core.segment.backends import DEFAULT_BACKEND, make_segmenter
 from core.segment.segmenter import AutoSeed, Seed
@@ -105,14 +106,19 @@ def run_fit(clip_path: Path, altitude: str | Path | float | None, masks_path: Pa
             camera: CameraChoice, config: FitConfig, launch_height_m: float = 0.0,
             progress: ProgressCallback | None = None,
             cancel: threading.Event | None = None, seed: Seed = AutoSeed(frame_idx=0),
-            time_offset_s: float = 0.0, backend: str = DEFAULT_BACKEND) -> FitRun:
+            time_offset_s: float = 0.0, backend: str = DEFAULT_BACKEND,
+            altitude_calibration: AltitudeCalibration | None = None) -> FitRun:
     """Fit the clip; without ``masks_path`` the mask ``backend`` (core.segment.backends)
     finds the dolphin from ``seed`` on the frames the fit will look at, reporting its own
     "track" stage first. An automatic seed looks for an animal ``DOLPHIN_LENGTH_M`` long at
-    the clip's altitudes (``expected_length_px``)."""
+    the clip's altitudes (``expected_length_px``). An ``altitude_calibration`` of the clip's
+    camera corrects the altitudes first."""
     clip = open_clip(clip_path)
     telemetry = load_telemetry(clip, altitude, launch_height_m, time_offset_s)
     intrinsics = camera.intrinsics(clip)
+    if altitude_calibration is not None:
+        altitude_calibration.check_focal_px(intrinsics.focal_px, str(clip_path))
+        telemetry = calibrated_telemetry(telemetry, altitude_calibration)
     # frames are read in order by the tracker and once more by the preparation: a frame cache
     # would only hold memory through the long optimisation
     with VideoReader(clip, cache_bytes=0) as frames:

@@ -26,6 +26,7 @@ from core.measure.morphometrix import (
     write_morphometrix_v2,
 )
 from core.measure.morphometrix import pixel_measurements as record_pixels
+from core.measure.altitude_calibration import AltitudeCalibration
 from core.measure.annotation import PixelMeasurements, pixel_measurements, place_stations
 from core.measure.baseline import SUMMARISED, BaselineEstimate
 from core.measure.condition import MassModel
@@ -53,6 +54,7 @@ class MeasureInput:
     image_width_px: int | None = None   # Xcertainty's Iw, Sw and uas (annotations only)
     sensor_width_mm: float | None = None
     uas: str = ""
+    recorded_altitude_m: float | None = None   # before an altitude calibration, if applied
 
 
 def default_image_id(doc: AnnotationFile, path: Path) -> str:
@@ -147,6 +149,21 @@ def mass_model_from_json(path: Path) -> MassModel:
         raise InputError(f"{path}: {exc}") from exc
 
 
+def with_altitude_calibration(source: MeasureInput, calibration: AltitudeCalibration,
+                              where: str) -> MeasureInput:
+    """``source`` at its calibrated altitude (InputError naming ``where`` when its camera is
+    not the calibrated one), with a note saying so and one when the line is extrapolated."""
+    calibration.check_focal_px(source.focal_px, where)
+    recorded = source.record.altitude_m
+    altitude = float(calibration.true_altitude(recorded))
+    notes = [f"altitude {recorded:g} m recorded → {altitude:.2f} m by the calibration from "
+             f"{calibration.source}"]
+    warning = calibration.extrapolation_warning(recorded)
+    notes += [] if warning is None else [warning]
+    return replace(source, record=replace(source.record, altitude_m=altitude),
+                   recorded_altitude_m=recorded, notes=[*source.notes, *notes])
+
+
 def default_error_model(altitude_source: str, is_camera_approximate: bool,
                         **overrides: float) -> ErrorModel:
     """The documented error SDs for an altitude source and camera, with ``overrides`` (ErrorModel
@@ -159,6 +176,8 @@ def result_record(source: MeasureInput, estimate: BaselineEstimate, *, input_nam
     """The result JSON: schema version, input, calibration, Monte Carlo seed and the estimate."""
     return {"schema_version": RESULT_SCHEMA_VERSION, "input": input_name,
             "altitude_m": source.record.altitude_m, "altitude_source": source.altitude_source,
+            **({} if source.recorded_altitude_m is None
+               else {"recorded_altitude_m": source.recorded_altitude_m}),
             "focal_px": source.focal_px, "seed": seed, **estimate.to_json()}
 
 

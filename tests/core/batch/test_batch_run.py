@@ -127,3 +127,31 @@ def test_inputs_digest_takes_the_hw_tables_values_not_its_place(batch, tmp_path)
     config = replace(task.fit.config, hw_table=str(tmp_path / "b" / "hw.csv"))
     assert inputs_digest(task_inputs(replace(task, fit=replace(task.fit, config=config)))) \
         != digests[0]
+
+
+def test_a_calibrated_task_corrects_both_methods_altitudes(batch, tmp_path):
+    """An altitude calibration of the clip's camera (true = 0.5 m + 1.02 × recorded): the
+    fit's and the elliptical's altitudes are the calibrated 12.7 m, not the recorded 12 m,
+    and the elliptical's altitude error is the calibration's ~1 %, not the manual 10 %."""
+    from core.batch.task_run import run_task
+    from core.io.video import open_clip
+    from core.measure.altitude_calibration import write_altitude_calibration
+    from tests.core.measure.test_altitude_calibration import _calibration
+
+    _, tasks = batch
+    task = tasks[0]
+    intrinsics = task.fit.camera.intrinsics(open_clip(task.fit.clip))
+    calibration = _calibration()
+    calibration = replace(calibration, camera=replace(
+        calibration.camera, image_width_px=320,
+        focal_mm=intrinsics.focal_px * calibration.camera.sensor_width_mm / 320))
+    write_altitude_calibration(calibration, tmp_path / "cal.json")
+    task = replace(task, fit=replace(task.fit, altitude_calibration=tmp_path / "cal.json"))
+    record = run_task(task, tmp_path / "out")
+    assert record.status == "complete", record.error
+    elliptical = json.loads((tmp_path / "out" / task.name / "elliptical_measure.json")
+                            .read_text())
+    recorded = elliptical["recorded_altitude_m"]
+    assert recorded == pytest.approx(12.0, abs=0.1)   # the SRT's, as the clip was flown
+    assert elliptical["altitude_m"] == pytest.approx(calibration.true_altitude(recorded))
+    assert elliptical["uncertainty"]["errors"]["altitude_sd_fraction"] < 0.02

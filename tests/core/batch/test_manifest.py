@@ -98,3 +98,17 @@ def test_tasks_sharing_an_output_folder_are_refused(folder):
     with pytest.raises(InputError, match=f"{path}: row 3: a.mp4 'a-b' would share the output "
                                          f"folder .* with {path}: row 2"):
         check_unique_names(read_manifest(path))
+
+
+def test_an_altitude_calibration_is_read_before_any_work(folder):
+    """A calibration file is checked when the manifest is read; a good one goes to the fit."""
+    from tests.core.measure.test_altitude_calibration import _calibration
+    from core.measure.altitude_calibration import write_altitude_calibration
+
+    write_altitude_calibration(_calibration(), folder / "cal.json")
+    (folder / "broken.json").write_text('{"format": "dolphinfit-altitude-calibration"}')
+    header = "clip,altitude,altitude_calibration"
+    (task,) = read_manifest(_manifest(folder, "a.mp4,20,cal.json", header=header))
+    assert task.fit.altitude_calibration == folder / "cal.json"
+    with pytest.raises(InputError, match="row 2, column 'altitude_calibration': .*broken.json"):
+        read_manifest(_manifest(folder, "a.mp4,20,broken.json", header=header))

@@ -30,6 +30,7 @@ from core.io.masks import read_png_folder
 from core.io.telemetry import load_telemetry
 from core.io.video import VideoReader, open_clip
 from core.model.model import DolphinModel
+from core.measure.altitude_calibration import write_altitude_calibration
 from core.progress import Cancelled
 
 # The clip (conftest.py): a 2.3 m animal in 1920×1080 footage at 20 m, 8 frames, with the
@@ -356,3 +357,28 @@ def test_an_animal_too_few_pixels_wide_is_warned_about():
     (warning,) = narrow_animal_warnings(ellipses(12))
     assert "only 13 px wide" in warning and "about 3 %" in warning
     assert narrow_animal_warnings(ellipses(30)) == []
+
+
+def test_cli_fit_with_an_altitude_calibration(clip_dir, tiny_run, tmp_path, capsys):
+    """A calibration of the clip's camera: its spread is the intervals' altitude error (the
+    camera's own error then left out, the line absorbed it); one of another camera is refused
+    before any work."""
+    from app.commands.fit import fit_error_model
+    from core.fit.pipeline import CameraChoice
+    from tests.core.measure.test_altitude_calibration import _calibration
+
+    run, _ = tiny_run
+    calibration = _calibration()
+    errors = fit_error_model(run, "barometer", CameraChoice(None, 17.27, 12.29), calibration)
+    recorded = calibration.recorded_altitude(float(run.data.camera.altitude_m.median()))
+    assert errors.altitude_sd_fraction == calibration.altitude_sd_fraction(recorded)
+    assert errors.altitude_sd_fraction < 0.02 and errors.focal_sd_fraction == 0.0
+    other = tmp_path / "other.json"
+    write_altitude_calibration(replace(calibration, camera=replace(
+        calibration.camera, focal_mm=24.0)), other)
+    assert main(["fit", str(clip_dir / "clip.mkv"), "--altitude", str(clip_dir / "altitude.csv"),
+                 "--masks", str(clip_dir / "masks"), "--sensor-width-mm", "17.27",
+                 "--focal-mm", "12.29", "--out", str(tmp_path / "out"),
+                 "--altitude-calibration", str(other)]) == 2
+    assert "holds only for its own camera" in capsys.readouterr().err
+    assert not (tmp_path / "out" / "result.json").exists()
