@@ -34,18 +34,18 @@ from core.project.model import (
     with_animal,
     with_clip,
 )
-from core.project.project_file import media_path, relative_media_path
+from core.project.project_file import relative_media_path
 from core.project.recent import recent_projects
-from core.project.results import frame_altitude
 from core.segment.backends import BACKENDS, COLOUR, DEFAULT_BACKEND, NETWORK, SAM2
 from core.segment.sam2_backend import INSTALL_HINT, PACKAGE, installed
 from ui.action_table import load_action_table
 from ui.app import APP_NAME
 from ui.workers.background import BackgroundJobs
 from ui.widgets.canvas import FrameCanvas
-from ui.state.clip_session import ClipSession, open_session, read_session_telemetry
+from ui.state.clip_session import ClipSession
 from ui.state.commands import push_edit
 from ui.dialogs.questions import Questions
+from ui.controllers.clip_sessions import ClipSessions
 from ui.controllers.export_controller import ExportController
 from ui.controllers.fit_controller import FitController
 from ui.controllers.project_files import ProjectFiles
@@ -89,7 +89,8 @@ class MainWindow(QMainWindow):
         self.notifier = Notifier(self)
         self.ask = Questions(self)
         self.files = ProjectFiles(self.model, self.ask, self.notifier, self.jobs, parent=self)
-        self._opening_clip: int | None = None
+        self.sessions = ClipSessions(self.model, self.state, self.ask, self.notifier, self.jobs,
+                                     parent=self)
         self._pending_frame: int | None = None
 
         self.canvas = FrameCanvas()
@@ -98,7 +99,7 @@ class MainWindow(QMainWindow):
         self.playback = Playback(self)
         self.overlay = MeasureOverlay(self.canvas, self.model)
         self.results = ResultsPanel(self.model)
-        self.results.set_altitude_lookup(self.altitude_at)
+        self.results.set_altitude_lookup(self.sessions.altitude_at)
         self.project_panel = ProjectPanel(self.model)
         self.fits = FitController(self.model, self.state, self.jobs, self.canvas, self.results,
                                   parent=self)
@@ -236,8 +237,11 @@ class MainWindow(QMainWindow):
         self.notifier.status_shown.connect(self.statusBar().showMessage)
         self.fits.fit_frames_changed.connect(self.timeline.set_fit_frames)
         self.masks.coverage_changed.connect(self.timeline.set_coverage)
-        self.files.session_closing.connect(self._close_session)
-        self.files.clip_chosen.connect(self._open_current_clip)
+        self.files.session_closing.connect(self.sessions.close)
+        self.files.clip_chosen.connect(self.sessions.open_current)
+        self.sessions.opened.connect(self._on_session_opened)
+        self.sessions.telemetry_changed.connect(self._on_telemetry_changed)
+        self.state.session_closed.connect(self._on_session_closed)
         self.masks.seeding.connect(
             lambda on: self.overlay.set_frame(None if on else self.state.frame_idx))
         m = self.model
@@ -298,49 +302,17 @@ class MainWindow(QMainWindow):
         self.ask.warn(title, text)
 
     # ------------------------------------------------------------------ clips and frames
-    def _close_session(self) -> None:
-        self._opening_clip = None
+    def _on_session_closed(self) -> None:
         self.playback.stop()
         self.loader.set_source(None)
-        self.state.close()
-
-    def _open_current_clip(self) -> None:
-        clip_idx, path = self.model.clip_idx, self.model.path
-        if clip_idx is None or path is None:
-            return
-        if self._opening_clip == clip_idx or self.state.session_for(clip_idx) is not None:
-            return
-        if not media_path(path, self.model.project.clips[clip_idx]).exists():
-            self.notifier.status("this clip's media is missing: reopen the project to "
-                                 "relink it", 10_000)
-            return
-        self._close_session()
-        self._opening_clip = clip_idx
-        clip = self.model.project.clips[clip_idx]
-        self.jobs.run(lambda: open_session(path, clip, clip_idx), self._on_session_opened,
-                      self._on_session_failed)
-
-    def _on_session_failed(self, why: str) -> None:
-        self._opening_clip = None
-        self.notifier.error("Cannot open clip", why)
 
     def _on_session_opened(self, session: ClipSession) -> None:
-        if self._opening_clip == session.clip_idx:
-            self._opening_clip = None
-        if session.clip_idx != self.model.clip_idx:
-            session.close()  # the user moved on while it opened
-            self._open_current_clip()
-            return
-        self.state.session = session
-        if self.model.project.clips[session.clip_idx].altitude != session.altitude:
-            self._reload_telemetry()  # changed while the clip opened (a restored autosave)
         media = session.source.clip
         self.loader.set_source(session.source)
         self.playback.set_clip(media.num_frames, media.fps)
         self.timeline.set_clip(media.num_frames, media.fps)
         self._show_telemetry()
         self._update_marks()
-        clip = self.model.project.clips[session.clip_idx]
         self._check_camera()
         measurement = self.model.current_measurement()
         target = measurement.frame_idx if measurement is not None else self._pending_frame
@@ -348,9 +320,11 @@ class MainWindow(QMainWindow):
         self.go_to_frame(target if target is not None else 0, force=True)
         self.results.refresh()
         self.canvas.setFocus()
-        self.state.session_opened.emit(session.clip_idx)
-        if clip.altitude is None:  # a new clip: its altitude comes first (SRT found if any)
-            self.on_altitude()
+
+    def _on_telemetry_changed(self) -> None:
+        self._show_telemetry()
+        self._update_status()
+        self.results.refresh()
 
     def _check_camera(self) -> None:
         """A lasting red warning while the camera's image size is not the clip's."""
@@ -411,18 +385,6 @@ class MainWindow(QMainWindow):
         self.playback.frame_shown(frame_idx)
         self.state.frame_shown.emit(frame_idx)
 
-    def altitude_at(self, clip_idx: int, frame_idx: int) -> tuple[float, str]:
-        """Altitude (m) and its error source for a frame of the open clip; InputError if none."""
-        session = self.state.session_for(clip_idx)
-        if session is None:
-            raise InputError("the clip is still opening")
-        spec = self.model.project.clips[clip_idx].altitude
-        if spec != session.altitude:
-            raise InputError("reading the altitude…")
-        if session.telemetry is None:
-            raise InputError(session.telemetry_error or "no altitude for this clip")
-        return frame_altitude(session.telemetry, frame_idx), spec.source
-
     def _update_status(self) -> None:
         if self.state.session is None:
             self.status_label.setText("")
@@ -433,7 +395,8 @@ class MainWindow(QMainWindow):
             parts.append(f"{self.state.frame_idx / media.fps:.2f} s")
         clip = self.model.project.clips[self.state.session.clip_idx]
         try:
-            altitude, source = self.altitude_at(self.state.session.clip_idx, self.state.frame_idx)
+            altitude, source = self.sessions.altitude_at(self.state.session.clip_idx,
+                                                         self.state.frame_idx)
         except InputError as exc:
             parts.append(f"altitude: {exc}")
         else:
@@ -453,29 +416,7 @@ class MainWindow(QMainWindow):
         if change.kind == "measurement":
             return  # a drag step: marks, clips, altitude and camera stay as they are
         self._update_marks()
-        session, clips = self.state.session, self.model.project.clips
-        if session is None:
-            return
-        if session.clip_idx >= len(clips):
-            self._close_session()
-        elif clips[session.clip_idx].altitude != session.altitude:
-            self._reload_telemetry()  # set, changed, undone or restored
         self._check_camera()
-
-    def _reload_telemetry(self) -> None:
-        path, session = self.model.path, self.state.session
-        clip = self.model.project.clips[session.clip_idx]
-
-        def done(reloaded: ClipSession) -> None:
-            if self.state.session is session:
-                self.state.session = reloaded
-                self._show_telemetry()
-                self._update_status()
-                self.results.refresh()
-
-        self.jobs.run(lambda: read_session_telemetry(path, clip, session.clip_idx,
-                                                     session.source),
-                      done, lambda why: self.notifier.error("Cannot read altitude", why))
 
     def _sync_mirror_actions(self) -> None:
         """Check the mirror action of the current measurement (both sides when none)."""
@@ -487,7 +428,7 @@ class MainWindow(QMainWindow):
     def _on_selection_changed(self) -> None:
         self._sync_mirror_actions()
         if self.state.session_for(self.model.clip_idx) is None:
-            self._open_current_clip()
+            self.sessions.open_current()
             return
         measurement = self.model.current_measurement()
         if measurement is not None and measurement.frame_idx != self.state.frame_idx:
@@ -523,7 +464,7 @@ class MainWindow(QMainWindow):
 
     def shutdown(self) -> None:
         """Stop every worker thread (closing; a thread left running aborts Qt on exit)."""
-        self._close_session()
+        self.sessions.close()
         self.loader.shutdown()
         self.results.shutdown()
         self.exports.shutdown()
@@ -662,29 +603,10 @@ class MainWindow(QMainWindow):
         return self.model.clip_idx
 
     def on_altitude(self) -> None:
-        clip_idx = self._current_clip()
-        if clip_idx is None or self.state.session is None:
-            return
-        clip = self.model.project.clips[clip_idx]
-        spec = self.ask.altitude(media_path(self.model.path, clip), self.model.path.parent,
-                                 self.state.session.source.clip, clip.altitude)
-        if spec is not None:
-            push_edit(self.model, with_clip(self.model.project, clip_idx,
-                                            replace(clip, altitude=spec)),
-                      "set altitude", Change("clip", clip=clip_idx))
+        self.sessions.set_altitude()
 
     def on_camera(self) -> None:
-        clip_idx = self._current_clip()
-        if clip_idx is None or self.state.session is None:
-            return
-        clip = self.model.project.clips[clip_idx]
-        media = self.state.session.source.clip
-        chosen = self.ask.camera(clip.camera, clip.preset_name, media.width_px, media.height_px)
-        if chosen is not None:
-            camera, preset_name = chosen
-            push_edit(self.model, with_clip(self.model.project, clip_idx, replace(
-                clip, camera=camera, preset_name=preset_name)),
-                "set camera", Change("clip", clip=clip_idx))
+        self.sessions.set_camera()
 
     def on_add_animal(self) -> None:
         clip_idx = self._current_clip()

@@ -126,7 +126,7 @@ def test_track_from_a_click_then_correct_with_the_brush(qtbot, window):
     window.canvas.setFocus()
     qtbot.keyClick(window.canvas, Qt.Key.Key_B)
     assert window.masks.layer.tool == "brush"
-    qtbot.wait(200)  # the frame's mask is handed to the tool in the background
+    qtbot.waitUntil(lambda: window.masks.layer.editing_frame == 20, timeout=10_000)
     start, end = (QPointF(60.0, 60.0), QPointF(90.0, 60.0))
     viewport = window.canvas.viewport()
     with qtbot.waitSignal(window.masks.layer.mask_edited, timeout=10_000):

@@ -139,6 +139,11 @@ class MaskLayer(QObject):
         self._radius_px = float(radius_px)
         self._place_cursor(self._cursor.rect().center())
 
+    @property
+    def editing_frame(self) -> int | None:
+        """The frame whose mask strokes correct (None until a frame's mask is handed over)."""
+        return None if self._edit is None else self._edit.frame_idx
+
     def begin_edit(self, frame_idx: int, mask: np.ndarray) -> None:
         """Strokes from now on correct a copy of ``mask`` ((H, W), non-zero = dolphin), frame
         ``frame_idx``'s mask; each stroke's result is emitted and edited further."""

@@ -1,0 +1,70 @@
+"""The open clip's session, built without the window: opened when a clip is selected, its
+altitude read again when the project's setting changes (and when that is undone), the Clip
+menu's altitude command asked and done apart."""
+
+from pathlib import Path
+
+import pytest
+from PySide6.QtWidgets import QWidget
+
+from core.project.model import AltitudeSpec
+from core.project.project_file import read_project
+from core.project.sample import ensure_sample_project
+from ui.controllers.clip_sessions import ClipSessions
+from ui.dialogs.questions import Questions
+from ui.state.project_model import ProjectModel
+from ui.state.viewer_state import Notifier, ViewerState
+from ui.workers.background import BackgroundJobs
+
+TIMEOUT_MS = 30_000
+
+
+class _Answers(Questions):
+    """The questions answered by the test: the altitude it was given."""
+
+    def __init__(self, parent: QWidget, altitude: AltitudeSpec) -> None:
+        super().__init__(parent)
+        self.answer = altitude
+
+    def altitude(self, media: Path, project_dir: Path, clip, current):
+        return self.answer
+
+
+@pytest.fixture
+def sessions(qtbot):
+    parent = QWidget()
+    qtbot.addWidget(parent)
+    path = ensure_sample_project()
+    model = ProjectModel(read_project(path), path, parent=parent)
+    state, notifier = ViewerState(parent), Notifier(parent)
+    errors = []
+    notifier.error_raised.connect(lambda title, text: errors.append(f"{title}: {text}"))
+    controller = ClipSessions(model, state, _Answers(parent, AltitudeSpec(constant_m=30.0)),
+                              notifier, BackgroundJobs(parent), parent=parent)
+    yield controller, errors
+    controller.close()
+    controller.jobs.wait()
+
+
+def test_selecting_a_clip_opens_it_and_answers_its_altitudes(qtbot, sessions):
+    controller, errors = sessions
+    controller.model.select(0)
+    with qtbot.waitSignal(controller.opened, timeout=TIMEOUT_MS) as opened:
+        controller.open_current()
+    assert opened.args[0] is controller.state.session and not errors
+    altitude, source = controller.altitude_at(0, 10)
+    assert 15.0 < altitude < 25.0 and source == "barometer"   # the sample's SRT at ~20 m
+
+
+def test_a_new_altitude_is_read_again_and_its_undo_too(qtbot, sessions):
+    controller, errors = sessions
+    controller.model.select(0)
+    with qtbot.waitSignal(controller.opened, timeout=TIMEOUT_MS):
+        controller.open_current()
+    before = controller.altitude_at(0, 10)[0]
+    with qtbot.waitSignal(controller.telemetry_changed, timeout=TIMEOUT_MS):
+        controller.set_altitude()
+    assert controller.altitude_at(0, 10)[0] == 30.0
+    with qtbot.waitSignal(controller.telemetry_changed, timeout=TIMEOUT_MS):
+        controller.model.undo_stack.undo()
+    assert controller.altitude_at(0, 10)[0] == before and not errors

@@ -1,0 +1,149 @@
+"""The open clip: its session opened in the background when a clip is selected, its altitude
+read again whenever the project's altitude setting for it changes (set, undone, restored), the
+altitude of a frame for the results, and the Clip menu's altitude and camera commands.
+
+It holds the viewer state's session; the window shows what it opens (``opened``) and what it
+reads again (``telemetry_changed``)."""
+
+from dataclasses import replace
+
+from PySide6.QtCore import QObject, Signal
+
+from core.errors import InputError
+from core.project.model import with_clip
+from core.project.project_file import media_path
+from core.project.results import frame_altitude
+from ui.dialogs.questions import Questions
+from ui.state.clip_session import ClipSession, open_session, read_session_telemetry
+from ui.state.commands import push_edit
+from ui.state.project_model import Change, ProjectModel
+from ui.state.viewer_state import Notifier, ViewerState
+from ui.workers.background import BackgroundJobs
+
+
+class ClipSessions(QObject):
+    """Opens, closes and refreshes the viewer state's clip session (module doc).
+
+    ``opened(session)`` fires once the session is the state's, before the state's own
+    ``session_opened``; ``telemetry_changed`` when the open clip's altitude was read again."""
+
+    opened = Signal(object)
+    telemetry_changed = Signal()
+
+    def __init__(self, model: ProjectModel, state: ViewerState, ask: Questions,
+                 notifier: Notifier, jobs: BackgroundJobs, parent: QObject | None = None) -> None:
+        super().__init__(parent)
+        self.model, self.state, self.ask = model, state, ask
+        self.notifier, self.jobs = notifier, jobs
+        self._opening: int | None = None
+        model.changed.connect(self._on_model_changed)
+
+    def close(self) -> None:
+        """Close the open session (and forget one being opened)."""
+        self._opening = None
+        self.state.close()
+
+    def open_current(self) -> None:
+        """Open the selected clip's session in the background, unless it is open or opening."""
+        clip_idx, path = self.model.clip_idx, self.model.path
+        if clip_idx is None or path is None:
+            return
+        if self._opening == clip_idx or self.state.session_for(clip_idx) is not None:
+            return
+        clip = self.model.project.clips[clip_idx]
+        if not media_path(path, clip).exists():
+            self.notifier.status("this clip's media is missing: reopen the project to "
+                                 "relink it", 10_000)
+            return
+        self.close()
+        self._opening = clip_idx
+        self.jobs.run(lambda: open_session(path, clip, clip_idx), self._on_opened,
+                      self._on_failed)
+
+    def _on_failed(self, why: str) -> None:
+        self._opening = None
+        self.notifier.error("Cannot open clip", why)
+
+    def _on_opened(self, session: ClipSession) -> None:
+        if self._opening == session.clip_idx:
+            self._opening = None
+        if session.clip_idx != self.model.clip_idx:
+            session.close()  # the user moved on while it opened
+            self.open_current()
+            return
+        self.state.session = session
+        clip = self.model.project.clips[session.clip_idx]
+        if clip.altitude != session.altitude:
+            self._reload_telemetry()  # changed while the clip opened (a restored autosave)
+        self.opened.emit(session)
+        self.state.session_opened.emit(session.clip_idx)
+        if clip.altitude is None:  # a new clip: its altitude comes first (SRT found if any)
+            self.set_altitude()
+
+    def _on_model_changed(self, change: Change) -> None:
+        session, clips = self.state.session, self.model.project.clips
+        if change.kind == "measurement" or session is None:
+            return
+        if session.clip_idx >= len(clips):
+            self.close()
+        elif clips[session.clip_idx].altitude != session.altitude:
+            self._reload_telemetry()  # set, changed, undone or restored
+
+    def _reload_telemetry(self) -> None:
+        path, session = self.model.path, self.state.session
+        clip = self.model.project.clips[session.clip_idx]
+
+        def done(reloaded: ClipSession) -> None:
+            if self.state.session is session:
+                self.state.session = reloaded
+                self.telemetry_changed.emit()
+
+        self.jobs.run(lambda: read_session_telemetry(path, clip, session.clip_idx,
+                                                     session.source),
+                      done, lambda why: self.notifier.error("Cannot read altitude", why))
+
+    def altitude_at(self, clip_idx: int, frame_idx: int) -> tuple[float, str]:
+        """Altitude (m) and its error source for a frame of the open clip; InputError if none."""
+        session = self.state.session_for(clip_idx)
+        if session is None:
+            raise InputError("the clip is still opening")
+        spec = self.model.project.clips[clip_idx].altitude
+        if spec != session.altitude:
+            raise InputError("reading the altitude…")
+        if session.telemetry is None:
+            raise InputError(session.telemetry_error or "no altitude for this clip")
+        return frame_altitude(session.telemetry, frame_idx), spec.source
+
+    def _open_clip(self) -> int | None:
+        """The selected clip when its session is open; an error said otherwise."""
+        if self.model.clip_idx is None:
+            self.notifier.error("No clip", "open a clip, an image or a folder of frames first")
+            return None
+        return self.model.clip_idx if self.state.session is not None else None
+
+    def set_altitude(self) -> None:
+        """Ask for the open clip's altitude and set it (an undoable edit)."""
+        clip_idx = self._open_clip()
+        if clip_idx is None:
+            return
+        clip = self.model.project.clips[clip_idx]
+        spec = self.ask.altitude(media_path(self.model.path, clip), self.model.path.parent,
+                                 self.state.session.source.clip, clip.altitude)
+        if spec is not None:
+            push_edit(self.model, with_clip(self.model.project, clip_idx,
+                                            replace(clip, altitude=spec)),
+                      "set altitude", Change("clip", clip=clip_idx))
+
+    def set_camera(self) -> None:
+        """Ask for the open clip's camera and set it (an undoable edit)."""
+        clip_idx = self._open_clip()
+        if clip_idx is None:
+            return
+        clip = self.model.project.clips[clip_idx]
+        media = self.state.session.source.clip
+        chosen = self.ask.camera(clip.camera, clip.preset_name, media.width_px, media.height_px)
+        if chosen is not None:
+            camera, preset_name = chosen
+            push_edit(self.model, with_clip(self.model.project, clip_idx, replace(
+                clip, camera=camera, preset_name=preset_name)),
+                "set camera", Change("clip", clip=clip_idx))
