@@ -608,6 +608,9 @@ class MainWindow(QMainWindow):
     def on_camera(self) -> None:
         self.sessions.set_camera()
 
+    def on_calibrate_altitude(self) -> None:
+        self.sessions.calibrate_altitude()
+
     def on_add_animal(self) -> None:
         clip_idx = self._current_clip()
         if clip_idx is None:

@@ -38,14 +38,14 @@ def _fit_inputs(fit: FitInputs) -> tuple[dict[str, Path], dict[str, Any]]:
         files["altitude"] = altitude_file
     if fit.masks is not None:
         files["masks"] = fit.masks
-    if fit.altitude_calibration is not None:
-        files["altitude_calibration"] = fit.altitude_calibration
     constant = fit.altitude is not None and not isinstance(fit.altitude, Path)
     config = fit.config.to_json()
     if fit.config.hw_table is not None:  # the table's values, not where it lies
         config["hw_table"] = _hw_table(fit.config.hw_table)
     options = {"altitude_m": float(fit.altitude) if constant else None,
                "launch_height_m": fit.launch_height_m, "time_offset_s": fit.time_offset_s,
+               "altitude_calibration": (None if fit.altitude_calibration is None
+                                        else fit.altitude_calibration.to_json()),
                "camera": asdict(fit.camera), "config": config,
                "seed": None if fit.masks is not None
                else {"kind": type(fit.seed).__name__, **asdict(fit.seed)}}

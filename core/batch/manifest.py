@@ -40,7 +40,7 @@ from core.limits import (
     ALTITUDE_M, FOCAL_MM, FPS, LAUNCH_HEIGHT_M, SENSOR_WIDTH_MM, Limits, in_range, number,
     time_window,
 )
-from core.measure.altitude_calibration import read_altitude_calibration
+from core.measure.altitude_calibration import AltitudeCalibration, read_altitude_calibration
 from core.measure.annotation import ALTITUDE_SOURCES
 from core.measure.uncertainty import DEFAULT_NUM_DRAWS
 from core.project.fit_settings import QUALITY_STEP_SCALE, FitSettings, fit_config, fit_dir
@@ -139,16 +139,16 @@ def _altitude(row: Row, clip: Path) -> float | Path | None:
     return row.path("altitude")
 
 
-def _altitude_calibration(row: Row) -> Path | None:
-    """The calibration file, read once here so that a bad one stops the batch before any
-    work."""
+def _altitude_calibration(row: Row) -> AltitudeCalibration | None:
+    """The calibration file's calibration, read here so that a bad one stops the batch
+    before any work."""
     path = row.path("altitude_calibration")
-    if path is not None:
-        try:
-            read_altitude_calibration(path)
-        except InputError as exc:
-            raise InputError(f"{row.where('altitude_calibration')}: {exc}") from None
-    return path
+    if path is None:
+        return None
+    try:
+        return read_altitude_calibration(path)
+    except InputError as exc:
+        raise InputError(f"{row.where('altitude_calibration')}: {exc}") from None
 
 
 def _camera(row: Row) -> CameraChoice:

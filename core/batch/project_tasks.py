@@ -6,6 +6,7 @@ from pathlib import Path
 from core.batch.task import BatchTask, FitInputs, ProjectMeasurement
 from core.fit.pipeline import CameraChoice
 from core.measure.uncertainty import DEFAULT_NUM_DRAWS
+from core.project.calibrations import fitted_calibration
 from core.project.fit_settings import fit_dir
 from core.project.results import project_fit_config
 from core.project.model import Animal, ClipEntry, Project
@@ -27,7 +28,9 @@ def _fit_inputs(project_path: Path, project: Project, clip: ClipEntry,
         time_offset_s=0.0 if spec is None else spec.time_offset_s,
         camera=CameraChoice(None, clip.camera.sensor_width_mm, clip.camera.focal_mm),
         masks=None if clip.masks_path is None else (project_dir / clip.masks_path).resolve(),
-        config=project_fit_config(animal.fit_settings, project, project_dir))
+        config=project_fit_config(animal.fit_settings, project, project_dir),
+        altitude_calibration=(None if clip.altitude_calibration is None else
+                              fitted_calibration(project.calibration(clip.altitude_calibration))))
 
 
 def project_tasks(project_path: Path, num_draws: int = DEFAULT_NUM_DRAWS) -> list[BatchTask]:

@@ -7,6 +7,7 @@ from pathlib import Path
 from core.errors import InputError
 from core.fit.config import FitConfig
 from core.fit.pipeline import CameraChoice
+from core.measure.altitude_calibration import AltitudeCalibration
 from core.measure.elliptical import TAIL_EXTRAPOLATED
 from core.measure.hw_ratios import DEFAULT_PRESET
 from core.measure.uncertainty import DEFAULT_NUM_DRAWS
@@ -28,7 +29,7 @@ class FitInputs:
     masks: Path | None = None
     seed: Seed = AutoSeed()
     config: FitConfig = FitConfig()
-    altitude_calibration: Path | None = None   # a `dolphinfit calibrate altitude` file
+    altitude_calibration: AltitudeCalibration | None = None
 
 
 @dataclass(frozen=True)

@@ -23,7 +23,6 @@ from core.fit.outputs import write_outputs
 from core.fit.pipeline import FitRun, run_fit
 from core.fit.result import STATUS_COMPLETE as FIT_COMPLETE
 from core.io.atomic import atomic_folder
-from core.measure.altitude_calibration import AltitudeCalibration, read_altitude_calibration
 from core.measure.baseline import BaselineEstimate
 from core.measure.records import write_exports
 from core.model.template import load_template
@@ -67,14 +66,12 @@ def _run_methods(task: BatchTask, folder: Path) -> tuple[dict[str, Any], list[st
     values: dict[str, Any] = {}
     errors: list[str] = []
     notes: list[str] = []
-    run = calibration = None
+    run = None
     if task.fit is None:
         notes.append("no 3D fit: only video clips are fitted")
     else:
         try:
-            if task.fit.altitude_calibration is not None:
-                calibration = read_altitude_calibration(task.fit.altitude_calibration)
-            run = _fit(task, folder, calibration)
+            run = _fit(task, folder)
             values.update(fit_values(run.result))
             if run.result.status != FIT_COMPLETE:
                 errors.append(f"fit {run.result.status}: {run.result.status_message}")
@@ -89,7 +86,8 @@ def _run_methods(task: BatchTask, folder: Path) -> tuple[dict[str, Any], list[st
             errors.append("elliptical: it measures the fit's masks, and there is no fit")
         else:
             elliptical, estimate = mask_baseline(run, task.fit.camera, task.measurement,
-                                                 folder / ELLIPTICAL_STEM, calibration)
+                                                 folder / ELLIPTICAL_STEM,
+                                                 task.fit.altitude_calibration)
             values.update(elliptical)
             notes.append(f"elliptical {NOTE}")
     except Exception as exc:  # noqa: BLE001 (recorded; the batch goes on)
@@ -99,11 +97,11 @@ def _run_methods(task: BatchTask, folder: Path) -> tuple[dict[str, Any], list[st
     return values, errors, notes
 
 
-def _fit(task: BatchTask, folder: Path, calibration: AltitudeCalibration | None) -> FitRun:
+def _fit(task: BatchTask, folder: Path) -> FitRun:
     fit = task.fit
     run = run_fit(fit.clip, fit.altitude, fit.masks, fit.camera, fit.config,
                   fit.launch_height_m, seed=fit.seed, time_offset_s=fit.time_offset_s,
-                  altitude_calibration=calibration)
+                  altitude_calibration=fit.altitude_calibration)
     write_outputs(run.result, run.data, load_template(), folder)
     return run
 

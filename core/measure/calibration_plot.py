@@ -3,6 +3,7 @@ fitted line, the identity a perfect altimeter would follow, and the shots named 
 
 Drawn on a matplotlib ``Axes`` so the app's canvas and the command line's PNG show the same."""
 
+from collections.abc import Sequence
 from pathlib import Path
 
 import numpy as np
@@ -11,13 +12,13 @@ from core.io.calibration_table import CalibrationTable
 from core.measure.altitude_calibration import AltitudeCalibration
 
 
-def draw_altitude_calibration(axes, table: CalibrationTable,
-                              calibration: AltitudeCalibration) -> None:
-    """Shots, line and identity on ``axes`` (a matplotlib Axes)."""
-    recorded = np.array([shot.recorded_altitude_m for shot in table.shots])
+def draw_altitude_calibration(axes, shots: Sequence, calibration: AltitudeCalibration) -> None:
+    """Shots, line and identity on ``axes`` (a matplotlib Axes). ``shots``: each with an
+    ``image``, a ``recorded_altitude_m`` and a ``pixel_length`` (a table's or a project's)."""
+    recorded = np.array([shot.recorded_altitude_m for shot in shots])
     implied = (calibration.object_length_m * calibration.camera.focal_px
-               / np.array([shot.pixel_length for shot in table.shots]))
-    outlying = np.array([shot.image in calibration.outliers for shot in table.shots])
+               / np.array([shot.pixel_length for shot in shots]))
+    outlying = np.array([shot.image in calibration.outliers for shot in shots])
     axes.scatter(recorded[~outlying], implied[~outlying], s=12, color="#1f77b4",
                  label=f"{(~outlying).sum()} shots")
     if outlying.any():
@@ -29,9 +30,9 @@ def draw_altitude_calibration(axes, table: CalibrationTable,
     axes.plot(span, span, color="grey", linestyle="--", label="recorded = true")
     axes.set_xlabel(f"recorded altitude ({calibration.altimeter}), m")
     axes.set_ylabel(f"altitude from the {calibration.object_length_m:g} m object, m")
-    axes.set_title(f"{calibration.drone or calibration.source}: spread "
-                   f"{100 * calibration.residual_sd_fraction:.2f} % of the altitude")
-    axes.legend(loc="upper left")
+    axes.set_title(f"spread {100 * calibration.residual_sd_fraction:.2f} % of the altitude",
+                   fontsize="medium")
+    axes.legend(loc="lower right", fontsize="small")
     axes.grid(True, alpha=0.3)
 
 
@@ -43,6 +44,6 @@ def save_altitude_calibration_plot(table: CalibrationTable, calibration: Altitud
     from core.io.atomic import atomic_path
 
     figure = Figure(figsize=(7, 5), dpi=110, layout="tight")
-    draw_altitude_calibration(figure.add_subplot(), table, calibration)
+    draw_altitude_calibration(figure.add_subplot(), table.shots, calibration)
     with atomic_path(Path(path)) as tmp:
         figure.savefig(tmp, format="png")

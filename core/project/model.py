@@ -133,6 +133,47 @@ class AltitudeSpec:
 
 
 @dataclass(frozen=True)
+class ObjectShot:
+    """One image of a calibration object: its length in pixels and the altitude recorded with
+    it. ``image``: the image's name or path; ``ends_px``: the two ends clicked in the app,
+    None for a length imported from a table."""
+
+    image: str
+    recorded_altitude_m: float
+    pixel_length: float
+    ends_px: tuple[tuple[float, float], tuple[float, float]] | None = None
+
+    def __post_init__(self) -> None:
+        for name in ("recorded_altitude_m", "pixel_length"):
+            value = getattr(self, name)
+            if not (np.isfinite(value) and value > 0):
+                raise ValueError(f"{name} must be a positive number, got {value!r}")
+
+
+@dataclass(frozen=True)
+class AltitudeCalibrationSet:
+    """An object of known length photographed at several altitudes by one drone, camera and
+    altimeter: what ``core.measure.altitude_calibration`` fits. ``name`` is how clips refer to
+    it (e.g. "Mavic 3 barometer")."""
+
+    name: str
+    object_length_m: float
+    camera: CameraPreset
+    altimeter: str
+    shots: tuple[ObjectShot, ...] = ()
+
+    def __post_init__(self) -> None:
+        if not self.name.strip():
+            raise ValueError("a calibration needs a name")
+        if not (np.isfinite(self.object_length_m) and self.object_length_m > 0):
+            raise ValueError(f"object length must be a positive number of metres, "
+                             f"got {self.object_length_m!r}")
+        if self.altimeter not in ALTITUDE_SOURCES:
+            raise ValueError(f"altimeter must be one of {ALTITUDE_SOURCES}, "
+                             f"got {self.altimeter!r}")
+
+
+@dataclass(frozen=True)
 class ClipEntry:
     """A video, a still image or a folder of numbered frames, with its calibration.
 
@@ -140,6 +181,8 @@ class ClipEntry:
     camera and video mode; ``preset_name``: the preset it was chosen from (None: edited by
     hand). ``altitude``: None until the user gives one. ``masks_path``: the clip's masks (a
     folder of %06d.png, an .npz or a mask video; core/io/masks.py), relative like the media.
+    ``altitude_calibration``: the name of the project's calibration its altitudes are
+    corrected by (None: as recorded).
     """
 
     media_path: str
@@ -149,6 +192,7 @@ class ClipEntry:
     altitude: AltitudeSpec | None = None
     animals: tuple[Animal, ...] = ()
     masks_path: str | None = None
+    altitude_calibration: str | None = None
 
     def __post_init__(self) -> None:
         if self.kind not in MEDIA_KINDS:
@@ -165,15 +209,31 @@ class Project:
     """A project: clips, and the elliptical settings shared by its results.
 
     ``hw_ratios``: an HW preset name or a CSV path; ``tail``: core.measure.elliptical's option.
+    ``calibrations``: altitude calibrations the clips may name, each name once.
     """
 
     clips: tuple[ClipEntry, ...] = ()
     hw_ratios: str = DEFAULT_PRESET
     tail: str = TAIL_EXTRAPOLATED
+    calibrations: tuple[AltitudeCalibrationSet, ...] = ()
 
     def __post_init__(self) -> None:
         if self.tail not in TAIL_OPTIONS:
             raise ValueError(f"tail must be one of {TAIL_OPTIONS}, got {self.tail!r}")
+        names = [c.name for c in self.calibrations]
+        if len(set(names)) != len(names):
+            raise ValueError(f"two altitude calibrations share a name: {names}")
+        unknown = {c.altitude_calibration for c in self.clips} - {None, *names}
+        if unknown:
+            raise ValueError(f"a clip names an altitude calibration the project lacks: "
+                             f"{sorted(unknown)}")
+
+    def calibration(self, name: str) -> AltitudeCalibrationSet:
+        """The calibration called ``name`` (KeyError if none)."""
+        for calibration in self.calibrations:
+            if calibration.name == name:
+                return calibration
+        raise KeyError(name)
 
 
 @dataclass(frozen=True)
@@ -257,3 +317,17 @@ def next_animal_id(clip: ClipEntry) -> str:
     """The first free ID of the form "dolphin N"."""
     taken = {a.animal_id for a in clip.animals}
     return next(f"dolphin {n}" for n in range(1, len(taken) + 2) if f"dolphin {n}" not in taken)
+
+
+def with_calibration(project: Project, calibration: AltitudeCalibrationSet,
+                     clip_indices: tuple[int, ...], replacing: str | None = None) -> Project:
+    """``project`` with ``calibration`` in place of the one called ``replacing`` (appended
+    when None), correcting exactly the clips ``clip_indices`` among those that named it."""
+    kept = tuple(c for c in project.calibrations if c.name not in (replacing, calibration.name))
+    old_names = {replacing, calibration.name} - {None}
+    clips = tuple(replace(clip, altitude_calibration=calibration.name) if i in clip_indices
+                  else replace(clip, altitude_calibration=None)
+                  if clip.altitude_calibration in old_names else clip
+                  for i, clip in enumerate(project.clips))
+    return replace(project, calibrations=(*kept, calibration), clips=clips)
+

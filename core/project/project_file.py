@@ -11,13 +11,17 @@ Schema version 1 (``*.dolphinfit``)::
                    "image_width_px": 5120, "image_height_px": 2700, "approximate": false},
         "altitude": {"path": "DJI_0042.SRT", "constant_m": null, "launch_height_m": 1.5,
                      "time_offset_s": 0.0, "source": "barometer"},
+        "altitude_calibration": "Mavic 3 barometer",
         "animals": [{"id": "dolphin 1", "notes": "", "fit": {"settings": {"start_s": null,
           "end_s": null, "fps": 5.0, "quality": "standard", "refraction": false, "roi": true},
           "result": "survey.fits/DJI_0042_dolphin-1"}, "measurements": [{
           "frame_idx": 120, "midline_px": [[u, v], ...], "mirror_side": null, "notes": "",
           "stations": [{"station_pct": 5, "side_a_px": 12.5, "side_b_px": -12.1,
                         "skipped": false}, ...]}]}]
-      }]
+      }],
+      "calibrations": [{"name": "Mavic 3 barometer", "object_length_m": 2.0,
+        "camera": {...}, "altimeter": "barometer", "shots": [{"image": "board_12m.jpg",
+        "recorded_altitude_m": 12.1, "pixel_length": 812.4, "ends_px": [[u, v], [u, v]]}]}]
     }
 
 Pixels (midline clicks; each edge as its signed distance from the midline along the station's
@@ -43,7 +47,7 @@ from core.io.json_file import check_schema_version, json_field, read_json, write
 from core.measure.stations import NUM_STATIONS, STATION_PCT
 from core.project.fit_settings import FitSettings
 from core.project.model import (
-    AltitudeSpec, Animal, ClipEntry, Measurement, Project,
+    AltitudeCalibrationSet, AltitudeSpec, Animal, ClipEntry, Measurement, ObjectShot, Project,
 )
 
 SCHEMA_VERSION = 1
@@ -198,9 +202,51 @@ def _clip_from_json(data: Any, where: str) -> ClipEntry:
                          altitude=_altitude_from_json(data.get("altitude"),
                                                       f"{where}: altitude"),
                          animals=animals,
-                         masks_path=_get(data, "masks", str, where, optional=True))
+                         masks_path=_get(data, "masks", str, where, optional=True),
+                         altitude_calibration=_get(data, "altitude_calibration", str, where,
+                                                   optional=True))
     except ValueError as exc:
         raise InputError(f"{where}: {exc}") from exc
+
+
+def _shot_from_json(data: Any, where: str) -> ObjectShot:
+    ends = data.get("ends_px") if isinstance(data, dict) else None
+    if ends is not None:
+        ends = _point_list(ends, f"{where}: ends_px")
+        if len(ends) != 2:
+            raise InputError(f"{where}: ends_px must be the object's two ends, got "
+                             f"{len(ends)} points")
+    try:
+        return ObjectShot(
+            image=_get(data, "image", str, where),
+            recorded_altitude_m=_get(data, "recorded_altitude_m", NUMBER, where),
+            pixel_length=_get(data, "pixel_length", NUMBER, where),
+            ends_px=None if ends is None else tuple((float(u), float(v)) for u, v in ends))
+    except ValueError as exc:
+        raise InputError(f"{where}: {exc}") from exc
+
+
+def _calibration_from_json(data: Any, where: str) -> AltitudeCalibrationSet:
+    camera, _ = _camera_from_json(_get(data, "camera", dict, where), f"{where}: camera")
+    shots = tuple(_shot_from_json(shot, f"{where}: shots[{i}]")
+                  for i, shot in enumerate(_get(data, "shots", list, where)))
+    try:
+        return AltitudeCalibrationSet(
+            name=_get(data, "name", str, where),
+            object_length_m=_get(data, "object_length_m", NUMBER, where), camera=camera,
+            altimeter=_get(data, "altimeter", str, where), shots=shots)
+    except ValueError as exc:
+        raise InputError(f"{where}: {exc}") from exc
+
+
+def _calibration_to_json(calibration: AltitudeCalibrationSet) -> dict[str, Any]:
+    return {"name": calibration.name, "object_length_m": calibration.object_length_m,
+            "camera": _camera_to_json(calibration.camera, None),
+            "altimeter": calibration.altimeter,
+            "shots": [{"image": shot.image, "recorded_altitude_m": shot.recorded_altitude_m,
+                       "pixel_length": shot.pixel_length,
+                       "ends_px": None if shot.ends_px is None else [list(p) for p in shot.ends_px]}
+                      for shot in calibration.shots]}
 
 
 def project_from_json(data: Any, where: str) -> Project:
@@ -209,10 +255,14 @@ def project_from_json(data: Any, where: str) -> Project:
     settings = _get(data, "settings", dict, where)
     clips = tuple(_clip_from_json(c, f"{where}: clips[{i}]")
                   for i, c in enumerate(_get(data, "clips", list, where)))
+    calibrations = tuple(_calibration_from_json(c, f"{where}: calibrations[{i}]")
+                         for i, c in enumerate(_get(data, "calibrations", list, where,
+                                                    optional=True) or ()))
     try:
         return Project(clips=clips,
                        hw_ratios=_get(settings, "hw_ratios", str, f"{where}: settings"),
-                       tail=_get(settings, "tail", str, f"{where}: settings"))
+                       tail=_get(settings, "tail", str, f"{where}: settings"),
+                       calibrations=calibrations)
     except ValueError as exc:
         raise InputError(f"{where}: {exc}") from exc
 
@@ -226,11 +276,13 @@ def project_to_json(project: Project) -> dict[str, Any]:
             "media": clip.media_path, "kind": clip.kind, "masks": clip.masks_path,
             "camera": _camera_to_json(clip.camera, clip.preset_name),
             "altitude": _altitude_to_json(clip.altitude),
+            "altitude_calibration": clip.altitude_calibration,
             "animals": [{"id": a.animal_id, "notes": a.notes,
                          "measurements": [_measurement_to_json(m) for m in a.measurements],
                          "fit": {"settings": asdict(a.fit_settings), "result": a.fit_path}}
                         for a in clip.animals],
         } for clip in project.clips],
+        "calibrations": [_calibration_to_json(c) for c in project.calibrations],
     }
 
 

@@ -21,8 +21,10 @@ from core.fit.config import FitConfig, fit_hw_table
 from core.measure.hw_ratios import HWRatios
 from core.measure.records import (
     MeasureInput, default_error_model, measured_image_from_annotation, result_record,
+    with_altitude_calibration,
 )
-from core.measure.uncertainty import Summary, length_summary
+from core.measure.uncertainty import ErrorModel, Summary, length_summary
+from core.project.calibrations import clip_calibration
 from core.project.fit_settings import FitSettings, fit_config
 from core.project.model import ClipEntry, MeasurementKey, Project, get_measurement
 
@@ -87,8 +89,10 @@ class FrameResult:
 
 
 def _frame_input(project: Project, key: MeasurementKey, altitude_m: float,
-                 altitude_source: str) -> tuple[str, MeasureInput]:
-    """The frame's export name and its measurement in pixels with its calibration."""
+                 altitude_source: str) -> tuple[str, MeasureInput, ErrorModel]:
+    """The frame's export name, its measurement in pixels with its camera and altitude (the
+    clip's altitude calibration applied, if it names one) and the error SDs that go with
+    them."""
     clip = project.clips[key.clip]
     measurement = get_measurement(project, key)
     annotation = measurement.to_annotation()
@@ -98,7 +102,14 @@ def _frame_input(project: Project, key: MeasurementKey, altitude_m: float,
     name = image_id(clip, measurement.frame_idx)
     doc = AnnotationFile(annotation=annotation, calibration=calibration, image_id=name,
                          media_path=clip.media_path, notes=measurement.notes)
-    return name, measured_image_from_annotation(doc, image_id=name)
+    source = measured_image_from_annotation(doc, image_id=name)
+    overrides = {}
+    altitude_calibration = clip_calibration(project, key.clip)
+    if altitude_calibration is not None:
+        source = with_altitude_calibration(source, altitude_calibration, name)
+        overrides = altitude_calibration.error_overrides(altitude_m)
+    return name, source, default_error_model(altitude_source, clip.camera.approximate,
+                                             **overrides)
 
 
 def measure_frame(project: Project, key: MeasurementKey, altitude_m: float,
@@ -109,11 +120,10 @@ def measure_frame(project: Project, key: MeasurementKey, altitude_m: float,
     Raises ValueError when the frame has no length yet, NoWidthError (a ValueError) when it
     has no width yet.
     """
-    name, source = _frame_input(project, key, altitude_m, altitude_source)
+    name, source, errors = _frame_input(project, key, altitude_m, altitude_source)
     settings = BaselineSettings(hw=hw, tail=project.tail)
-    errors = default_error_model(altitude_source, project.clips[key.clip].camera.approximate)
-    estimate = estimate_baseline(source.pixels, source.focal_px, altitude_m, settings, errors,
-                                 num_draws, np.random.default_rng(seed))
+    estimate = estimate_baseline(source.pixels, source.focal_px, source.record.altitude_m,
+                                 settings, errors, num_draws, np.random.default_rng(seed))
     return FrameResult(key=key, image_id=name, source=source, estimate=estimate,
                        record=result_record(source, estimate, input_name=name, seed=seed))
 
@@ -134,11 +144,11 @@ class LengthResult:
 def measure_length(project: Project, key: MeasurementKey, altitude_m: float,
                    altitude_source: str, num_draws: int, seed: int = 0) -> LengthResult:
     """The length of a measured frame alone (``length_summary``); ValueError without one."""
-    name, source = _frame_input(project, key, altitude_m, altitude_source)
+    name, source, errors = _frame_input(project, key, altitude_m, altitude_source)
+    altitude_m = source.record.altitude_m
     m_per_px = altitude_m / source.focal_px
     interval = None
     if num_draws > 0:
-        errors = default_error_model(altitude_source, project.clips[key.clip].camera.approximate)
         interval = length_summary(source.pixels.length_px, source.focal_px, altitude_m, errors,
                                   num_draws, np.random.default_rng(seed))
     return LengthResult(key=key, image_id=name, length_m=source.pixels.length_px * m_per_px,

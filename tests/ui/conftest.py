@@ -2,8 +2,14 @@
 temporary one, so tests never read or write the real one."""
 
 import gc
+from pathlib import Path
 
+import cv2
 import pytest
+
+from core.project.model import AltitudeSpec
+
+from .ellipse_scene import dolphin_frame
 
 
 @pytest.fixture(autouse=True)
@@ -94,3 +100,29 @@ def make_window(qtbot):
     for window in windows:
         window.shutdown()  # also for a window a test left open with unsaved work
         window.model.undo_stack.clear()
+
+
+STILL_ALTITUDE_M = 20.0   # what opening the still answers for its altitude
+
+
+@pytest.fixture
+def still(tmp_path: Path) -> Path:
+    """The ellipse scene as a PNG still in a survey folder."""
+    path = tmp_path / "survey" / "DJI_0001.png"
+    path.parent.mkdir()
+    cv2.imwrite(str(path), cv2.cvtColor(dolphin_frame(), cv2.COLOR_RGB2BGR))
+    return path
+
+
+@pytest.fixture
+def new_window(make_window):
+    """Makes main windows that close without asking (a test that cares overrides it) and
+    answer the altitude question that opening new media asks with a constant 20 m."""
+    def make():
+        window = make_window((1400, 900))
+        # what the altitude dialog returns for a constant (the dialog is tested on its own)
+        window.ask.altitude = lambda *asked: AltitudeSpec(constant_m=STILL_ALTITUDE_M,
+                                                          source="laser")
+        return window
+
+    return make

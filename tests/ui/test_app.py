@@ -30,32 +30,10 @@ from ui.main_window import MainWindow
 
 from .ellipse_scene import LEFT, MIDLINE, analytic_widths, chord, dolphin_frame
 
-ALTITUDE_M = 20.0
+ALTITUDE_M = 20.0   # the still's, as conftest.new_window answers it
 CTRL = Qt.KeyboardModifier.ControlModifier
 SHIFT = Qt.KeyboardModifier.ShiftModifier
 SIGNAL_TIMEOUT_MS = 20_000
-
-
-@pytest.fixture
-def still(tmp_path: Path) -> Path:
-    """The ellipse scene as a PNG still in a survey folder."""
-    path = tmp_path / "survey" / "DJI_0001.png"
-    path.parent.mkdir()
-    cv2.imwrite(str(path), cv2.cvtColor(dolphin_frame(), cv2.COLOR_RGB2BGR))
-    return path
-
-
-@pytest.fixture
-def new_window(make_window):
-    """Makes main windows that close without asking (a test that cares overrides it) and
-    answer the altitude question that opening new media asks with a constant 20 m."""
-    def make() -> MainWindow:
-        window = make_window((1400, 900))
-        # what the altitude dialog returns for a constant (the dialog is tested on its own)
-        window.ask.altitude = lambda *asked: AltitudeSpec(constant_m=ALTITUDE_M, source="laser")
-        return window
-
-    return make
 
 
 def open_and_wait(qtbot, window: MainWindow, path: Path) -> None:

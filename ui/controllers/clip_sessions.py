@@ -7,10 +7,11 @@ reads again (``telemetry_changed``)."""
 
 from dataclasses import replace
 
+import numpy as np
 from PySide6.QtCore import QObject, Signal
 
 from core.errors import InputError
-from core.project.model import with_clip
+from core.project.model import with_calibration, with_clip
 from core.project.project_file import media_path
 from core.project.results import frame_altitude
 from ui.dialogs.questions import Questions
@@ -147,3 +148,28 @@ class ClipSessions(QObject):
             push_edit(self.model, with_clip(self.model.project, clip_idx, replace(
                 clip, camera=camera, preset_name=preset_name)),
                 "set camera", Change("clip", clip=clip_idx))
+
+    def calibrate_altitude(self) -> None:
+        """Build or edit the altitude calibration of the open clip's camera and choose the
+        clips it corrects (an undoable edit)."""
+        clip_idx = self._open_clip()
+        if clip_idx is None:
+            return
+        project = self.model.project
+        clip = project.clips[clip_idx]
+        current = (None if clip.altitude_calibration is None
+                   else project.calibration(clip.altitude_calibration))
+        focal_px = clip.camera.intrinsics().focal_px
+        same_camera = [(i, c.name) for i, c in enumerate(project.clips)
+                       if np.isclose(c.camera.intrinsics().focal_px, focal_px, rtol=1e-3)]
+        ticked = ({clip_idx} if current is None else
+                  {i for i, c in enumerate(project.clips)
+                   if c.altitude_calibration == current.name})
+        choice = self.ask.altitude_calibration(clip.camera if current is None else current.camera,
+                                               current, same_camera, ticked)
+        if choice is not None:
+            push_edit(self.model, with_calibration(
+                project, choice.calibration, choice.clip_indices,
+                replacing=None if current is None else current.name),
+                "altitude calibration", Change("settings"))
+

@@ -21,6 +21,7 @@ from core.io.video import frames_at_fps
 from core.measure.stations import STATION_PCT
 from core.model.template import load_template
 from core.progress import Progress
+from core.project.calibrations import calibrated_clip_telemetry
 from core.project.fit_overlay import silhouette_outlines
 from core.project.fit_playback import posed_at
 from core.measure.hw_ratios import write_hw_csv
@@ -262,7 +263,8 @@ class FitController(QObject):
             self.silhouette.setVisible(False)
             return
         try:
-            altitude = frame_altitude(session.telemetry, frame_idx)
+            altitude = frame_altitude(calibrated_clip_telemetry(
+                self.model.project, session.clip_idx, session.telemetry), frame_idx)
         except InputError:
             self.silhouette.setVisible(False)
             return
@@ -360,7 +362,8 @@ class FitController(QObject):
             raise InputError("the fit needs the dolphin's masks: choose them with "
                              "Clip → Masks…")
         return FitJob(discard=self._closing, media=media_path(path, clip),
-                      telemetry=session.telemetry,
+                      telemetry=calibrated_clip_telemetry(self.model.project, clip_idx,
+                                                          session.telemetry),
                       masks=(path.parent / clip.masks_path).resolve(), camera=clip.camera,
                       out_dir=fit_dir(path, clip.media_path, animal.animal_id),
                       config=project_fit_config(settings, self.model.project, path.parent))

@@ -11,11 +11,12 @@ from core.camera_presets import CameraPreset
 from core.errors import InputError
 from core.io.frame_source import Clip
 from core.io.media import MEDIA_SUFFIXES
-from core.project.model import AltitudeSpec, Animal
+from core.project.model import AltitudeCalibrationSet, AltitudeSpec, Animal
 from core.project.project_file import PROJECT_SUFFIX, autosave_path, find_moved_media
 from core.segment.sam2_backend import check_checkpoint, config_for
 from ui.dialogs.altitude_dialog import AltitudeDialog
 from ui.dialogs.animal_dialog import AnimalDialog
+from ui.dialogs.calibration_dialog import CalibrationChoice, CalibrationDialog
 from ui.dialogs.camera_dialog import CameraDialog
 from ui.dialogs.handle_style_dialog import HandleStyleDialog
 from ui.dialogs.relink_dialog import RelinkDialog
@@ -157,6 +158,14 @@ class Questions:
         return value if ok else None
 
     # ------------------------------------------------------------------ settings dialogs
+    def altitude_calibration(self, camera: CameraPreset,
+                             current: AltitudeCalibrationSet | None,
+                             clips: list[tuple[int, str]],
+                             ticked: set[int]) -> CalibrationChoice | None:
+        """A calibration of ``camera`` (``current`` edited) and the clips it corrects."""
+        dialog = CalibrationDialog(camera, current, clips, ticked, self.parent)
+        return dialog.choice() if dialog.exec() else None
+
     def altitude(self, media: Path, project_dir: Path, clip: Clip,
                  current: AltitudeSpec | None) -> AltitudeSpec | None:
         """The clip's altitude (its SRT sidecar offered first)."""

@@ -135,7 +135,6 @@ def test_a_calibrated_task_corrects_both_methods_altitudes(batch, tmp_path):
     and the elliptical's altitude error is the calibration's ~1 %, not the manual 10 %."""
     from core.batch.task_run import run_task
     from core.io.video import open_clip
-    from core.measure.altitude_calibration import write_altitude_calibration
     from tests.core.measure.test_altitude_calibration import _calibration
 
     _, tasks = batch
@@ -145,8 +144,7 @@ def test_a_calibrated_task_corrects_both_methods_altitudes(batch, tmp_path):
     calibration = replace(calibration, camera=replace(
         calibration.camera, image_width_px=320,
         focal_mm=intrinsics.focal_px * calibration.camera.sensor_width_mm / 320))
-    write_altitude_calibration(calibration, tmp_path / "cal.json")
-    task = replace(task, fit=replace(task.fit, altitude_calibration=tmp_path / "cal.json"))
+    task = replace(task, fit=replace(task.fit, altitude_calibration=calibration))
     record = run_task(task, tmp_path / "out")
     assert record.status == "complete", record.error
     elliptical = json.loads((tmp_path / "out" / task.name / "elliptical_measure.json")

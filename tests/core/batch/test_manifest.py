@@ -109,6 +109,6 @@ def test_an_altitude_calibration_is_read_before_any_work(folder):
     (folder / "broken.json").write_text('{"format": "dolphinfit-altitude-calibration"}')
     header = "clip,altitude,altitude_calibration"
     (task,) = read_manifest(_manifest(folder, "a.mp4,20,cal.json", header=header))
-    assert task.fit.altitude_calibration == folder / "cal.json"
+    assert task.fit.altitude_calibration == _calibration()
     with pytest.raises(InputError, match="row 2, column 'altitude_calibration': .*broken.json"):
         read_manifest(_manifest(folder, "a.mp4,20,broken.json", header=header))

@@ -1,0 +1,326 @@
+"""Calibrate a drone's altimeter in the app: images of an object of known length, its two ends
+clicked on each, the altitude recorded with each, and the fitted line drawn as the shots come
+in (or a table of pixel lengths imported instead). The calibration holds for the camera of the
+clip it was started from; the clips of that camera it should correct are ticked below.
+
+Images are read and the line fitted in the background; the dialog only draws."""
+
+from dataclasses import dataclass, replace
+from pathlib import Path
+
+import numpy as np
+from matplotlib.backends.backend_qtagg import FigureCanvasQTAgg
+from matplotlib.figure import Figure
+from PySide6.QtCore import QLineF, Qt
+from PySide6.QtWidgets import (QAbstractItemView, QCheckBox, QComboBox, QDialog, QDoubleSpinBox,
+                               QFormLayout, QGraphicsLineItem, QHBoxLayout, QHeaderView, QLabel,
+                               QLineEdit, QPushButton, QSplitter, QTableWidget,
+                               QTableWidgetItem, QVBoxLayout, QWidget)
+
+from core.camera_presets import CameraPreset
+from core.io.calibration_table import read_calibration_table
+from core.io.image_file import read_image
+from core.measure.altitude_calibration import AltitudeCalibration
+from core.measure.annotation import ALTITUDE_SOURCES
+from core.measure.calibration_plot import draw_altitude_calibration
+from core.project.calibrations import fitted_calibration, shots_from_table
+from core.project.model import AltitudeCalibrationSet, ObjectShot
+from ui.dialogs.dialog_buttons import ok_cancel_buttons
+from ui.dialogs.message_label import MessageLabel
+from ui.widgets.canvas import FrameCanvas
+from ui.widgets.overlay_items import cosmetic_pen
+from ui.workers.background import BackgroundJobs
+
+ALTIMETERS = tuple(source for source in ALTITUDE_SOURCES if source != "manual")
+COLUMNS = ("image", "recorded altitude (m)", "length (px)")
+DEFAULT_OBJECT_LENGTH_M = 2.0
+DEFAULT_ALTITUDE_M = 20.0
+DEFAULT_ALTIMETER = "barometer"   # what most drones carry
+LINE_COLOUR = Qt.GlobalColor.yellow
+
+
+@dataclass(frozen=True)
+class CalibrationChoice:
+    """The dialog's answer: the calibration set and the clips (indices) it corrects."""
+
+    calibration: AltitudeCalibrationSet
+    clip_indices: tuple[int, ...]
+
+
+class CalibrationDialog(QDialog):
+    """Build or edit an altitude calibration (module doc).
+
+    ``current``: the set to edit, or None for a new one with ``camera``; ``clips``: (index,
+    name) of the project's clips of that camera, ``ticked`` those it corrects now."""
+
+    def __init__(self, camera: CameraPreset, current: AltitudeCalibrationSet | None,
+                 clips: list[tuple[int, str]], ticked: set[int],
+                 parent: QWidget | None = None) -> None:
+        super().__init__(parent)
+        self.setWindowTitle("Altitude calibration")
+        self.resize(1100, 720)
+        self.jobs = BackgroundJobs(self)
+        self._camera = camera
+        self._shots: list[ObjectShot] = list(current.shots) if current else []
+        self._images: dict[str, np.ndarray] = {}   # image path → RGB, for clicking
+        self._clicks: list[tuple[float, float]] = []
+        self._generation = 0   # of the fit asked for last
+        self.calibration: AltitudeCalibration | None = None
+
+        self.name = QLineEdit(current.name if current else "", objectName="name")
+        self.name.setPlaceholderText("e.g. Mavic 3 barometer")
+        self.object_length = QDoubleSpinBox(objectName="object_length", suffix=" m",
+                                            decimals=3, minimum=0.05, maximum=50.0)
+        self.object_length.setValue(current.object_length_m if current
+                                    else DEFAULT_OBJECT_LENGTH_M)
+        self.altimeter = QComboBox(objectName="altimeter")
+        self.altimeter.addItems(ALTIMETERS)
+        self.altimeter.setCurrentText(current.altimeter if current else DEFAULT_ALTIMETER)
+        self.table = QTableWidget(0, len(COLUMNS), objectName="shots")
+        self.table.setHorizontalHeaderLabels(COLUMNS)
+        self.table.setSelectionBehavior(QAbstractItemView.SelectionBehavior.SelectRows)
+        self.table.setSelectionMode(QAbstractItemView.SelectionMode.SingleSelection)
+        self.table.horizontalHeader().setSectionResizeMode(QHeaderView.ResizeMode.Stretch)
+        self.canvas = FrameCanvas()
+        self.line = QGraphicsLineItem()
+        self.line.setPen(cosmetic_pen(LINE_COLOUR))
+        self.canvas.scene().addItem(self.line)
+        self.figure = Figure(figsize=(5, 3.6), layout="tight")
+        self.plot = FigureCanvasQTAgg(self.figure)
+        self.summary = QLabel(objectName="summary", wordWrap=True)
+        self.status = MessageLabel(objectName="status")
+        self.clip_boxes = {index: QCheckBox(name) for index, name in clips}
+        for index, box in self.clip_boxes.items():
+            box.setChecked(index in ticked)
+        self._layout()
+        self.object_length.valueChanged.connect(self._refit)
+        self.name.textChanged.connect(self._refit)
+        self.table.itemSelectionChanged.connect(self._show_selected)
+        self.table.itemChanged.connect(self._on_item_changed)
+        self.canvas.image_clicked.connect(self._on_clicked)
+        self._fill_table()
+        self._refit()
+
+    def _layout(self) -> None:
+        form = QFormLayout()
+        form.addRow("Name", self.name)
+        form.addRow("Object length", self.object_length)
+        form.addRow("Altimeter", self.altimeter)
+        form.addRow("Camera", QLabel(
+            f"{self._camera.focal_mm:g} mm, sensor {self._camera.sensor_width_mm:g} mm, "
+            f"{self._camera.image_width_px}×{self._camera.image_height_px} px (the clip's)"))
+        add = QPushButton("Add images…", objectName="add_images")
+        add.clicked.connect(self._ask_images)
+        imported = QPushButton("Import table…", objectName="import_table")
+        imported.setToolTip("pixel lengths and altitudes: our CSV, MedidoR's calib.xlsx or "
+                            "Xcertainty's tables")
+        imported.clicked.connect(self._ask_table)
+        remove = QPushButton("Remove shot", objectName="remove_shot")
+        remove.clicked.connect(self.remove_selected)
+        buttons = QHBoxLayout()
+        for button in (add, imported, remove):
+            buttons.addWidget(button)
+        left = QVBoxLayout()
+        left.addLayout(form)
+        left.addWidget(self.table)
+        left.addLayout(buttons)
+        left.addWidget(QLabel("Click the object's two ends on the selected shot's image (the wheel "
+                              "zooms); type the altitude recorded with it."))
+        right = QVBoxLayout()
+        right.addWidget(self.plot)
+        right.addWidget(self.summary)
+        right.addWidget(QLabel("Correct the altitudes of these clips (same camera):"))
+        for box in self.clip_boxes.values():
+            right.addWidget(box)
+        right.addStretch()
+        split = QSplitter()
+        for layout in (left, right):
+            holder = QWidget()
+            holder.setLayout(layout)
+            split.addWidget(holder)
+        split.insertWidget(1, self.canvas)
+        split.setSizes([330, 450, 320])
+        outer = QVBoxLayout(self)
+        outer.addWidget(split)
+        outer.addWidget(self.status)
+        outer.addWidget(ok_cancel_buttons(self))
+
+    # ------------------------------------------------------------------ shots
+    def _ask_images(self) -> None:
+        from PySide6.QtWidgets import QFileDialog
+
+        names, _ = QFileDialog.getOpenFileNames(
+            self, "Images of the calibration object", "",
+            "Images (*.jpg *.jpeg *.png *.tif *.tiff *.dng);;All files (*)")
+        self.add_images([Path(name) for name in names])
+
+    def _ask_table(self) -> None:
+        from PySide6.QtWidgets import QFileDialog
+
+        name, _ = QFileDialog.getOpenFileName(
+            self, "Table of the object's pixel lengths", "",
+            "Tables (*.csv *.xlsx *.rda *.RData);;All files (*)")
+        if name:
+            self.import_table(Path(name), self.altimeter.currentText())
+
+    def add_images(self, paths: list[Path]) -> None:
+        """Read ``paths`` in the background and add a shot for each (its length once its two
+        ends are clicked; its altitude as recorded, to be typed)."""
+        for path in paths:
+            self.jobs.run(lambda p=path: (p, read_image(p)), self._on_image_read,
+                          lambda why: self.status.show_message(why, "error"))
+
+    def import_table(self, path: Path, altimeter: str | None = None) -> None:
+        """Add a table's rows (our CSV, MedidoR's or Xcertainty's) as shots."""
+        self.jobs.run(lambda: shots_from_table(read_calibration_table(path, altimeter)),
+                      self._on_table_read, lambda why: self.status.show_message(why, "error"))
+
+    def _on_table_read(self, shots: tuple[ObjectShot, ...]) -> None:
+        self._shots += shots
+        self._fill_table()
+        self._refit()
+
+    def _on_image_read(self, read: tuple[Path, np.ndarray]) -> None:
+        path, rgb = read
+        width = rgb.shape[1]
+        if width != self._camera.image_width_px:
+            self.status.show_message(
+                f"{path.name} is {width} px wide; the camera's images are "
+                f"{self._camera.image_width_px} px: not a shot of this camera", "error")
+            return
+        self._images[str(path)] = rgb
+        self._shots.append(ObjectShot(str(path), DEFAULT_ALTITUDE_M, 1.0))
+        self._fill_table()
+        self.table.selectRow(len(self._shots) - 1)
+
+    def remove_selected(self) -> None:
+        row = self.table.currentRow()
+        if 0 <= row < len(self._shots):
+            del self._shots[row]
+            self._fill_table()
+            self._refit()
+
+    def _fill_table(self) -> None:
+        self.table.blockSignals(True)
+        self.table.setRowCount(len(self._shots))
+        for row, shot in enumerate(self._shots):
+            measured = shot.ends_px is not None or shot.image not in self._images
+            cells = (Path(shot.image).name, f"{shot.recorded_altitude_m:g}",
+                     f"{shot.pixel_length:.1f}" if measured else "click its ends")
+            for column, text in enumerate(cells):
+                item = QTableWidgetItem(text)
+                if column != 1:
+                    item.setFlags(item.flags() & ~Qt.ItemFlag.ItemIsEditable)
+                self.table.setItem(row, column, item)
+        self.table.blockSignals(False)
+
+    def _on_item_changed(self, item: QTableWidgetItem) -> None:
+        """A recorded altitude typed into the table."""
+        row = item.row()
+        try:
+            altitude = float(item.text())
+            self._shots[row] = replace(self._shots[row], recorded_altitude_m=altitude)
+        except ValueError:
+            self.status.show_message(f"row {row + 1}: the recorded altitude must be a positive "
+                                     f"number of metres, not {item.text()!r}", "error")
+            self._fill_table()
+            return
+        self._refit()
+
+    def set_altitude(self, row: int, altitude_m: float) -> None:
+        """Type ``altitude_m`` into the altitude cell of ``row`` (as a user does)."""
+        self.table.item(row, 1).setText(f"{altitude_m:g}")
+
+    def _show_selected(self) -> None:
+        self._clicks = []
+        row = self.table.currentRow()
+        shot = self._shots[row] if 0 <= row < len(self._shots) else None
+        if shot is None or shot.image not in self._images:
+            self.line.hide()
+            return
+        self.canvas.set_frame(self._images[shot.image])
+        self.canvas.fit_to_window()
+        self._draw_ends(shot.ends_px)
+
+    def _draw_ends(self, ends) -> None:
+        if ends is None:
+            self.line.hide()
+            return
+        (u0, v0), (u1, v1) = ends
+        self.line.setLine(QLineF(u0, v0, u1, v1))
+        self.line.show()
+
+    def _on_clicked(self, u: float, v: float, _modifiers: Qt.KeyboardModifier) -> None:
+        row = self.table.currentRow()
+        if not (0 <= row < len(self._shots)) or self._shots[row].image not in self._images:
+            return
+        self._clicks = [*self._clicks[-1:], (u, v)] if len(self._clicks) < 2 else [(u, v)]
+        if len(self._clicks) < 2:
+            self.line.hide()
+            return
+        ends = (self._clicks[0], self._clicks[1])
+        length = float(np.hypot(ends[1][0] - ends[0][0], ends[1][1] - ends[0][1]))
+        if length < 1.0:
+            return
+        self._shots[row] = replace(self._shots[row], pixel_length=length, ends_px=ends)
+        self._draw_ends(ends)
+        self._fill_table()
+        self.table.selectRow(row)
+        self._refit()
+
+    # ------------------------------------------------------------------ the fit
+    def _measured(self) -> tuple[ObjectShot, ...]:
+        return tuple(shot for shot in self._shots
+                     if shot.ends_px is not None or shot.image not in self._images)
+
+    def calibration_set(self) -> AltitudeCalibrationSet:
+        """The set as entered (ValueError saying what is missing)."""
+        return AltitudeCalibrationSet(self.name.text().strip() or "unnamed calibration",
+                                      self.object_length.value(), self._camera,
+                                      self.altimeter.currentText(), self._measured())
+
+    def _refit(self) -> None:
+        self._generation += 1
+        try:
+            calibration_set = self.calibration_set()
+        except ValueError as exc:
+            self._show_fit(None, str(exc))
+            return
+        self.jobs.run(lambda: fitted_calibration(calibration_set),
+                      lambda fitted, g=self._generation: g == self._generation
+                      and self._show_fit(fitted, ""),
+                      lambda why, g=self._generation: g == self._generation
+                      and self._show_fit(None, why))
+
+    def _show_fit(self, calibration: AltitudeCalibration | None, why: str) -> None:
+        self.calibration = calibration
+        self.figure.clear()
+        if calibration is None:
+            self.summary.setText(f"No line yet: {why}")
+        else:
+            draw_altitude_calibration(self.figure.add_subplot(), self._measured(), calibration)
+            low, high = calibration.slope_ci
+            self.summary.setText(
+                f"true altitude = {calibration.intercept_m:+.2f} m + {calibration.slope:.4f} × "
+                f"recorded (scale {low:.4f}–{high:.4f}); spread "
+                f"{100 * calibration.residual_sd_fraction:.2f} % of the altitude"
+                + (f"; check {', '.join(Path(o).name for o in calibration.outliers)}"
+                   if calibration.outliers else ""))
+        self.plot.draw_idle()
+
+    def choice(self) -> CalibrationChoice:
+        """The answer once accepted."""
+        return CalibrationChoice(self.calibration_set(),
+                                 tuple(i for i, box in self.clip_boxes.items() if box.isChecked()))
+
+    def accept(self) -> None:
+        """Only a calibration that gives a line is accepted."""
+        if self.calibration is None:
+            self.status.show_message("Measure at least five shots at different altitudes "
+                                     "first.", "error")
+            return
+        if not self.name.text().strip():
+            self.status.show_message("Name the calibration (the drone and altimeter).",
+                                     "error")
+            return
+        super().accept()
