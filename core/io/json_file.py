@@ -76,8 +76,9 @@ def dataclass_from_json(cls: type[T], data: Any, what: str) -> T:
 
 def _typed(value: Any, kind: Any, where: str) -> Any:
     """``value`` checked against a field's type (bool, int, float, str, ``X | None``,
-    ``tuple[…]`` or ``tuple[X, ...]`` from a JSON list); InputError naming ``where`` otherwise. A JSON number
-    passes for a float, a whole one for an int; true and false are no numbers."""
+    ``tuple[…]`` or ``tuple[X, ...]`` from a JSON list); InputError naming ``where``
+    otherwise. A JSON number passes for a float, a whole one for an int; true and false are no
+    numbers."""
     if isinstance(kind, UnionType):
         options = get_args(kind)
         if value is None and type(None) in options:
@@ -86,7 +87,7 @@ def _typed(value: Any, kind: Any, where: str) -> Any:
     if get_origin(kind) is tuple:
         items = get_args(kind)
         if len(items) == 2 and items[1] is Ellipsis and isinstance(value, list):
-            items = (items[0],) * len(value)   # tuple[X, ...]: any length
+            items = (items[0],) * len(value)   # tuple[X, ...]
         if not isinstance(value, list) or len(value) != len(items):
             raise InputError(f"{where}: expected a list of {len(items)}, got {value!r}")
         return tuple(_typed(item, item_kind, f"{where}[{i}]")

@@ -139,6 +139,10 @@ def calibrated_telemetry(telemetry: Telemetry, calibration: AltitudeCalibration)
                    warnings=(*telemetry.warnings, *dict.fromkeys(warnings)))
 
 
+def _listed(values: np.ndarray) -> str:
+    return ", ".join(f"{value:g}" for value in np.unique(values))
+
+
 def _one_value(values: np.ndarray, given: float | None, name: str, path: Path,
                option: str) -> float:
     """The one value of a table column, or ``given``: InputError when the table's rows
@@ -146,15 +150,14 @@ def _one_value(values: np.ndarray, given: float | None, name: str, path: Path,
     known = values[np.isfinite(values)]
     if given is not None:
         if known.size and not np.allclose(known, given, rtol=SAME_CAMERA_RTOL, atol=0.0):
-            raise InputError(f"{path}: the table's {name} ({', '.join(f'{v:g}' for v in np.unique(known))}) "
-                             f"differs from {option} {given:g}")
+            raise InputError(f"{path}: the table's {name} ({_listed(known)}) differs from "
+                             f"{option} {given:g}")
         return float(given)
     if not known.size:
         raise InputError(f"{path}: the table has no {name}; give {option}")
     if not np.allclose(known, known[0], rtol=SAME_CAMERA_RTOL, atol=0.0):
-        raise InputError(f"{path}: the rows disagree on the {name} "
-                         f"({', '.join(f'{v:g}' for v in np.unique(known))}): one calibration "
-                         f"holds for one object and camera; split the table")
+        raise InputError(f"{path}: the rows disagree on the {name} ({_listed(known)}): one "
+                         f"calibration holds for one object and camera; split the table")
     return float(known[0])
 
 
@@ -203,7 +206,7 @@ def fit_altitude_calibration(table: CalibrationTable, object_length_m: float | N
     predicted = line.intercept + line.slope * recorded
     residual = implied - predicted
     residual_sd = float(np.sqrt(np.sum(residual ** 2) / (len(shots) - 2)))
-    relative = implied / predicted - 1
+    relative = implied / predicted - 1   # about the line, as the residuals: no mean taken off
     outlying = np.abs(residual) > OUTLIER_SDS * residual_sd
     offsets = recorded - implied
     return AltitudeCalibration(
@@ -215,7 +218,8 @@ def fit_altitude_calibration(table: CalibrationTable, object_length_m: float | N
         slope_ci=(float(line.slope - t * line.stderr), float(line.slope + t * line.stderr)),
         intercept_se_m=float(line.intercept_stderr), slope_se=float(line.stderr),
         mean_recorded_m=float(recorded.mean()),
-        residual_sd_m=residual_sd, residual_sd_fraction=float(np.std(relative, ddof=2)),
+        residual_sd_m=residual_sd,
+        residual_sd_fraction=float(np.sqrt(np.sum(relative ** 2) / (len(shots) - 2))),
         bias_only_m=float(offsets.mean()), bias_only_sd_m=float(offsets.std(ddof=1)),
         outliers=tuple(s.image for s, out in zip(shots, outlying) if out),
         source=path.name)

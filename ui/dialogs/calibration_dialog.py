@@ -235,12 +235,23 @@ class CalibrationDialog(QDialog):
         self._clicks = []
         row = self.table.currentRow()
         shot = self._shots[row] if 0 <= row < len(self._shots) else None
+        if shot is not None and shot.image not in self._images and Path(shot.image).is_file():
+            self.jobs.run(lambda: read_image(Path(shot.image)),   # a shot of an earlier session
+                          lambda rgb: self._on_earlier_image(shot.image, rgb),
+                          lambda why: self.status.show_message(why, "error"))
         if shot is None or shot.image not in self._images:
             self.line.hide()
             return
         self.canvas.set_frame(self._images[shot.image])
         self.canvas.fit_to_window()
         self._draw_ends(shot.ends_px)
+
+    def _on_earlier_image(self, image: str, rgb: np.ndarray) -> None:
+        """A saved shot's image, read again so that its ends can be clicked anew."""
+        self._images[image] = rgb
+        row = self.table.currentRow()
+        if 0 <= row < len(self._shots) and self._shots[row].image == image:
+            self._show_selected()
 
     def _draw_ends(self, ends) -> None:
         if ends is None:
