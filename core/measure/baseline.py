@@ -26,7 +26,8 @@ from core.measure.uncertainty import (
 from core.progress import ProgressCallback, part_of
 
 # Scalar outputs summarised in the JSON's "uncertainty" (MonteCarloResult field names)
-SUMMARISED = ("length_m", "volume_m3", "volume_circular_m3", "bai", "bci", "mass_kg")
+SUMMARISED = ("length_m", "volume_m3", "volume_circular_m3", "bai", "bai_parabola", "bci",
+              "mass_kg")
 
 
 @dataclass(frozen=True)
@@ -91,6 +92,8 @@ class BaselineEstimate:
         return {
             "length_m": float(p.length_m), "volume_m3": float(p.volume_m3),
             "volume_circular_m3": float(p.volume_circular_m3), "bai": float(p.bai),
+            "bai_parabola": float(p.bai_parabola), "surface_area_m2": float(p.surface_area_m2),
+            "surface_area_parabola_m2": float(p.surface_area_parabola_m2),
             "expected_volume_m3": float(c.expected_volume_m3), "bci": float(c.bci),
             "density_kg_m3": float(c.density_kg_m3), "mass_kg": float(c.mass_kg),
             "is_bci_outside_fit_range": bool(c.is_outside_fit_range),

@@ -126,23 +126,58 @@ def circular_volume(length_m: np.ndarray, widths_m: np.ndarray, tail: str) -> np
     return elliptical_volume(length_m, widths, np.ones(widths.shape[-1]), tail)
 
 
-def body_area_index(length_m: np.ndarray, widths_m: np.ndarray,
-                    bai_range: tuple[float, float] = BAI_RANGE) -> np.ndarray:
-    """(...) body area index: dorsal area between two stations / (range·BL)² × 100.
+BAI_METHODS = ("trapezoid", "parabola")
 
-    Trapezoid of the station widths over ``bai_range`` (fractions of BL, both stations);
-    Xcertainty's definition. length_m: (...); widths_m: (..., S) metres.
-    """
+
+def _bai_stations(bai_range: tuple[float, float]) -> np.ndarray:
+    """(S,) bool: the stations inside ``bai_range`` (fractions of BL, both ends included)."""
     lower, upper = bai_range
     is_in = (STATION_FRACTIONS >= lower - 1e-9) & (STATION_FRACTIONS <= upper + 1e-9)
-    if is_in.sum() < 2:
-        raise ValueError(f"bai_range {bai_range} holds fewer than two stations")
-    length = np.asarray(length_m)
-    widths = np.asarray(widths_m)[..., is_in]
-    step = np.diff(STATION_FRACTIONS[is_in]) * length[..., None]
-    area = (step * (widths[..., 1:] + widths[..., :-1]) / 2).sum(axis=-1)
-    span = STATION_FRACTIONS[is_in][-1] - STATION_FRACTIONS[is_in][0]
-    return area / (span * length) ** 2 * 100.0
+    if is_in.sum() < 3:
+        raise ValueError(f"bai_range {bai_range} holds fewer than three stations")
+    return is_in
+
+
+def projected_area(length_m: np.ndarray, widths_m: np.ndarray,
+                   bai_range: tuple[float, float] = BAI_RANGE,
+                   method: str = "trapezoid") -> np.ndarray:
+    """(...) dorsal area (m²) of the body between the first and last station in ``bai_range``.
+
+    "trapezoid": the widths joined by straight lines (Christiansen et al. 2016; CollatriX's
+    ``bai_trapezoid``, Xcertainty). "parabola": a least-squares parabola through the widths
+    against the position along the body, integrated over the range (Burnett et al. 2018;
+    CollatriX's ``bai_parabola``); fitted over fractions of BL, so that x = BL · f and the
+    area is BL times the parabola's integral over f. length_m: (...); widths_m: (..., S).
+    """
+    is_in = _bai_stations(bai_range)
+    length = np.asarray(length_m, dtype=np.float64)
+    widths = np.asarray(widths_m, dtype=np.float64)[..., is_in]
+    fractions = STATION_FRACTIONS[is_in]
+    if method == "trapezoid":
+        steps = np.diff(fractions)
+        integral = (steps * (widths[..., 1:] + widths[..., :-1]) / 2).sum(axis=-1)
+    elif method == "parabola":
+        flat = widths.reshape(-1, fractions.size)
+        coefficients = np.polyfit(fractions, flat.T, 2)                  # (3, N)
+        antiderivative = np.stack([coefficients[0] / 3, coefficients[1] / 2, coefficients[2]])
+        ends = np.array([fractions[-1], fractions[0]])
+        at = (antiderivative[:, :, None] * ends ** np.array([3, 2, 1])[:, None, None]).sum(0)
+        integral = (at[:, 0] - at[:, 1]).reshape(widths.shape[:-1])
+    else:
+        raise ValueError(f"BAI method must be one of {BAI_METHODS}, got {method!r}")
+    return length * integral
+
+
+def body_area_index(length_m: np.ndarray, widths_m: np.ndarray,
+                    bai_range: tuple[float, float] = BAI_RANGE,
+                    method: str = "trapezoid") -> np.ndarray:
+    """(...) body area index: ``projected_area`` / (range · BL)² × 100, the range between the
+    first and last station in ``bai_range`` (CollatriX's and Xcertainty's definition)."""
+    fractions = STATION_FRACTIONS[_bai_stations(bai_range)]
+    span = fractions[-1] - fractions[0]
+    length = np.asarray(length_m, dtype=np.float64)
+    return (projected_area(length, widths_m, bai_range, method)
+            / (span * length) ** 2 * 100.0)
 
 
 @dataclass(frozen=True, eq=False)
@@ -150,7 +185,8 @@ class EllipticalResult:
     """The elliptical baseline for one set of inputs (or a batch of D draws).
 
     Arrays carry the batch shape ``...`` of the inputs: length_m (...); widths_m and
-    heights_m (..., S) as used by the volume (tail applied); volumes (...) m³; bai (...).
+    heights_m (..., S) as used by the volume (tail applied); volumes (...) m³; bai,
+    bai_parabola (...) and the dorsal areas behind them (...) m² (``projected_area``).
     """
 
     length_m: np.ndarray
@@ -159,6 +195,9 @@ class EllipticalResult:
     volume_m3: np.ndarray
     volume_circular_m3: np.ndarray
     bai: np.ndarray
+    bai_parabola: np.ndarray
+    surface_area_m2: np.ndarray
+    surface_area_parabola_m2: np.ndarray
     condition: BodyCondition
 
 
@@ -180,5 +219,8 @@ def measure_elliptical(length_m: np.ndarray, widths_m: np.ndarray, hw_ratios: np
         volume_m3=volume,
         volume_circular_m3=circular_volume(length_m, widths, tail),
         bai=body_area_index(length_m, used_widths, bai_range),
+        bai_parabola=body_area_index(length_m, used_widths, bai_range, "parabola"),
+        surface_area_m2=projected_area(length_m, used_widths, bai_range),
+        surface_area_parabola_m2=projected_area(length_m, used_widths, bai_range, "parabola"),
         condition=body_condition(length_m, volume, mass_model),
     )

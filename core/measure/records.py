@@ -233,6 +233,8 @@ def _result_columns(estimate: BaselineEstimate, result: dict) -> dict[str, objec
     columns.update({"tail": estimate.settings.tail, "hw_ratios": estimate.settings.hw.name})
     if estimate.settings.tail == TAIL_EXTRAPOLATED:
         columns["BVell_5perc"] = result["volume_m3"]  # CollatriX's elliptical volume, same method
+    columns.update({name: result[name] for name in ("surface_area_m2",
+                                                    "surface_area_parabola_m2")})
     for name in SUMMARISED:
         columns[name] = result[name]
         if estimate.interval is not None:

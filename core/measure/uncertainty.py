@@ -132,6 +132,7 @@ class MonteCarloResult:
     volume_m3: Summary
     volume_circular_m3: Summary
     bai: Summary
+    bai_parabola: Summary
     bci: Summary
     mass_kg: Summary
     fraction_outside_fit_range: float  # share of draws whose BCI lies outside the fit range
@@ -232,6 +233,7 @@ def monte_carlo(pixels: PixelMeasurements, focal_px: float, altitude_m: float, h
         volume_m3=summarize(draws.volume_m3),
         volume_circular_m3=summarize(draws.volume_circular_m3),
         bai=summarize(draws.bai),
+        bai_parabola=summarize(draws.bai_parabola),
         bci=summarize(draws.condition.bci),
         mass_kg=summarize(draws.condition.mass_kg),
         fraction_outside_fit_range=float(draws.condition.is_outside_fit_range.mean()),

@@ -10,6 +10,8 @@ Files, all written atomically, under ``out_dir``:
   ``frame_idx`` in front.
 - ``STEM_collatrix.csv``: the table CollatriX's body-condition tool reads as it is, one row
   per frame, ``Image_ID`` being NAME.
+- ``STEM_xcertainty.csv``: the frames as Xcertainty reads them (core.project.xcertainty), and
+  ``STEM_xcertainty_calibration.csv`` the shots of the project's altitude calibrations, if any.
 - ``STEM_mmx/NAME.csv``: one MorphoMetriX v2 long CSV per frame.
 - ``STEM_receipts/NAME.png``: the receipt of each frame whose image ``frames`` gives.
 
@@ -41,6 +43,7 @@ from core.progress import Progress, ProgressCallback, check_cancel
 from core.project.model import Project, get_measurement
 from core.project.project_file import media_path
 from core.project.results import FrameResult, Spread, animal_summary
+from core.project.xcertainty import calibration_rows, measurement_row
 
 EXPORTS_SCHEMA_VERSION = 1
 UNSAFE_NAME_CHARS = re.compile(r"[^A-Za-z0-9._-]+")
@@ -113,7 +116,7 @@ def export_frames(project: Project, results: Sequence[FrameResult], out_dir: Pat
     names = export_names(project, results)
     written: list[Path] = []
     try:
-        rows, collatrix_rows = [], []
+        rows, collatrix_rows, xcertainty_rows = [], [], []
         for done, (name, result) in enumerate(zip(names, results), start=1):
             check_cancel(cancel)
             mmx = out_dir / f"{stem}_mmx" / f"{name}.csv"
@@ -124,6 +127,7 @@ def export_frames(project: Project, results: Sequence[FrameResult], out_dir: Pat
                                         csv_name=mmx.name)})
             collatrix_rows.append(collatrix_csv_row(result.source, result.estimate,
                                                     csv_name=mmx.name, image_id=name))
+            xcertainty_rows.append(measurement_row(project, result))
             rgb = frames(result) if frames is not None else None
             if rgb is not None:
                 annotation = get_measurement(project, result.key).to_annotation()
@@ -134,7 +138,10 @@ def export_frames(project: Project, results: Sequence[FrameResult], out_dir: Pat
                 progress(Progress("write", done, len(results), name))
         check_cancel(cancel)
         tables = {out_dir / f"{stem}_wide.csv": rows,
-                  out_dir / f"{stem}_collatrix.csv": collatrix_rows}
+                  out_dir / f"{stem}_collatrix.csv": collatrix_rows,
+                  out_dir / f"{stem}_xcertainty.csv": xcertainty_rows}
+        if project.calibrations:
+            tables[out_dir / f"{stem}_xcertainty_calibration.csv"] = calibration_rows(project)
         summary = out_dir / f"{stem}_results.json"
         write_json(summary, results_json(project, results, names))
         written.append(summary)
@@ -144,7 +151,7 @@ def export_frames(project: Project, results: Sequence[FrameResult], out_dir: Pat
     except BaseException:
         _remove(written)
         raise
-    return [summary, *tables, *written[:-3]]
+    return [summary, *tables, *written[:-1 - len(tables)]]
 
 
 def _remove(paths: Sequence[Path]) -> None:

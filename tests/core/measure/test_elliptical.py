@@ -10,9 +10,10 @@ from scipy.integrate import quad
 from core.measure.morphometrix import pixel_measurements, read_morphometrix
 from core.measure.elliptical import (
     TAIL_EXTRAPOLATED, TAIL_MEASURED, apply_tail, body_area_index, circular_volume,
+    projected_area,
     elliptical_volume, fill_skipped, segment_volumes,
 )
-from core.measure.stations import STATION_FRACTIONS
+from core.measure.stations import STATION_FRACTIONS, STATION_PCT
 
 BL_M = 2.5
 WIDTH_M = 0.4
@@ -154,3 +155,41 @@ def test_body_area_index_of_a_constant_width():
     assert body_area_index(BL_M, widths) == pytest.approx(200 * WIDTH_M / BL_M, rel=1e-12)
     assert body_area_index(BL_M, widths, (0.05, 0.95)) == pytest.approx(
         100 * WIDTH_M / (0.9 * BL_M), rel=1e-12)
+
+
+def _collatrix_bai(length_m: float, widths_m: np.ndarray, lower_pct: int, upper_pct: int,
+                   interval_pct: int = 5) -> tuple[float, float, float, float]:
+    """CollatriX's bodycondition_functions, written out as its documentation and code state
+    them: (BAI and surface area by parabola, BAI and surface area by trapezoid). The parabola
+    is a least-squares quadratic of the widths against x = BL · percent / 100, integrated over
+    [BL · lower, BL · upper] with scipy's quad; the trapezoid sums ½ (w + W) h, h = BL ·
+    interval; both BAIs are the area / (BL · range)² × 100."""
+    pcts = np.arange(lower_pct, upper_pct + interval_pct, interval_pct)
+    w = widths_m[np.searchsorted(np.round(STATION_FRACTIONS * 100), pcts)]
+    x = length_m * pcts / 100
+    fit = np.poly1d(np.polyfit(x, w, 2))
+    sa_parabola = quad(fit, length_m * lower_pct / 100, length_m * upper_pct / 100)[0]
+    sa_trapezoid = sum(0.5 * (a + b) * length_m * interval_pct / 100
+                       for a, b in zip(w[:-1], w[1:]))
+    scale = (length_m * (upper_pct - lower_pct) / 100) ** 2 / 100
+    return sa_parabola / scale, sa_parabola, sa_trapezoid / scale, sa_trapezoid
+
+
+@pytest.mark.parametrize("lower, upper", [(20, 70), (5, 95), (25, 80)])
+def test_body_area_index_agrees_with_collatrix_by_parabola_and_trapezoid(lower, upper):
+    """On a real body's widths (the minke measured by hand at 19 stations) and on random ones,
+    both BAIs and both surface areas agree with CollatriX's formulas to 1e-6 (relative)."""
+    record = read_morphometrix(Path(__file__).resolve().parents[2] / "data" / "real"
+                               / "minke" / "demo-annotated.csv")
+    real = (record.lengths_m["Total_Length"], np.array([record.widths_m["Total_Length"][pct]
+                                              for pct in STATION_PCT.tolist()]))
+    rng = np.random.default_rng(4)
+    for length, widths in (real, (2.4, rng.uniform(0.1, 0.5, 19))):
+        bai_par, sa_par, bai_trap, sa_trap = _collatrix_bai(length, widths, lower, upper)
+        span = (lower / 100, upper / 100)
+        assert body_area_index(length, widths, span, "parabola") == pytest.approx(bai_par,
+                                                                                 rel=1e-6)
+        assert projected_area(length, widths, span, "parabola") == pytest.approx(sa_par,
+                                                                                rel=1e-6)
+        assert body_area_index(length, widths, span) == pytest.approx(bai_trap, rel=1e-6)
+        assert projected_area(length, widths, span) == pytest.approx(sa_trap, rel=1e-6)

@@ -78,6 +78,7 @@ def test_writes_every_file(exported):
     _, _, out, paths, calls = exported
     names = ["DJI_0001_f000003_dolphin-1", "DJI_0001_f000009", "DJI_0001_f000003_dolphin-2"]
     expected = {out / "survey_results.json", out / "survey_wide.csv", out / "survey_collatrix.csv",
+                out / "survey_xcertainty.csv",
                 *(out / "survey_mmx" / f"{n}.csv" for n in names),
                 *(out / "survey_receipts" / f"{n}.png" for n in names)}
     assert set(paths) == expected and all(p.is_file() for p in paths)
