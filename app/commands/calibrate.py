@@ -1,5 +1,7 @@
-"""Calibrate the altimeter from an object of known length photographed at several altitudes.
+"""Calibrate the altimeter from an object of known length, and the lens from a checkerboard.
 
+  dolphinfit calibrate lens IMAGES…|VIDEO --board COLSxROWS --square-mm S --out LENS.json
+                     [--every K]
   dolphinfit calibrate altitude TABLE --out CAL.json [--object-length M]
                      [--camera PRESET | --focal-mm F --sensor-width-mm S --image-width W]
                      [--altimeter barometer|laser] [--drone NAME] [--plot PNG] [--json]
@@ -12,6 +14,11 @@ straight line from recorded to true altitude (offset and scale, with 95 % interv
 MedidoR and CollatriX use; Xcertainty's bias-only estimate is printed beside it. CAL.json goes
 to `dolphinfit measure`, `fit` and `batch` with --altitude-calibration: altitudes are corrected
 and the intervals take the calibration's spread as the altitude's error.
+
+`lens` finds a printed checkerboard (--board: its inner corners, e.g. 9x6) in images, or in
+every K-th frame of a video, and fits the lens's distortion with OpenCV (core/measure/lens.py);
+fewer than 5 views or corners more than 1 px (RMS) from the fit are refused. LENS.json goes to
+`dolphinfit measure --lens`, which takes the clicks through it before measuring.
 """
 
 import argparse
@@ -21,7 +28,9 @@ from pathlib import Path
 from core.camera_presets import get_preset
 from core.errors import InputError
 from core.io.calibration_table import ALTIMETERS, read_calibration_table
+from core.io.media import VIDEO_SUFFIXES
 from core.io.output_paths import check_output_file
+from core.limits import count
 from core.measure.altitude_calibration import (
     AltitudeCalibration,
     CalibrationCamera,
@@ -60,6 +69,20 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     altitude.add_argument("--json", action="store_true", dest="as_json",
                           help="print the calibration as JSON instead of a summary")
     altitude.set_defaults(calibrate_run=run_altitude)
+
+    lens = actions.add_parser("lens", help="the lens's distortion from images or a video of "
+                              "a printed checkerboard")
+    lens.add_argument("inputs", type=Path, nargs="+", metavar="IMAGES|VIDEO",
+                      help="images of the board, a video of it or a folder of its frames")
+    lens.add_argument("--board", required=True, metavar="COLSxROWS",
+                      help="inner corners of the board, e.g. 9x6")
+    lens.add_argument("--square-mm", type=float, required=True,
+                      help="the side of one square, mm")
+    lens.add_argument("--every", type=int, default=15, metavar="K",
+                      help="of a video, every K-th frame (default 15)")
+    lens.add_argument("--out", type=Path, required=True, metavar="LENS.json",
+                      help="where to write the lens model")
+    lens.set_defaults(calibrate_run=run_lens)
 
 
 def run(args: argparse.Namespace) -> int:
@@ -118,3 +141,46 @@ def run_altitude(args: argparse.Namespace) -> int:
         save_altitude_calibration_plot(table, calibration, args.plot)
     print(json.dumps(calibration.to_json(), indent=2) if args.as_json else summary(calibration))
     return 0
+
+
+def _board(text: str) -> tuple[int, int]:
+    try:
+        columns, rows = (int(part) for part in text.lower().split("x"))
+    except ValueError:
+        raise InputError(f"--board {text!r}: expected the inner corners as COLSxROWS, e.g. 9x6") \
+            from None
+    return columns, rows
+
+
+def _board_images(inputs: list[Path], every: int):
+    """The images to look for the board in: each file, or every ``every``-th frame of one
+    video or folder of frames."""
+    from core.io.image_file import read_image
+    from core.io.media import open_media
+
+    if len(inputs) == 1 and (inputs[0].is_dir() or inputs[0].suffix.lower() in VIDEO_SUFFIXES):
+        with open_media(inputs[0]) as frames:
+            for _, rgb in frames.frames(range(0, len(frames), every)):
+                yield rgb
+        return
+    for path in inputs:
+        yield read_image(path)
+
+
+def run_lens(args: argparse.Namespace) -> int:
+    """Find the board, calibrate, write LENS.json, print what was fitted."""
+    from core.measure.lens import calibrate_lens, write_lens
+
+    check_output_file(args.out, "--out ")
+    count(args.every, 1, "--every")
+    lens = calibrate_lens(_board_images(args.inputs, args.every), _board(args.board),
+                          args.square_mm, ", ".join(p.name for p in args.inputs[:3])
+                          + (" …" if len(args.inputs) > 3 else ""))
+    write_lens(lens, args.out)
+    k1, k2, p1, p2, _ = lens.distortion
+    print(f"{lens.num_views} views of the board, {lens.width_px}×{lens.height_px} px: corners "
+          f"{lens.rms_px:.3f} px (RMS) from the fitted lens\n"
+          f"focal {lens.fx_px:.1f} × {lens.fy_px:.1f} px, centre ({lens.cx_px:.1f}, "
+          f"{lens.cy_px:.1f}) px; k1 {k1:+.5f}, k2 {k2:+.5f}, p1 {p1:+.6f}, p2 {p2:+.6f}")
+    return 0
+

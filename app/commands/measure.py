@@ -5,7 +5,7 @@
                      [--altitude-m M] [--altitude-source laser|barometer|manual]
                      [--digitisation-sd-px PX] [--altitude-sd-fraction F]
                      [--focal-sd-fraction F] [--mass-model JSON]
-                     [--altitude-calibration CAL.json]
+                     [--altitude-calibration CAL.json] [--lens LENS.json]
   dolphinfit measure MORPHOMETRIX.csv [same options]
 
 The input is a dolphinfit annotation (JSON) or a MorphoMetriX v1/v2 CSV. Volume is the sum of
@@ -17,7 +17,9 @@ frame's mask (a folder of %06d.png, an .npz or a mask video; non-zero = dolphin)
 N Monte Carlo samples (0: none) over altitude, camera, digitisation and HW-ratio errors, with
 defaults by altitude source (laser 1 %, barometer 5 %, manual 10 %). --altitude-calibration
 corrects the altitude by a calibration of the image's camera (`dolphinfit calibrate altitude`)
-and takes the altitude error from its spread instead.
+and takes the altitude error from its spread instead. --lens takes the clicks through a lens
+model (`dolphinfit calibrate lens`) before measuring; without one, a frame measured more than
+half-way to its corner is warned about.
 
 Writes DIR/<name>_measure.json, DIR/<name>_mmx.csv (MorphoMetriX v2 long), DIR/<name>_wide.csv
 (ours: metres, pixels, Xcertainty's columns, results) and DIR/<name>_collatrix.csv (the table
@@ -41,6 +43,7 @@ from core.measure.baseline import BaselineEstimate, BaselineSettings, estimate_b
 from core.measure.condition import MassModel
 from core.measure.elliptical import TAIL_EXTRAPOLATED, TAIL_OPTIONS
 from core.measure.hw_ratios import DEFAULT_PRESET, FROM_MODEL
+from core.measure.lens import off_centre_warning, read_lens, undistorted_annotation
 from core.model.hw_spec import resolve_hw
 from core.measure.records import (
     MeasureInput, annotated_frame_mask, default_error_model, default_image_id,
@@ -80,6 +83,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--altitude-calibration", type=Path, default=None, metavar="CAL.json",
                         help="correct the altitude with a calibration from `dolphinfit "
                              "calibrate altitude` (its spread becomes the altitude's SD)")
+    parser.add_argument("--lens", type=Path, default=None, metavar="LENS.json",
+                        help="take the clicks through the camera's lens model from `dolphinfit "
+                             "calibrate lens` (annotations only)")
     parser.add_argument("--digitisation-sd-px", type=float, default=None,
                         help="SD of one click per image axis, px")
     parser.add_argument("--altitude-sd-fraction", type=float, default=None,
@@ -146,7 +152,8 @@ def _check_body(source: MeasureInput, where: Path) -> None:
 
 
 def _from_annotation(args: argparse.Namespace) -> MeasureInput:
-    """An annotation file with the altitude options applied (widths from a mask if asked)."""
+    """An annotation file with the altitude options applied (widths from a mask, the clicks
+    through a lens model, if asked)."""
     doc = read_annotation_json(args.input)
     if args.altitude_m is not None or args.altitude_source is not None:
         calibration = doc.calibration
@@ -157,14 +164,24 @@ def _from_annotation(args: argparse.Namespace) -> MeasureInput:
     if args.from_mask is not None:
         doc = with_mask_widths(doc, annotated_frame_mask(args.from_mask, doc))
         notes.append(f"widths from the mask {args.from_mask}")
-    return measured_image_from_annotation(doc, image_id=default_image_id(doc, args.input),
-                                          notes=notes)
+    intrinsics, warnings = doc.calibration.camera.intrinsics(), []
+    if args.lens is not None:
+        lens = read_lens(args.lens)
+        lens.check_image_size(intrinsics.width_px, intrinsics.height_px, str(args.input))
+        doc = replace(doc, annotation=undistorted_annotation(doc.annotation, lens))
+        notes.append(f"clicks taken through the lens model {args.lens.name}")
+        warnings += [w for w in (lens.focal_warning(intrinsics),) if w is not None]
+    elif (warning := off_centre_warning(doc.annotation, intrinsics)) is not None:
+        warnings.append(warning)
+    source = measured_image_from_annotation(doc, image_id=default_image_id(doc, args.input),
+                                            notes=notes)
+    return replace(source, warnings=tuple(warnings))
 
 
 def _from_morphometrix(args: argparse.Namespace) -> MeasureInput:
     """A MorphoMetriX CSV with the altitude options applied."""
-    if args.from_mask is not None:
-        raise InputError("--from-mask needs an annotation (.json) with a midline")
+    if args.from_mask is not None or args.lens is not None:
+        raise InputError("--from-mask and --lens need an annotation (.json) with its clicks")
     source = measured_image_from_morphometrix(args.input, altitude_m=args.altitude_m,
                                               altitude_source=args.altitude_source)
     if args.altitude_source is None:

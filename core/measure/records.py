@@ -55,6 +55,7 @@ class MeasureInput:
     sensor_width_mm: float | None = None
     uas: str = ""
     recorded_altitude_m: float | None = None   # before an altitude calibration, if applied
+    warnings: tuple[str, ...] = ()   # about the input (added to the estimate's in the result)
 
 
 def default_image_id(doc: AnnotationFile, path: Path) -> str:
@@ -173,12 +174,15 @@ def default_error_model(altitude_source: str, is_camera_approximate: bool,
 
 def result_record(source: MeasureInput, estimate: BaselineEstimate, *, input_name: str,
                   seed: int) -> dict:
-    """The result JSON: schema version, input, calibration, Monte Carlo seed and the estimate."""
+    """The result JSON: schema version, input, calibration, Monte Carlo seed and the estimate
+    (its warnings after the input's own)."""
+    estimated = estimate.to_json()
     return {"schema_version": RESULT_SCHEMA_VERSION, "input": input_name,
             "altitude_m": source.record.altitude_m, "altitude_source": source.altitude_source,
             **({} if source.recorded_altitude_m is None
                else {"recorded_altitude_m": source.recorded_altitude_m}),
-            "focal_px": source.focal_px, "seed": seed, **estimate.to_json()}
+            "focal_px": source.focal_px, "seed": seed, **estimated,
+            "warnings": [*source.warnings, *estimated["warnings"]]}
 
 
 def wide_csv_row(source: MeasureInput, estimate: BaselineEstimate, result: dict, *,

@@ -3,6 +3,7 @@
 import json
 from pathlib import Path
 
+import cv2
 import numpy as np
 import pandas as pd
 import pytest
@@ -216,3 +217,38 @@ def test_a_damaged_calibration_file_is_refused(tmp_path, capsys):
     assert main(["measure", str(path), "--altitude-calibration",
                  str(tmp_path / "other.json")]) == 2
     assert "not an altitude calibration" in capsys.readouterr().err
+
+
+def test_calibrate_lens_from_board_images_and_measure_through_it(tmp_path, capsys):
+    """Nine board images through a barrel lens: the lens is written; an annotation clicked in
+    the frame's corner is warned about without it, and measures longer through it (a barrel
+    lens shrinks what lies off-centre)."""
+    from tests.core.measure.test_lens import BOARD, board_views
+
+    paths = []
+    for i, view in enumerate(board_views()):
+        paths.append(tmp_path / f"board_{i}.png")
+        cv2.imwrite(str(paths[-1]), view)
+    lens = tmp_path / "lens.json"
+    assert main(["calibrate", "lens", *map(str, paths), "--board", f"{BOARD[0]}x{BOARD[1]}",
+                 "--square-mm", "30", "--out", str(lens)]) == 0
+    assert "k1 -0.1" in capsys.readouterr().out
+    annotation = _annotation_file(tmp_path)
+    doc = json.loads(annotation.read_text(encoding="utf-8"))
+    doc["midline_px"] = [[u + 380.0, v + 300.0] for u, v in doc["midline_px"]]   # the corner
+    annotation.write_text(json.dumps(doc), encoding="utf-8")
+    lengths = {}
+    for name, options in (("plain", []), ("lens", ["--lens", str(lens)])):
+        assert main(["measure", str(annotation), "--out", str(tmp_path / name), "--mc", "0",
+                     *options]) == 0
+        result = _result(tmp_path / name)
+        lengths[name] = result["length_m"]
+        assert any("without a lens model" in w for w in result["warnings"]) == (name == "plain")
+    assert 1.01 < lengths["lens"] / lengths["plain"] < 1.1
+    assert any("camera says 3644 px" in w for w in result["warnings"])   # 900 px calibrated
+    assert main(["calibrate", "lens", *map(str, paths[:3]), "--board", "9x6", "--square-mm",
+                 "30", "--out", str(tmp_path / "few.json")]) == 2
+    assert "at least 5 views" in capsys.readouterr().err
+    assert main(["calibrate", "lens", str(paths[0]), "--board", "nine", "--square-mm", "30",
+                 "--out", str(tmp_path / "bad.json")]) == 2
+    assert "expected the inner corners as COLSxROWS" in capsys.readouterr().err
