@@ -180,8 +180,9 @@ def _from_annotation(args: argparse.Namespace) -> MeasureInput:
 
 def _from_morphometrix(args: argparse.Namespace) -> MeasureInput:
     """A MorphoMetriX CSV with the altitude options applied."""
-    if args.from_mask is not None or args.lens is not None:
-        raise InputError("--from-mask and --lens need an annotation (.json) with its clicks")
+    for option, value in (("--from-mask", args.from_mask), ("--lens", args.lens)):
+        if value is not None:
+            raise InputError(f"{option} needs an annotation (.json) with its clicks")
     source = measured_image_from_morphometrix(args.input, altitude_m=args.altitude_m,
                                               altitude_source=args.altitude_source)
     if args.altitude_source is None:

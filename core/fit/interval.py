@@ -33,7 +33,8 @@ def result_interval(result: FitResult, m_per_px: float, errors: ErrorModel, hw: 
 def run_interval(run: FitRun, errors: ErrorModel,
                  outline_sd: float | None = None) -> FitInterval:
     """The fit's Monte Carlo with ``errors`` and an outline SD of ``outline_sd`` pixels of
-    the clip (default: ``outline_sd_px`` of its width); metres per pixel at the median
+    the clip (default: ``outline_sd_px`` of its width and its edge's blur); metres per pixel
+    at the median
     altitude of the fitted frames; its HW table's SDs (the default table's when it kept the
     template's own heights, which state none)."""
     camera, width = run.data.camera, run.clip.width_px
@@ -42,4 +43,5 @@ def run_interval(run: FitRun, errors: ErrorModel,
     table = run.result.config.hw_table
     hw = load_hw_preset() if table is None else resolve_hw(table)
     return result_interval(run.result, m_per_px, errors, hw,
-                           outline_sd_px(width) if outline_sd is None else outline_sd)
+                           outline_sd_px(width, run.result.edge_blur_px)
+                           if outline_sd is None else outline_sd)

@@ -8,7 +8,7 @@ raises core.progress.Cancelled.
 """
 
 import threading
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 import numpy as np
@@ -25,6 +25,7 @@ from core.io.masks import MaskTrack, read_masks
 from core.io.telemetry import Telemetry, load_telemetry
 from core.io.video import Clip, VideoReader, frames_at_fps, open_clip
 from core.measure.altitude_calibration import AltitudeCalibration, calibrated_telemetry
+from core.measure.edge_blur import edge_blur_px
 from core.progress import ProgressCallback
 from core.segment.backends import DEFAULT_BACKEND, make_segmenter
 from core.segment.segmenter import AutoSeed, Seed
@@ -61,6 +62,8 @@ class CameraChoice:
             return False
         return get_preset(self.preset or DEFAULT_PRESET).approximate
 
+EDGE_BLUR_FRAMES = 5   # frames the edge's blur is measured on (a fit has 10–50)
+
 
 @dataclass(frozen=True, eq=False)
 class FitRun:
@@ -81,7 +84,20 @@ def fit_clip(frames: FrameSource, telemetry: Telemetry, masks: MaskTrack,
     data = prepare_data(frames.clip, frames.frame, masks, telemetry, intrinsics, config,
                         progress=progress, cancel=cancel)
     result = fit(data, config, progress=progress, cancel=cancel)
+    result = replace(result, edge_blur_px=fitted_edge_blur(data, frames.clip.width_px))
     return FitRun(clip=frames.clip, telemetry=telemetry, masks=masks, data=data, result=result)
+
+
+def fitted_edge_blur(data: FitData, clip_width_px: int,
+                     max_frames: int = EDGE_BLUR_FRAMES) -> float:
+    """The median blur index (core.measure.edge_blur) of the animal's edge over up to
+    ``max_frames`` of the fitted frames, evenly spread, in pixels of the clip (the fit's frames
+    may be downscaled); NaN where no frame shows an edge."""
+    picks = np.unique(np.linspace(0, data.num_frames - 1, max_frames).round().astype(int))
+    blurs = [edge_blur_px(data.images[t].numpy(), data.masks[t].numpy() > 0.5) for t in picks]
+    blurs = [b for b in blurs if np.isfinite(b)]
+    scale = clip_width_px / data.camera.intrinsics.width_px
+    return float(np.median(blurs)) * scale if blurs else float("nan")
 
 
 def expected_length_px(focal_px: float, altitudes_m: np.ndarray,

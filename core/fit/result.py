@@ -41,6 +41,7 @@ class FitResult:
     status: str = STATUS_COMPLETE    # one of STATUSES
     status_message: str = ""         # why a fit ended early and what it lacks, in words
     profile: np.ndarray | None = None  # (2, K) profile field (None: fitted without one)
+    edge_blur_px: float = float("nan")  # blur index of the animal's edge, clip px (NaN: none)
 
     def to_json(self) -> dict:
         """The result file's content (arrays and meshes are written beside it: result_io)."""
@@ -56,6 +57,8 @@ class FitResult:
             "mean_iou": float(self.iou.mean()),
             "betas": self.betas.tolist(),
             "profile": None if self.profile is None else self.profile.tolist(),
+            "edge_blur_px": (float(self.edge_blur_px) if np.isfinite(self.edge_blur_px)
+                             else None),
             "f_water": self.f_water.tolist(),
             "frames": [{"frame": int(f), "time_s": float(t), "iou": float(i),
                         "transl_m": p.tolist(), "pose_aa": q.tolist()}

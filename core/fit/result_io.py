@@ -60,7 +60,8 @@ def read_fit_result(out_dir: Path) -> FitResult:
             loss_history=tuple(data["loss_history"]), timings_s=dict(data["timings"]),
             config=FitConfig.from_json(_as_made(data["config"], FIELDS_BEFORE)),
             warnings=tuple(data["warnings"]),
-            status=status, status_message=str(data["status_message"]))
+            status=status, status_message=str(data["status_message"]),
+            edge_blur_px=float(data.get("edge_blur_px") or "nan"))   # null or absent: none
         num_frames = len(data["frames"])
     except (KeyError, TypeError, ValueError) as exc:
         raise InputError(f"{json_path}: not a complete fit result ({exc!r})") from None

@@ -9,7 +9,8 @@ error source would have (first order in the error), and reruns body condition an
 - **Outline**: the masks the fit matched lie ``δ`` pixels outside (+) or inside (−) the
   animal's true outline, one ``δ`` per clip (a bias of the segmenter on that water, not
   noise: it does not average out over frames), its SD a share of the frame's width
-  (``OUTLINE_SD_OF_WIDTH``). Every station's width grows by 2δ, its height
+  (``OUTLINE_SD_OF_WIDTH``) or of the blur of the animal's edge (``OUTLINE_SD_PER_BLUR``),
+  whichever is larger. Every station's width grows by 2δ, its height
   with it (the fit ties heights to widths), and the length by 2δ (rostrum tip and fluke
   notch). Checked against fits on the suite's true masks grown by 1.2 px all round: this
   model gives +24.6 % and +38.6 % of volume where the fit gave +19.5 % and +31.9 %
@@ -38,12 +39,25 @@ from core.measure.uncertainty import ErrorModel, Summary, summarize, summary_jso
 # 4K. The errors grow with the frame (foam, glitter and faint ends are scene-sized, not pixel-
 # sized). Measured on synthetic clips only: real water may do worse (provisional).
 OUTLINE_SD_OF_WIDTH = 1.9e-4
+# The same offsets against the blur index of the animal's edge (core.measure.edge_blur, on the
+# true masks of the scored frames): their root mean square over the index was 0.35 on the
+# tuning split (12 clips at 1080p, index 0.55–1.14) and 0.28 on the held-out split (8 clips,
+# two of them 720p frames of 5K footage with 13–14 px wide animals). Downscaled or soft footage
+# blurs the edge in pixels while the frame's width shrinks: the frame-width rule then claims an
+# outline sharper than the image (0.14 px on a 719-px wide clip) where this one does not.
+OUTLINE_SD_PER_BLUR = 0.35
 DEFAULT_FIT_DRAWS = 4000
 
 
-def outline_sd_px(frame_width_px: int) -> float:
-    """The default outline SD in pixels of a frame ``frame_width_px`` wide."""
-    return OUTLINE_SD_OF_WIDTH * frame_width_px
+def outline_sd_px(frame_width_px: int, edge_blur_px: float = float("nan")) -> float:
+    """The default outline SD in pixels of a frame ``frame_width_px`` wide whose animal's edge
+    has the blur index ``edge_blur_px`` (NaN: not measured): the larger of the two rules, each
+    measured on the bench's clips, so neither a sharp large frame nor a soft small one is
+    taken for more precise than its own rule says."""
+    by_width = OUTLINE_SD_OF_WIDTH * frame_width_px
+    if not np.isfinite(edge_blur_px):
+        return by_width
+    return max(by_width, OUTLINE_SD_PER_BLUR * edge_blur_px)
 
 
 @dataclass(frozen=True, eq=False)

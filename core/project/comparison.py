@@ -49,14 +49,15 @@ def interval_of(estimate: BaselineEstimate, key: str) -> Summary | None:
 def fit_interval_of(estimate: BaselineEstimate, fit: FitResult,
                     frame_width_px: int) -> FitInterval | None:
     """The fit's Monte Carlo beside the estimate's (module doc), its outline SD that of a frame
-    ``frame_width_px`` wide; None when the estimate has none or the fit has no positive
+    ``frame_width_px`` wide and the fit's edge blur; None when the estimate has none or the fit has no positive
     volume and length. Loads torch: worker only."""
     from core.fit.interval import result_interval
 
     if estimate.interval is None or not (fit.volume_m3 > 0 and fit.length_m > 0):
         return None
     return result_interval(fit, estimate.m_per_px, estimate.errors, estimate.settings.hw,
-                           outline_sd_px(frame_width_px), estimate.settings.mass_model,
+                           outline_sd_px(frame_width_px, fit.edge_blur_px),
+                           estimate.settings.mass_model,
                            estimate.interval.num_draws)
 
 

@@ -382,3 +382,18 @@ def test_cli_fit_with_an_altitude_calibration(clip_dir, tiny_run, tmp_path, caps
                  "--altitude-calibration", str(other)]) == 2
     assert "holds only for its own camera" in capsys.readouterr().err
     assert not (tmp_path / "out" / "result.json").exists()
+
+
+def test_the_fit_measures_its_edges_blur_and_its_interval_takes_the_larger_rule(tiny_run):
+    """The synthetic clip's edge reads a blur index of about 1 px; the outline SD of the fit's
+    interval is the larger of the frame-width rule (0.36 px at 1920) and 0.35 × the index."""
+    from core.fit.interval import run_interval
+    from core.measure.fit_uncertainty import OUTLINE_SD_OF_WIDTH, OUTLINE_SD_PER_BLUR
+    from core.measure.uncertainty import ErrorModel
+
+    run, _ = tiny_run
+    blur = run.result.edge_blur_px
+    assert 0.5 < blur < 2.0
+    interval = run_interval(run, ErrorModel.default("laser", False))
+    assert interval.outline_sd_px == pytest.approx(max(OUTLINE_SD_OF_WIDTH * 1920,
+                                                       OUTLINE_SD_PER_BLUR * blur))
