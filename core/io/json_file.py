@@ -74,6 +74,22 @@ def dataclass_from_json(cls: type[T], data: Any, what: str) -> T:
     return cls(**values)
 
 
+def read_tagged_dataclass(path: Path, cls: type[T], file_format: str, version: int,
+                          what: str) -> T:
+    """Dataclass ``cls`` from a file of ``{"format": file_format, "version": version, …its
+    fields}``; InputError naming the file when it is another kind of file, another version,
+    or a field is missing or of the wrong type (``what`` names the content, e.g. "lens
+    model")."""
+    doc = read_json(path, f"the {what}")
+    if not isinstance(doc, dict) or doc.get("format") != file_format:
+        raise InputError(f"{path}: is no {what} (expected format {file_format!r})")
+    if doc.get("version") != version:
+        raise InputError(f"{path}: {what} version {doc.get('version')!r}; this dolphinfit "
+                         f"reads version {version}")
+    fields = {name: value for name, value in doc.items() if name not in ("format", "version")}
+    return dataclass_from_json(cls, fields, str(path))
+
+
 def _typed(value: Any, kind: Any, where: str) -> Any:
     """``value`` checked against a field's type (bool, int, float, str, ``X | None``,
     ``tuple[…]`` or ``tuple[X, ...]`` from a JSON list); InputError naming ``where``

@@ -27,7 +27,7 @@ import numpy as np
 
 from core.errors import InputError
 from core.io.calibration_table import CalibrationTable
-from core.io.json_file import dataclass_from_json, read_json, write_json
+from core.io.json_file import read_tagged_dataclass, write_json
 from core.io.telemetry import Telemetry
 from core.limits import BODY_LENGTH_M, FOCAL_MM, IMAGE_SIZE_PX, SENSOR_WIDTH_MM, in_range
 
@@ -229,14 +229,8 @@ def read_altitude_calibration(path: Path | str) -> AltitudeCalibration:
     """A calibration written by ``dolphinfit calibrate altitude``; InputError naming the file
     and field when it is not one or a value is impossible."""
     path = Path(path)
-    doc = read_json(path, "the altitude calibration")
-    if not isinstance(doc, dict) or doc.get("format") != FORMAT:
-        raise InputError(f"{path}: not an altitude calibration (expected format {FORMAT!r})")
-    if doc.get("version") != VERSION:
-        raise InputError(f"{path}: altitude calibration version {doc.get('version')!r}; this "
-                         f"dolphinfit reads version {VERSION}")
-    fields = {name: value for name, value in doc.items() if name not in ("format", "version")}
-    calibration = dataclass_from_json(AltitudeCalibration, fields, str(path))
+    calibration = read_tagged_dataclass(path, AltitudeCalibration, FORMAT, VERSION,
+                                        "altitude calibration")
     camera = calibration.camera
     numbers = (calibration.intercept_m, calibration.slope, calibration.residual_sd_fraction,
                camera.focal_mm, camera.sensor_width_mm, camera.image_width_px)

@@ -26,7 +26,7 @@ import numpy as np
 
 from core.errors import InputError
 from core.intrinsics import CameraIntrinsics
-from core.io.json_file import dataclass_from_json, read_json, write_json
+from core.io.json_file import read_tagged_dataclass, write_json
 from core.measure.annotation import Annotation
 
 FORMAT = "dolphinfit-lens"
@@ -171,14 +171,7 @@ def calibrate_lens(images: Iterable[np.ndarray], board: tuple[int, int], square_
 def read_lens(path: Path | str) -> LensModel:
     """A lens written by ``dolphinfit calibrate lens``; InputError naming the file otherwise."""
     path = Path(path)
-    doc = read_json(path, "the lens model")
-    if not isinstance(doc, dict) or doc.get("format") != FORMAT:
-        raise InputError(f"{path}: not a lens model (expected format {FORMAT!r})")
-    if doc.get("version") != VERSION:
-        raise InputError(f"{path}: lens model version {doc.get('version')!r}; this dolphinfit "
-                         f"reads version {VERSION}")
-    lens = dataclass_from_json(LensModel, {k: v for k, v in doc.items()
-                                           if k not in ("format", "version")}, str(path))
+    lens = read_tagged_dataclass(path, LensModel, FORMAT, VERSION, "lens model")
     numbers = (lens.fx_px, lens.fy_px, lens.cx_px, lens.cy_px, *lens.distortion)
     if not (np.all(np.isfinite(numbers)) and lens.fx_px > 0 and lens.fy_px > 0
             and lens.width_px > 0 and lens.height_px > 0):

@@ -216,7 +216,7 @@ def test_a_damaged_calibration_file_is_refused(tmp_path, capsys):
     (tmp_path / "other.json").write_text('{"format": "something"}', encoding="utf-8")
     assert main(["measure", str(path), "--altitude-calibration",
                  str(tmp_path / "other.json")]) == 2
-    assert "not an altitude calibration" in capsys.readouterr().err
+    assert "is no altitude calibration" in capsys.readouterr().err
 
 
 def test_calibrate_lens_from_board_images_and_measure_through_it(tmp_path, capsys):

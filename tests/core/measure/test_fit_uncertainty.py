@@ -107,7 +107,8 @@ def test_the_comparison_gives_the_fit_an_interval_beside_the_elliptical_one():
     verts, faces = torch.as_tensor(template.verts), torch.as_tensor(template.faces)
     fit = SimpleNamespace(
         rest_verts=template.verts, volume_m3=float(mesh_volume(verts, faces)),
-        length_m=float(body_length(verts, template.rostrum_idx, template.notch_idx)))
+        length_m=float(body_length(verts, template.rostrum_idx, template.notch_idx)),
+        edge_blur_px=float("nan"))   # not measured: the frame-width rule
     condition = body_condition(np.float64(fit.length_m), np.float64(fit.volume_m3))
     fit.bci, fit.density_kg_m3 = float(condition.bci), float(condition.density_kg_m3)
     fit.mass_kg = float(condition.mass_kg)
