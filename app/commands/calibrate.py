@@ -2,16 +2,17 @@
 
   dolphinfit calibrate lens IMAGES…|VIDEO --board COLSxROWS --square-mm S --out LENS.json
                      [--every K]
-  dolphinfit calibrate altitude TABLE --out CAL.json [--object-length M]
+  dolphinfit calibrate altitude TABLE|PROJECT --out CAL.json [--object-length M]
                      [--camera PRESET | --focal-mm F --sensor-width-mm S --image-width W]
                      [--altimeter barometer|laser] [--drone NAME] [--plot PNG] [--json]
 
 TABLE (.csv, .xlsx or .rda) holds one row per image of the object: its length in pixels and the
 recorded altitude, in our columns (image, altitude_m, pixel_length), MedidoR's calibration
-sheet or Xcertainty's calibration tables. The object's length and the camera come from the
-options or from the table's own columns; where both say, they must agree. The fit is the
-straight line from recorded to true altitude (offset and scale, with 95 % intervals) that
-MedidoR and CollatriX use; Xcertainty's bias-only estimate is printed beside it. CAL.json goes
+sheet or Xcertainty's calibration tables; or a project, whose calibration made in the app
+(chosen with --drone where it has several) is fitted as it is. The object's length and the
+camera come from the options or from the table's own columns; where both say, they must
+agree. The fit is the straight line from recorded to true altitude (offset and scale, with
+95 % intervals) that MedidoR and CollatriX use; Xcertainty's bias-only estimate is printed beside it. CAL.json goes
 to `dolphinfit measure`, `fit` and `batch` with --altitude-calibration: altitudes are corrected
 and the intervals take the calibration's spread as the altitude's error.
 
@@ -30,6 +31,7 @@ from core.errors import InputError
 from core.io.calibration_table import ALTIMETERS, read_calibration_table
 from core.io.media import VIDEO_SUFFIXES
 from core.io.output_paths import check_output_file
+from core.project.project_file import PROJECT_SUFFIX
 from core.limits import count
 from core.measure.altitude_calibration import (
     AltitudeCalibration,
@@ -46,8 +48,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     actions = parser.add_subparsers(dest="calibrate_action", required=True, metavar="ACTION")
     altitude = actions.add_parser("altitude", help="fit recorded → true altitude from an "
                                   "object of known length")
-    altitude.add_argument("table", type=Path, help="the object's pixel lengths and recorded "
-                          "altitudes (.csv, .xlsx, .rda)")
+    altitude.add_argument("table", type=Path, metavar="TABLE|PROJECT",
+                          help="the object's pixel lengths and recorded altitudes (.csv, "
+                               ".xlsx, .rda), or a project whose calibration to fit")
     altitude.add_argument("--out", type=Path, required=True, metavar="CAL.json",
                           help="where to write the calibration")
     altitude.add_argument("--object-length", type=float, default=None, metavar="M",
@@ -63,7 +66,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     altitude.add_argument("--altimeter", choices=ALTIMETERS, default=None,
                           help="which altitudes, where the table has barometer and laser")
     altitude.add_argument("--drone", default=None, help="whose shots, where the table has "
-                          "several drones")
+                          "several drones; of a project, the calibration's name")
     altitude.add_argument("--plot", type=Path, default=None, metavar="PNG",
                           help="also draw the shots and the line")
     altitude.add_argument("--json", action="store_true", dest="as_json",
@@ -127,18 +130,51 @@ def summary(calibration: AltitudeCalibration) -> str:
     return "\n".join(lines)
 
 
+def _project_calibration(args: argparse.Namespace):
+    """The shots and fitted line of a project's calibration set (the one named by --drone,
+    or its only one); the object and camera are the set's own."""
+    from core.project.calibrations import fitted_calibration
+    from core.project.project_file import read_project
+
+    given = [option for option, value in (("--object-length", args.object_length),
+                                          ("--camera", args.camera),
+                                          ("--altimeter", args.altimeter))
+             if value is not None] + [f"--{name.replace('_', '-')}" for name in CAMERA_OPTIONS
+                                      if getattr(args, name) is not None]
+    if given:
+        raise InputError(f"{args.table}: a project's calibration carries its own object, "
+                         f"camera and altimeter; drop {', '.join(given)}")
+    project = read_project(args.table)
+    names = [c.name for c in project.calibrations]
+    if not names:
+        raise InputError(f"{args.table}: the project has no altitude calibration (Clip → "
+                         f"Altitude calibration… in the app)")
+    if args.drone is None and len(names) > 1:
+        raise InputError(f"{args.table}: {len(names)} calibrations ({', '.join(names)}); "
+                         f"choose one with --drone")
+    name = args.drone if args.drone is not None else names[0]
+    if name not in names:
+        raise InputError(f"{args.table}: no calibration {name!r}; it has {', '.join(names)}")
+    calibration_set = project.calibration(name)
+    return calibration_set.shots, fitted_calibration(calibration_set)
+
+
 def run_altitude(args: argparse.Namespace) -> int:
     """Read the table, fit, write CAL.json (and the plot), print what was fitted."""
     check_output_file(args.out, "--out ")
     if args.plot is not None:
         check_output_file(args.plot, "--plot ")
-    table = read_calibration_table(args.table, args.altimeter, args.drone)
-    calibration = fit_altitude_calibration(table, args.object_length, _camera(args))
+    if args.table.suffix == PROJECT_SUFFIX:
+        shots, calibration = _project_calibration(args)
+    else:
+        table = read_calibration_table(args.table, args.altimeter, args.drone)
+        shots = table.shots
+        calibration = fit_altitude_calibration(table, args.object_length, _camera(args))
     write_altitude_calibration(calibration, args.out)
     if args.plot is not None:
         from core.measure.calibration_plot import save_altitude_calibration_plot
 
-        save_altitude_calibration_plot(table, calibration, args.plot)
+        save_altitude_calibration_plot(shots, calibration, args.plot)
     print(json.dumps(calibration.to_json(), indent=2) if args.as_json else summary(calibration))
     return 0
 

@@ -252,3 +252,25 @@ def test_calibrate_lens_from_board_images_and_measure_through_it(tmp_path, capsy
     assert main(["calibrate", "lens", str(paths[0]), "--board", "nine", "--square-mm", "30",
                  "--out", str(tmp_path / "bad.json")]) == 2
     assert "expected the inner corners as COLSxROWS" in capsys.readouterr().err
+
+
+def test_a_projects_calibration_is_fitted_headless(tmp_path, capsys):
+    """The set made in the app, from the project file: the same line as the app fits; its
+    own object and camera, so options that would contradict them are refused."""
+    from core.project.calibrations import fitted_calibration
+    from core.project.model import Project
+    from core.project.project_file import write_project
+    from tests.core.project.test_calibrations import calibration_set
+
+    calibration = calibration_set(CAMERA)
+    project = tmp_path / "survey.dolphinfit"
+    write_project(project, Project(calibrations=(calibration,)))
+    cal = _calibrate(tmp_path, project)
+    assert cal["slope"] == pytest.approx(fitted_calibration(calibration).slope, rel=1e-12)
+    assert cal["num_shots"] == 12 and cal["drone"] == "test drone barometer"
+    assert main(["calibrate", "altitude", str(project), "--out", str(tmp_path / "x.json"),
+                 "--object-length", "2"]) == 2
+    assert "drop --object-length" in capsys.readouterr().err
+    assert main(["calibrate", "altitude", str(project), "--out", str(tmp_path / "x.json"),
+                 "--drone", "other"]) == 2
+    assert "no calibration 'other'" in capsys.readouterr().err
