@@ -8,7 +8,6 @@ from pathlib import Path
 
 import numpy as np
 
-from core.io.calibration_table import CalibrationTable
 from core.measure.altitude_calibration import AltitudeCalibration
 
 
@@ -36,14 +35,15 @@ def draw_altitude_calibration(axes, shots: Sequence, calibration: AltitudeCalibr
     axes.grid(True, alpha=0.3)
 
 
-def save_altitude_calibration_plot(table: CalibrationTable, calibration: AltitudeCalibration,
+def save_altitude_calibration_plot(shots: Sequence, calibration: AltitudeCalibration,
                                    path: Path) -> None:
-    """The drawing as a PNG at ``path``."""
+    """The drawing of ``shots`` (as ``draw_altitude_calibration`` takes them) as a PNG at
+    ``path``."""
     from matplotlib.figure import Figure
 
     from core.io.atomic import atomic_path
 
     figure = Figure(figsize=(7, 5), dpi=110, layout="tight")
-    draw_altitude_calibration(figure.add_subplot(), table.shots, calibration)
+    draw_altitude_calibration(figure.add_subplot(), shots, calibration)
     with atomic_path(Path(path)) as tmp:
         figure.savefig(tmp, format="png")

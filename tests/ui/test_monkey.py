@@ -15,7 +15,7 @@ from .monkey import Monkey, settle
 from .test_app import measure_by_hand, open_and_wait
 
 SEED = int(os.environ.get("DOLPHINFIT_MONKEY_SEED", "20261128"))
-STEPS = int(os.environ.get("DOLPHINFIT_MONKEY_STEPS", "100"))
+STEPS = int(os.environ.get("DOLPHINFIT_MONKEY_STEPS", "80"))
 MINKE = Path(__file__).resolve().parents[1] / "data" / "real" / "minke" / "demo.JPG"
 
 
