@@ -2,13 +2,20 @@
 
 A calibration set keeps what the user measured (``core.project.model.AltitudeCalibrationSet``);
 the line is fitted from it when asked (a least-squares line over at most a few hundred shots:
-well under a millisecond), so a corrected click changes every result that uses it."""
+well under a millisecond), so a corrected click changes every result that uses it. Shots are
+measured on image files or on frames of a video (``VIDEO#frame=N``, altitudes from its SRT).
+"""
 
 from functools import lru_cache
 from pathlib import Path
 
+import numpy as np
+
+from core.errors import InputError
+from core.io.image_file import read_image
+from core.io.media import open_media
 from core.io.calibration_table import CalibrationShot, CalibrationTable
-from core.io.telemetry import Telemetry
+from core.io.telemetry import Telemetry, load_telemetry
 from core.measure.altitude_calibration import (
     AltitudeCalibration,
     CalibrationCamera,
@@ -16,6 +23,8 @@ from core.measure.altitude_calibration import (
     fit_altitude_calibration,
 )
 from core.project.model import AltitudeCalibrationSet, ObjectShot, Project
+
+UNKNOWN_ALTITUDE_M = 20.0   # a shot's altitude until the user types the recorded one
 
 
 def calibration_camera(calibration_set: AltitudeCalibrationSet) -> CalibrationCamera:
@@ -59,3 +68,34 @@ def shots_from_table(table: CalibrationTable) -> tuple[ObjectShot, ...]:
     """A calibration table's rows as shots of a calibration set (lengths without ends)."""
     return tuple(ObjectShot(shot.image, shot.recorded_altitude_m, shot.pixel_length)
                  for shot in table.shots)
+
+
+FRAME_MARK = "#frame="   # "clip.mp4#frame=120": a shot on a frame of a video
+
+
+def read_shot_image(image: str) -> np.ndarray:
+    """The RGB image a shot was measured on: an image file, or a frame of a video named
+    ``VIDEO#frame=N``; InputError when it cannot be read."""
+    media, mark, frame = image.partition(FRAME_MARK)
+    if not mark:
+        return read_image(Path(image))
+    with open_media(Path(media)) as frames:
+        return frames.frame(int(frame))
+
+
+def clip_shots(video: Path, every: int) -> tuple[tuple[ObjectShot, ...], str]:
+    """Every ``every``-th frame of a video as a shot still to be measured (a length of 1 px
+    until its ends are clicked), at the altitude its SRT sidecar records there; and a note
+    when it has none (the altitudes are then to be typed; 20 m meanwhile)."""
+    note = ""
+    with open_media(video) as frames:
+        clip = frames.clip
+        try:
+            altitudes = load_telemetry(clip).altitude_m
+        except InputError as exc:
+            altitudes, note = np.full(clip.num_frames, np.nan), f"{exc}: type the altitudes"
+    shots = tuple(ObjectShot(f"{video}{FRAME_MARK}{i}",
+                             float(altitudes[i]) if np.isfinite(altitudes[i]) and altitudes[i] > 0
+                             else UNKNOWN_ALTITUDE_M, 1.0)
+                  for i in range(0, clip.num_frames, every))
+    return shots, note

@@ -2,6 +2,7 @@
 the line fitted, the clip corrected, and the measured still's interval narrowing (the
 barometer's 5 % altitude SD replaced by the calibration's, under 3 % from five shots)."""
 
+from dataclasses import replace
 from pathlib import Path
 
 import cv2
@@ -97,3 +98,40 @@ def test_calibrate_the_altimeter_from_five_board_images(qtbot, new_window, still
     assert _interval_share(window) < 0.75 * share_before
     window.model.undo_stack.undo()
     assert window.model.project.calibrations == ()
+
+
+def test_frames_of_a_clip_come_with_their_srt_altitudes(qtbot, tmp_path):
+    """Every 25th frame of the sample video becomes a shot at the altitude its SRT records
+    there; a frame is read when its shot is selected, measured by two clicks, and only
+    measured shots count."""
+    import shutil
+
+    from core.camera_presets import get_preset
+    from core.io.telemetry import load_telemetry
+    from core.io.video import open_clip
+    from core.project.sample import ensure_sample_project
+
+    sample = ensure_sample_project().parent
+    video = tmp_path / "clip.mp4"
+    for name in ("clip.mp4", "clip.SRT"):
+        shutil.copy(sample / name, tmp_path / name)
+    clip = open_clip(video)
+    camera = replace(get_preset("dji-mavic3-fhd"), image_width_px=clip.width_px,
+                     image_height_px=clip.height_px)
+    dialog = CalibrationDialog(camera, None, [], set())
+    qtbot.addWidget(dialog)
+    dialog.show()
+    qtbot.waitExposed(dialog)
+    dialog.add_clip_frames(video, every=25)
+    qtbot.waitUntil(lambda: dialog.table.rowCount() == 2, timeout=SIGNAL_TIMEOUT_MS)
+    altitudes = load_telemetry(clip).altitude_m
+    assert [dialog.table.item(row, 1).text() for row in range(2)] == \
+        [f"{altitudes[0]:g}", f"{altitudes[25]:g}"]
+    assert dialog.table.item(0, 0).text() == "clip.mp4#frame=0"
+    assert dialog.calibration_set().shots == ()          # nothing measured yet
+    qtbot.waitUntil(lambda: dialog.canvas.image_rect().width() > 0, timeout=SIGNAL_TIMEOUT_MS)
+    for end in ((400.0, 300.0), (700.0, 300.0)):
+        qtbot.mouseClick(dialog.canvas.viewport(), LEFT,
+                         pos=dialog.canvas.mapFromScene(QPointF(*end)))
+    (shot,) = dialog.calibration_set().shots
+    assert shot.image.endswith("#frame=0") and shot.pixel_length == pytest.approx(300, abs=2)

@@ -23,7 +23,14 @@ from core.io.image_file import read_image
 from core.measure.altitude_calibration import AltitudeCalibration
 from core.measure.annotation import ALTITUDE_SOURCES
 from core.measure.calibration_plot import draw_altitude_calibration
-from core.project.calibrations import fitted_calibration, shots_from_table
+from core.project.calibrations import (
+    UNKNOWN_ALTITUDE_M,
+    FRAME_MARK,
+    clip_shots,
+    fitted_calibration,
+    read_shot_image,
+    shots_from_table,
+)
 from core.project.model import AltitudeCalibrationSet, ObjectShot
 from ui.dialogs.dialog_buttons import ok_cancel_buttons
 from ui.dialogs.message_label import MessageLabel
@@ -34,7 +41,8 @@ from ui.workers.background import BackgroundJobs
 ALTIMETERS = tuple(source for source in ALTITUDE_SOURCES if source != "manual")
 COLUMNS = ("image", "recorded altitude (m)", "length (px)")
 DEFAULT_OBJECT_LENGTH_M = 2.0
-DEFAULT_ALTITUDE_M = 20.0
+FRAME_STEP = 30          # of a video, one frame a second at 30 frames/s
+KEPT_IMAGES = 4
 DEFAULT_ALTIMETER = "barometer"   # what most drones carry
 LINE_COLOUR = Qt.GlobalColor.yellow
 
@@ -62,7 +70,8 @@ class CalibrationDialog(QDialog):
         self.jobs = BackgroundJobs(self)
         self._camera = camera
         self._shots: list[ObjectShot] = list(current.shots) if current else []
-        self._images: dict[str, np.ndarray] = {}   # image path → RGB, for clicking
+        self._images: dict[str, np.ndarray] = {}   # the last few shots' images, for clicking
+        self._pending: set[str] = set()   # shots added here whose ends are not clicked yet
         self._clicks: list[tuple[float, float]] = []
         self._generation = 0   # of the fit asked for last
         self.calibration: AltitudeCalibration | None = None
@@ -111,6 +120,9 @@ class CalibrationDialog(QDialog):
             f"{self._camera.image_width_px}×{self._camera.image_height_px} px (the clip's)"))
         add = QPushButton("Add images…", objectName="add_images")
         add.clicked.connect(self._ask_images)
+        frames = QPushButton("Add clip frames…", objectName="add_clip_frames")
+        frames.setToolTip(f"every {FRAME_STEP}th frame of a video, at the altitudes of its SRT")
+        frames.clicked.connect(self._ask_clip)
         imported = QPushButton("Import table…", objectName="import_table")
         imported.setToolTip("pixel lengths and altitudes: our CSV, MedidoR's calib.xlsx or "
                             "Xcertainty's tables")
@@ -118,7 +130,7 @@ class CalibrationDialog(QDialog):
         remove = QPushButton("Remove shot", objectName="remove_shot")
         remove.clicked.connect(self.remove_selected)
         buttons = QHBoxLayout()
-        for button in (add, imported, remove):
+        for button in (add, frames, imported, remove):
             buttons.addWidget(button)
         left = QVBoxLayout()
         left.addLayout(form)
@@ -163,6 +175,30 @@ class CalibrationDialog(QDialog):
         if name:
             self.import_table(Path(name), self.altimeter.currentText())
 
+    def _ask_clip(self) -> None:
+        from PySide6.QtWidgets import QFileDialog
+
+        name, _ = QFileDialog.getOpenFileName(self, "A video of the calibration object", "",
+                                              "Videos (*.mp4 *.mov *.MP4 *.MOV);;All files (*)")
+        if name:
+            self.add_clip_frames(Path(name))
+
+    def add_clip_frames(self, video: Path, every: int | None = None) -> None:
+        """Every ``every``-th frame of ``video`` as a shot to measure, its altitude from the
+        video's SRT (shots where the object is not seen are removed by the user)."""
+        step = FRAME_STEP if every is None else every
+        self.jobs.run(lambda: clip_shots(video, step), self._on_clip_shots,
+                      lambda why: self.status.show_message(why, "error"))
+
+    def _on_clip_shots(self, found: tuple[tuple[ObjectShot, ...], str]) -> None:
+        shots, note = found
+        if note:
+            self.status.show_message(note, "warning")
+        self._pending.update(shot.image for shot in shots)
+        self._shots += shots
+        self._fill_table()
+        self.table.selectRow(len(self._shots) - len(shots))
+
     def add_images(self, paths: list[Path]) -> None:
         """Read ``paths`` in the background and add a shot for each (its length once its two
         ends are clicked; its altitude as recorded, to be typed)."""
@@ -188,15 +224,16 @@ class CalibrationDialog(QDialog):
                 f"{path.name} is {width} px wide; the camera's images are "
                 f"{self._camera.image_width_px} px: not a shot of this camera", "error")
             return
-        self._images[str(path)] = rgb
-        self._shots.append(ObjectShot(str(path), DEFAULT_ALTITUDE_M, 1.0))
+        self._remember(str(path), rgb)
+        self._pending.add(str(path))
+        self._shots.append(ObjectShot(str(path), UNKNOWN_ALTITUDE_M, 1.0))
         self._fill_table()
         self.table.selectRow(len(self._shots) - 1)
 
     def remove_selected(self) -> None:
         row = self.table.currentRow()
         if 0 <= row < len(self._shots):
-            del self._shots[row]
+            self._pending.discard(self._shots.pop(row).image)
             self._fill_table()
             self._refit()
 
@@ -204,7 +241,7 @@ class CalibrationDialog(QDialog):
         self.table.blockSignals(True)
         self.table.setRowCount(len(self._shots))
         for row, shot in enumerate(self._shots):
-            measured = shot.ends_px is not None or shot.image not in self._images
+            measured = shot.image not in self._pending
             cells = (Path(shot.image).name, f"{shot.recorded_altitude_m:g}",
                      f"{shot.pixel_length:.1f}" if measured else "click its ends")
             for column, text in enumerate(cells):
@@ -235,9 +272,9 @@ class CalibrationDialog(QDialog):
         self._clicks = []
         row = self.table.currentRow()
         shot = self._shots[row] if 0 <= row < len(self._shots) else None
-        if shot is not None and shot.image not in self._images and Path(shot.image).is_file():
-            self.jobs.run(lambda: read_image(Path(shot.image)),   # a shot of an earlier session
-                          lambda rgb: self._on_earlier_image(shot.image, rgb),
+        if shot is not None and shot.image not in self._images and _readable(shot.image):
+            self.jobs.run(lambda: read_shot_image(shot.image),   # a frame, or an earlier shot
+                          lambda rgb: self._on_shot_image(shot.image, rgb),
                           lambda why: self.status.show_message(why, "error"))
         if shot is None or shot.image not in self._images:
             self.line.hide()
@@ -246,9 +283,20 @@ class CalibrationDialog(QDialog):
         self.canvas.fit_to_window()
         self._draw_ends(shot.ends_px)
 
-    def _on_earlier_image(self, image: str, rgb: np.ndarray) -> None:
-        """A saved shot's image, read again so that its ends can be clicked anew."""
+    def _remember(self, image: str, rgb: np.ndarray) -> None:
+        """Keep ``image`` for clicking, and only the last few (a video's frames are large)."""
         self._images[image] = rgb
+        while len(self._images) > KEPT_IMAGES:
+            del self._images[next(iter(self._images))]
+
+    def _on_shot_image(self, image: str, rgb: np.ndarray) -> None:
+        """A shot's image read when it was selected, so that its ends can be clicked."""
+        if rgb.shape[1] != self._camera.image_width_px:
+            self.status.show_message(
+                f"{Path(image).name} is {rgb.shape[1]} px wide; the camera's images are "
+                f"{self._camera.image_width_px} px: not a shot of this camera", "error")
+            return
+        self._remember(image, rgb)
         row = self.table.currentRow()
         if 0 <= row < len(self._shots) and self._shots[row].image == image:
             self._show_selected()
@@ -274,6 +322,7 @@ class CalibrationDialog(QDialog):
         if length < 1.0:
             return
         self._shots[row] = replace(self._shots[row], pixel_length=length, ends_px=ends)
+        self._pending.discard(self._shots[row].image)
         self._draw_ends(ends)
         self._fill_table()
         self.table.selectRow(row)
@@ -281,8 +330,7 @@ class CalibrationDialog(QDialog):
 
     # ------------------------------------------------------------------ the fit
     def _measured(self) -> tuple[ObjectShot, ...]:
-        return tuple(shot for shot in self._shots
-                     if shot.ends_px is not None or shot.image not in self._images)
+        return tuple(shot for shot in self._shots if shot.image not in self._pending)
 
     def calibration_set(self) -> AltitudeCalibrationSet:
         """The set as entered (ValueError saying what is missing)."""
@@ -335,3 +383,9 @@ class CalibrationDialog(QDialog):
                                      "error")
             return
         super().accept()
+
+
+def _readable(image: str) -> bool:
+    """Whether a shot's image (a file, or a video's frame) is there to be read again."""
+    return Path(image.partition(FRAME_MARK)[0]).is_file()
+
