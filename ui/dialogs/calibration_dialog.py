@@ -13,7 +13,7 @@ from matplotlib.backends.backend_qtagg import FigureCanvasQTAgg
 from matplotlib.figure import Figure
 from PySide6.QtCore import QLineF, Qt
 from PySide6.QtWidgets import (QAbstractItemView, QCheckBox, QComboBox, QDialog, QDoubleSpinBox,
-                               QFormLayout, QGraphicsLineItem, QHBoxLayout, QHeaderView, QLabel,
+                               QFormLayout, QGraphicsLineItem, QGridLayout, QHeaderView, QLabel,
                                QLineEdit, QPushButton, QSplitter, QTableWidget,
                                QTableWidgetItem, QVBoxLayout, QWidget)
 
@@ -129,15 +129,16 @@ class CalibrationDialog(QDialog):
         imported.clicked.connect(self._ask_table)
         remove = QPushButton("Remove shot", objectName="remove_shot")
         remove.clicked.connect(self.remove_selected)
-        buttons = QHBoxLayout()
-        for button in (add, frames, imported, remove):
-            buttons.addWidget(button)
+        buttons = QGridLayout()   # two rows, so that the image keeps the room
+        for index, button in enumerate((add, frames, imported, remove)):
+            buttons.addWidget(button, index // 2, index % 2)
         left = QVBoxLayout()
         left.addLayout(form)
         left.addWidget(self.table)
         left.addLayout(buttons)
-        left.addWidget(QLabel("Click the object's two ends on the selected shot's image (the wheel "
-                              "zooms); type the altitude recorded with it."))
+        left.addWidget(QLabel("Click the object's two ends on the selected shot's image (the "
+                              "wheel zooms); type the altitude recorded with it.",
+                              wordWrap=True))
         right = QVBoxLayout()
         right.addWidget(self.plot)
         right.addWidget(self.summary)
