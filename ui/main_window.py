@@ -23,17 +23,7 @@ from core.camera_presets import preset_resolution_mismatch
 from core.errors import InputError
 from core.io.masks import read_masks
 from core.project.mask_store import masks_file, save_track
-from core.project.model import (
-    Animal,
-    Measurement,
-    add_animal,
-    add_measurement,
-    next_animal_id,
-    remove_animal,
-    remove_measurement,
-    with_animal,
-    with_clip,
-)
+from core.project.model import with_clip
 from core.project.project_file import relative_media_path
 from core.project.recent import recent_projects
 from core.segment.backends import BACKENDS, COLOUR, DEFAULT_BACKEND, NETWORK, SAM2
@@ -45,6 +35,7 @@ from ui.widgets.canvas import FrameCanvas
 from ui.state.clip_session import ClipSession
 from ui.state.commands import push_edit
 from ui.dialogs.questions import Questions
+from ui.controllers.animal_commands import AnimalCommands
 from ui.controllers.clip_sessions import ClipSessions
 from ui.controllers.export_controller import ExportController
 from ui.controllers.fit_controller import FitController
@@ -59,7 +50,7 @@ from ui.state.project_model import Change, ProjectModel
 from ui.widgets.project_panel import ProjectPanel
 from ui.widgets.results_panel import ResultsPanel
 from ui.widgets.timeline import Timeline
-from ui.state.viewer_state import Notifier, ViewerState
+from ui.state.viewer_state import Notifier, ViewerState, selected_clip
 
 LAYOUT_PREFERENCE = "window_layout"   # size, place and docks when last closed
 LAYOUT_VERSION = 1                     # of the dock layout: a new one ignores older layouts
@@ -91,6 +82,8 @@ class MainWindow(QMainWindow):
         self.files = ProjectFiles(self.model, self.ask, self.notifier, self.jobs, parent=self)
         self.sessions = ClipSessions(self.model, self.state, self.ask, self.notifier, self.jobs,
                                      parent=self)
+        self.animals = AnimalCommands(self.model, self.state, self.ask, self.notifier,
+                                      parent=self)
         self._pending_frame: int | None = None
 
         self.canvas = FrameCanvas()
@@ -597,11 +590,6 @@ class MainWindow(QMainWindow):
             self.notifier.status(f"preference not saved: {exc.strerror or exc}", 10_000)
 
     # ------------------------------------------------------------------ actions: Clip
-    def _current_clip(self) -> int | None:
-        if self.model.clip_idx is None:
-            self.notifier.error("No clip", "open a clip, an image or a folder of frames first")
-        return self.model.clip_idx
-
     def on_altitude(self) -> None:
         self.sessions.set_altitude()
 
@@ -612,68 +600,23 @@ class MainWindow(QMainWindow):
         self.sessions.calibrate_altitude()
 
     def on_add_animal(self) -> None:
-        clip_idx = self._current_clip()
-        if clip_idx is None:
-            return
-        clip = self.model.project.clips[clip_idx]
-        push_edit(self.model, add_animal(self.model.project, clip_idx,
-                                         Animal(next_animal_id(clip))),
-                  "add animal", Change("structure"))
-        self.model.select(clip_idx, len(clip.animals))
+        self.animals.add_animal()
 
     def on_edit_animal(self) -> None:
-        m = self.model
-        if m.animal_idx is None:
-            self.notifier.error("No animal", "select an animal first")
-            return
-        clip = m.project.clips[m.clip_idx]
-        animal = clip.animals[m.animal_idx]
-        others = [a.animal_id for i, a in enumerate(clip.animals) if i != m.animal_idx]
-        answer = self.ask.animal(animal, others)
-        if answer is not None:
-            animal_id, notes = answer
-            push_edit(m, with_animal(m.project, m.clip_idx, m.animal_idx, replace(
-                animal, animal_id=animal_id, notes=notes)),
-                "edit animal", Change("structure"))
+        self.animals.edit_animal()
 
     def on_remove_animal(self) -> None:
-        m = self.model
-        if m.animal_idx is None:
-            return
-        animal = m.project.clips[m.clip_idx].animals[m.animal_idx]
-        if self.ask.remove_animal(animal):
-            push_edit(m, remove_animal(m.project, m.clip_idx, m.animal_idx),
-                      f"remove {animal.animal_id}", Change("structure"))
+        self.animals.remove_animal()
 
     # ------------------------------------------------------------------ actions: Measure
     def on_measure_frame(self) -> None:
         """Start a measurement of the current animal on the current frame."""
-        m = self.model
-        clip_idx = self._current_clip()
-        if clip_idx is None or self.state.session is None:
-            return
-        project, animal_idx = m.project, m.animal_idx
-        clip = project.clips[clip_idx]
-        if animal_idx is None and clip.animals:
-            animal_idx = 0  # the clip's first animal, until the user picks another
-        elif animal_idx is None:
-            project = add_animal(project, clip_idx, Animal(next_animal_id(clip)))
-            animal_idx = 0
-        existing = project.clips[clip_idx].animals[animal_idx].measurement_at(self.state.frame_idx)
-        if existing is not None:
-            m.select(clip_idx, animal_idx, existing)
-            return
-        project, key = add_measurement(project, clip_idx, animal_idx,
-                                       Measurement(self.state.frame_idx))
-        push_edit(m, project, f"measure frame {self.state.frame_idx}", Change("structure", key=key))
-        self.actions_by_name["length_mode"].setChecked(True)
-        self.overlay.set_mode("length")
+        if self.animals.measure_frame():
+            self.actions_by_name["length_mode"].setChecked(True)
+            self.overlay.set_mode("length")
 
     def on_remove_measurement(self) -> None:
-        key = self.model.current_key()
-        if key is not None:
-            push_edit(self.model, remove_measurement(self.model.project, key),
-                      "remove measured frame", Change("structure"))
+        self.animals.remove_measurement()
 
     def on_length_mode(self) -> None:
         self.overlay.set_mode("length")
@@ -733,7 +676,7 @@ class MainWindow(QMainWindow):
 
     def on_masks(self) -> None:
         """Choose the clip's masks (a PNG folder, an .npz or a mask video), checked first."""
-        clip_idx = self._current_clip()
+        clip_idx = selected_clip(self.model, self.notifier)
         if clip_idx is None or self.state.session is None:
             return
         masks = self.ask.masks_source()

@@ -18,7 +18,7 @@ from ui.dialogs.questions import Questions
 from ui.state.clip_session import ClipSession, open_session, read_session_telemetry
 from ui.state.commands import push_edit
 from ui.state.project_model import Change, ProjectModel
-from ui.state.viewer_state import Notifier, ViewerState
+from ui.state.viewer_state import Notifier, ViewerState, selected_clip
 from ui.workers.background import BackgroundJobs
 
 
@@ -116,11 +116,9 @@ class ClipSessions(QObject):
         return frame_altitude(session.telemetry, frame_idx), spec.source
 
     def _open_clip(self) -> int | None:
-        """The selected clip when its session is open; an error said otherwise."""
-        if self.model.clip_idx is None:
-            self.notifier.error("No clip", "open a clip, an image or a folder of frames first")
-            return None
-        return self.model.clip_idx if self.state.session is not None else None
+        """The selected clip when its session is open; an error said when none is selected."""
+        clip_idx = selected_clip(self.model, self.notifier)
+        return clip_idx if self.state.session is not None else None
 
     def set_altitude(self) -> None:
         """Ask for the open clip's altitude and set it (an undoable edit)."""

@@ -53,3 +53,11 @@ class Notifier(QObject):
     def status(self, text: str, timeout_ms: int = 0) -> None:
         """A line in the status bar."""
         self.status_shown.emit(text, timeout_ms)
+
+
+def selected_clip(model, notifier: Notifier) -> int | None:
+    """The selected clip of ``model`` (a ProjectModel); None, with an error said, when none."""
+    if model.clip_idx is None:
+        notifier.error("No clip", "open a clip, an image or a folder of frames first")
+    return model.clip_idx
+
