@@ -41,6 +41,12 @@ FOCAL_PX_RTOL = 1e-3         # a preset's rounding, not another lens or video mo
 CONFIDENCE = 0.95
 
 
+def same_focal_px(a_px: float, b_px: float) -> bool:
+    """Whether two focal lengths in pixels are one camera and video mode's (a calibration
+    made with one holds for the other)."""
+    return bool(np.isclose(a_px, b_px, rtol=FOCAL_PX_RTOL, atol=0.0))
+
+
 @dataclass(frozen=True)
 class CalibrationCamera:
     """The camera the calibration holds for: real focal length, read sensor width, image
@@ -111,7 +117,7 @@ class AltitudeCalibration:
     def check_focal_px(self, focal_px: float, where: str) -> None:
         """InputError naming ``where`` unless its camera has the calibrated focal length in
         pixels (what ties pixels to metres; a video mode that crops differently has another)."""
-        if not np.isclose(focal_px, self.camera.focal_px, rtol=FOCAL_PX_RTOL, atol=0.0):
+        if not same_focal_px(focal_px, self.camera.focal_px):
             raise InputError(f"{where}: the altitude calibration was made with a camera of "
                              f"focal length {self.camera.focal_px:.1f} px ({self.camera.text()}); "
                              f"this one has {focal_px:.1f} px: a calibration holds only for its "

@@ -13,6 +13,7 @@ dolphinfit and are left empty.
 
 import math
 
+from core.measure.morphometrix import number_text
 from core.measure.stations import STATION_PCT
 from core.project.model import ClipEntry, Project
 from core.project.results import FrameResult
@@ -29,7 +30,7 @@ CALIBRATION_COLUMNS = (
 def _cell(value: object) -> str:
     if value is None or (isinstance(value, float) and not math.isfinite(value)):
         return ""   # R's read.csv reads an empty numeric cell as NA
-    return f"{value:.10g}" if isinstance(value, float) else str(value)
+    return number_text(value) if isinstance(value, float) else str(value)
 
 
 def _altitudes(source: str, altitude_m: float, launch_height_m: float) -> dict[str, object]:

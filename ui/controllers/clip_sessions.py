@@ -6,11 +6,10 @@ It holds the viewer state's session; the window shows what it opens (``opened``)
 reads again (``telemetry_changed``)."""
 
 from dataclasses import replace
-
-import numpy as np
 from PySide6.QtCore import QObject, Signal
 
 from core.errors import InputError
+from core.measure.altitude_calibration import same_focal_px
 from core.project.model import with_calibration, with_clip
 from core.project.project_file import media_path
 from core.project.results import frame_altitude
@@ -159,7 +158,7 @@ class ClipSessions(QObject):
                    else project.calibration(clip.altitude_calibration))
         focal_px = clip.camera.intrinsics().focal_px
         same_camera = [(i, c.name) for i, c in enumerate(project.clips)
-                       if np.isclose(c.camera.intrinsics().focal_px, focal_px, rtol=1e-3)]
+                       if same_focal_px(c.camera.intrinsics().focal_px, focal_px)]
         ticked = ({clip_idx} if current is None else
                   {i for i, c in enumerate(project.clips)
                    if c.altitude_calibration == current.name})

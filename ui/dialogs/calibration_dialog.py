@@ -219,17 +219,22 @@ class CalibrationDialog(QDialog):
 
     def _on_image_read(self, read: tuple[Path, np.ndarray]) -> None:
         path, rgb = read
-        width = rgb.shape[1]
-        if width != self._camera.image_width_px:
-            self.status.show_message(
-                f"{path.name} is {width} px wide; the camera's images are "
-                f"{self._camera.image_width_px} px: not a shot of this camera", "error")
+        if not self._of_this_camera(str(path), rgb):
             return
         self._remember(str(path), rgb)
         self._pending.add(str(path))
         self._shots.append(ObjectShot(str(path), UNKNOWN_ALTITUDE_M, 1.0))
         self._fill_table()
         self.table.selectRow(len(self._shots) - 1)
+
+    def _of_this_camera(self, image: str, rgb: np.ndarray) -> bool:
+        """Whether ``image`` is the camera's width; an error shown when it is not."""
+        if rgb.shape[1] == self._camera.image_width_px:
+            return True
+        self.status.show_message(
+            f"{Path(image).name} is {rgb.shape[1]} px wide; the camera's images are "
+            f"{self._camera.image_width_px} px: not a shot of this camera", "error")
+        return False
 
     def remove_selected(self) -> None:
         row = self.table.currentRow()
@@ -292,10 +297,7 @@ class CalibrationDialog(QDialog):
 
     def _on_shot_image(self, image: str, rgb: np.ndarray) -> None:
         """A shot's image read when it was selected, so that its ends can be clicked."""
-        if rgb.shape[1] != self._camera.image_width_px:
-            self.status.show_message(
-                f"{Path(image).name} is {rgb.shape[1]} px wide; the camera's images are "
-                f"{self._camera.image_width_px} px: not a shot of this camera", "error")
+        if not self._of_this_camera(image, rgb):
             return
         self._remember(image, rgb)
         row = self.table.currentRow()
