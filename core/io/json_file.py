@@ -92,9 +92,11 @@ def read_tagged_dataclass(path: Path, cls: type[T], file_format: str, version: i
 
 def _typed(value: Any, kind: Any, where: str) -> Any:
     """``value`` checked against a field's type (bool, int, float, str, ``X | None``,
-    ``tuple[…]`` or ``tuple[X, ...]`` from a JSON list); InputError naming ``where``
-    otherwise. A JSON number passes for a float, a whole one for an int; true and false are no
-    numbers."""
+    ``tuple[…]`` or ``tuple[X, ...]`` from a JSON list, a dataclass from an object);
+    InputError naming ``where`` otherwise. A JSON number passes for a float, a whole one for an
+    int; true and false are no numbers."""
+    if is_dataclass(kind):
+        return dataclass_from_json(kind, value, where)
     if isinstance(kind, UnionType):
         options = get_args(kind)
         if value is None and type(None) in options:

@@ -280,3 +280,27 @@ def srt_altitude(srt: SrtFile, launch_height_m: float = 0.0) -> AltitudeSamples:
 def read_srt(path: Path | str, launch_height_m: float = 0.0) -> AltitudeSamples:
     """Altitude samples of a DJI SRT file (``parse_srt`` then ``srt_altitude``)."""
     return srt_altitude(parse_srt(path), launch_height_m)
+
+
+GIMBAL_PITCH_FIELDS = ("gb_pitch", "gimbal_pitch", "GimbalPitch")  # as DJI firmwares name it
+
+
+def gimbal_pitch_at(srt: SrtFile, times_s: np.ndarray) -> np.ndarray:
+    """The gimbal's pitch (degrees, −90 straight down) at ``times_s`` on the video clock, from
+    the latest cue at or before each time that records it; NaN where none does (most SRT
+    families do not)."""
+    field = next((name for name in GIMBAL_PITCH_FIELDS
+                  if any(name in c.fields for c in srt.cues)), None)
+    pitch = np.full(np.shape(times_s), np.nan)
+    if field is None:
+        return pitch
+    times, _ = _cue_times_s(srt)
+    known = [(t, c.fields[field]) for t, c in zip(times, srt.cues)
+             if np.isfinite(t) and field in c.fields]
+    cue_times = np.array([t for t, _ in known])
+    values = np.array([value for _, value in known])
+    order = np.argsort(cue_times, kind="stable")
+    at = np.searchsorted(cue_times[order], times_s, side="right") - 1
+    has_cue = at >= 0
+    pitch[has_cue] = values[order][at[has_cue]]
+    return pitch

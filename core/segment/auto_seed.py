@@ -126,22 +126,31 @@ def salient_candidates(frame_rgb: np.ndarray, saliency_of: Callable[[np.ndarray]
     windows = [(slice(0, height), slice(0, width))] + [
         (slice(row0, row0 + side), slice(col0, col0 + side))
         for row0 in tile_starts(height, side) for col0 in tile_starts(width, side)]
+    return [candidate for rows, cols in windows for candidate in
+            window_candidates(frame_rgb, rows, cols, saliency_of, threshold, expected)]
+
+
+def window_candidates(frame_rgb: np.ndarray, rows: slice, cols: slice,
+                      saliency_of: Callable[[np.ndarray], np.ndarray], threshold: float,
+                      expected: tuple[float, float] | None) -> list[Candidate]:
+    """The network's animal-shaped components in one window of the frame, as frame-sized
+    candidates (one look of the network)."""
+    height, width = frame_rgb.shape[:2]
+    saliency = saliency_of(np.ascontiguousarray(frame_rgb[rows, cols]))
+    count, labels = cv2.connectedComponents((saliency >= threshold).astype(np.uint8),
+                                            connectivity=8)
     found = []
-    for rows, cols in windows:
-        saliency = saliency_of(np.ascontiguousarray(frame_rgb[rows, cols]))
-        count, labels = cv2.connectedComponents((saliency >= threshold).astype(np.uint8),
-                                                connectivity=8)
-        for label in range(1, count):
-            blob = labels == label
-            if not is_animal_shaped(blob, height * width):
-                continue
-            mask = np.zeros((height, width), bool)
-            mask[rows, cols] = blob
-            length = extent_px(mask)
-            if fits_length(length, expected):
-                score = float(saliency[blob].mean() * np.sqrt(np.count_nonzero(blob)))
-                whole = is_lone(blob) and not cut_by_window(mask, rows, cols)
-                found.append(Candidate(mask, LONE if whole else PART, score, length))
+    for label in range(1, count):
+        blob = labels == label
+        if not is_animal_shaped(blob, height * width):
+            continue
+        mask = np.zeros((height, width), bool)
+        mask[rows, cols] = blob
+        length = extent_px(mask)
+        if fits_length(length, expected):
+            score = float(saliency[blob].mean() * np.sqrt(np.count_nonzero(blob)))
+            whole = is_lone(blob) and not cut_by_window(mask, rows, cols)
+            found.append(Candidate(mask, LONE if whole else PART, score, length))
     return found
 
 
@@ -158,14 +167,18 @@ def colour_candidates(frame_rgb: np.ndarray,
     return found
 
 
+def same_animal(mask: np.ndarray, other: np.ndarray) -> bool:
+    """Whether two masks share ``SAME_ANIMAL_SHARE`` of the smaller: one animal."""
+    smaller = min(np.count_nonzero(mask), np.count_nonzero(other))
+    return np.count_nonzero(mask & other) >= SAME_ANIMAL_SHARE * smaller
+
+
 def distinct(candidates: list[Candidate]) -> list[Candidate]:
-    """Best first, one per animal: a candidate sharing ``SAME_ANIMAL_SHARE`` of the smaller
-    mask with a better one is the same animal."""
+    """Best first, one per animal: a candidate that is the ``same_animal`` as a better one
+    is left out."""
     kept: list[Candidate] = []
     for candidate in sorted(candidates, key=lambda c: (c.tier, -c.score)):
-        area = np.count_nonzero(candidate.mask)
-        if all(np.count_nonzero(candidate.mask & other.mask)
-               < SAME_ANIMAL_SHARE * min(area, np.count_nonzero(other.mask)) for other in kept):
+        if not any(same_animal(candidate.mask, other.mask) for other in kept):
             kept.append(candidate)
     return kept
 
