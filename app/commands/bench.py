@@ -9,6 +9,7 @@
   dolphinfit bench app [--parts startup,click] [--repeats N] [--json]
   dolphinfit bench batch [--clips N] [--quick] [--json]
   dolphinfit bench real [--data DIR] [--seeds S,…] [--backend B] [--outlines N] [--json]
+  dolphinfit bench scan [--splits tuning,held-out] [--clips N] [--no-speed] [--json]
 
 render: forward+backward time of the differentiable renderer per frame at the paper's setting
 (a full 720×480 frame) and for a batch of 256×256 ROI crops of 1920×1080 footage at 20 m,
@@ -59,6 +60,10 @@ real: the product against people on real drone images and measurements (core/ben
 real_bench.py): MedidoR's clicks replayed, our masks' length and widths against two people's
 on a minke whale and against the clicks on a right whale with foam and a calf, our midline and
 widths on 639 real whale outlines with hand points.
+
+scan: whether the scan's best frames of each animal measure better than random frames (the
+elliptical volume from the true masks on the frames it picks, core/bench/scan_bench.py), on
+both splits apart, and its seconds per minute of 1080p video.
 """
 
 import argparse
@@ -67,7 +72,7 @@ import os
 import statistics
 import sys
 
-from app.commands import bench_real
+from app.commands import bench_real, bench_scan
 from app.commands.masks import add_sam2_argument, sam2_checkpoint
 from core.bench.batch_bench import bench_batch
 from core.bench.click_bench import bench_click
@@ -147,12 +152,16 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     batch.add_argument("--json", action="store_true", help="one JSON object on stdout")
     bench_real.add_arguments(suites.add_parser(
         "real", help="masks, midlines and widths against people on real drone images"))
+    bench_scan.add_arguments(suites.add_parser(
+        "scan", help="the scan's picked frames against random ones, and its speed"))
 
 
 def run(args: argparse.Namespace) -> int:
     """Run the chosen benchmark and print its figures."""
     if args.suite_name == "real":
         return bench_real.run(args)
+    if args.suite_name == "scan":
+        return bench_scan.run(args)
     if args.suite_name == "app":
         parts = tuple(args.parts.split(","))
         for part in parts:

@@ -1,0 +1,73 @@
+"""``dolphinfit bench scan``: the scan's picks against random frames on both suite splits,
+and its speed (core/bench/scan_bench.py).
+
+  dolphinfit bench scan [--splits tuning,held-out] [--clips N] [--no-speed] [--json]
+"""
+
+import argparse
+import json
+import sys
+
+from core.bench.scan_bench import BEST, bench_scan
+from core.bench.suites import SPLITS, scenarios
+from core.limits import count, one_of
+
+CLIP_WIDTH = 21
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    """Which splits, how many clips of each, and whether to time the speed clip."""
+    parser.add_argument("--splits", default=",".join(SPLITS),
+                        help=f"comma-separated, of {', '.join(SPLITS)} (default both, "
+                             "reported apart)")
+    parser.add_argument("--clips", type=int, default=None, metavar="N",
+                        help="the first N clips of each split (default all)")
+    parser.add_argument("--no-speed", action="store_true",
+                        help="leave out the scan of the 10-s speed clip")
+    parser.add_argument("--json", action="store_true", help="one JSON object on stdout")
+
+
+def _print_clip(clip: dict) -> None:
+    print(f"{clip['split']:9s} {clip['clip']:{CLIP_WIDTH}s} {_row(clip)}", file=sys.stderr,
+          flush=True)
+
+
+def _row(clip: dict) -> str:
+    return (f"picked {100 * clip['picked_abs_error']:5.1f} %  random "
+            f"{100 * clip['random_abs_error']:5.1f} %  | mean of {BEST}: picked "
+            f"{100 * abs(clip['picked_mean_error']):5.1f} %  random "
+            f"{100 * clip['random_abs_mean_error']:5.1f} %  ({clip['animals']} animals, "
+            f"{clip['seconds']:.0f} s)")
+
+
+def format_scan(figures: dict) -> str:
+    """Per clip and per split: |volume error| of the picked and of random frames."""
+    lines = [f"{'split':9s} {'clip':{CLIP_WIDTH}s} mean |elliptical volume error| of "
+             f"{BEST} frames (true masks)"]
+    for split, part in figures["splits"].items():
+        lines += [f"{split:9s} {c['clip']:{CLIP_WIDTH}s} {_row(c)}" for c in part["clips"]]
+        s = part["summary"]
+        lines.append(f"{split:9s} {'mean':{CLIP_WIDTH}s} picked {100 * s['picked_abs_error']:5.1f}"
+                     f" %  random {100 * s['random_abs_error']:5.1f} %  | mean of {BEST}: "
+                     f"picked {100 * s['picked_abs_mean_error']:5.1f} %  random "
+                     f"{100 * s['random_abs_mean_error']:5.1f} %  (picks better on "
+                     f"{s['picks_better']} of {s['target_found']} clips; target found on "
+                     f"{s['target_found']} of {s['clips']})")
+    if "speed" in figures:
+        sp = figures["speed"]
+        lines.append(f"speed: {sp['video_s']:.0f} s of 1080p video scanned in "
+                     f"{sp['seconds']:.1f} s ({sp['samples']} samples, {sp['animals']} "
+                     f"animals): {sp['seconds_per_video_minute']:.0f} s per minute of video")
+    return "\n".join(lines)
+
+
+def run(args: argparse.Namespace) -> int:
+    """Run the scan bench and print its table."""
+    names = tuple(args.splits.split(","))
+    for name in names:
+        one_of(name, SPLITS, "--splits")
+    most = None if args.clips is None else count(args.clips, 1, "--clips")
+    figures = bench_scan({name: scenarios(split=name)[:most] for name in names},
+                         speed=not args.no_speed, progress=_print_clip)
+    print(json.dumps(figures, indent=2) if args.json else format_scan(figures))
+    return 0

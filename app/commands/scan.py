@@ -1,0 +1,175 @@
+"""Find the animals in clips and the frames worth measuring each of them in.
+
+  dolphinfit scan CLIP|FOLDER --out DIR [--altitude M|FILE] [--camera PRESET |
+                  --sensor-width-mm W --focal-mm F] [--fps F] [--search-every S]
+                  [--best N] [--altitude-range LOW,HIGH] [--max-gimbal-off DEG]
+
+Samples each clip (--fps frames per second, default 1), finds every animal in view as the
+automatic seed does (the whole frame every --search-every seconds, default 5; between, each
+animal around where it was), follows each across the samples under one number, and scores
+every sampled frame for measuring each animal: its length relative to its longest
+(pitched, diving or arched bodies read short), the body's straightness, the sharpness of its
+outline, its contrast to the water (at the surface or under it), its distance to the frame's
+edge, the altitude (within --altitude-range where given) and, where the SRT records it, the
+gimbal's pitch. Writes DIR/STEM_scan.csv (one row per animal and sampled frame, the best
+--best frames of each ranked) and DIR/STEM_scan.json, and prints each animal's best frames.
+
+A FOLDER scans every video in it (each with the SRT beside it, or --altitude for all) and
+lists every clip it could not use with the reason. The altitude comes from the clip's SRT
+unless --altitude gives a number or a file; the camera from --camera or explicit values
+(default: the default preset).
+"""
+
+import argparse
+import sys
+from pathlib import Path
+
+import numpy as np
+
+from core.errors import InputError
+from core.fit.pipeline import CameraChoice
+from core.io.frame_source import Clip
+from core.io.output_paths import check_output_folder
+from core.io.srt import gimbal_pitch_at, parse_srt
+from core.io.telemetry import SRT_SUFFIX, find_srt_sidecar, load_telemetry
+from core.io.video import VideoReader, open_clip
+from core.limits import count, positive
+from core.progress import Progress, ProgressCallback
+from core.scan.clip_scan import ClipScan, ClipTelemetry, Scanner
+from core.scan.frame_scores import ScanSettings
+from core.scan.scan_files import write_scan_csv, write_scan_json
+
+VIDEO_SUFFIXES = {".mp4", ".mov", ".avi", ".mkv", ".m4v"}
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    """The clips, the output, the camera and altitude, and the scan's settings."""
+    parser.add_argument("clips", type=Path, metavar="CLIP|FOLDER",
+                        help="a video, or a folder of videos")
+    parser.add_argument("--out", type=Path, required=True, metavar="DIR",
+                        help="folder for STEM_scan.csv and STEM_scan.json")
+    parser.add_argument("--altitude", default=None, metavar="M|FILE",
+                        help="metres above the water, or an altitude file, for every clip "
+                             "(default: each clip's SRT)")
+    parser.add_argument("--camera", default=None, metavar="PRESET", help="camera preset name")
+    parser.add_argument("--sensor-width-mm", type=float, default=None)
+    parser.add_argument("--focal-mm", type=float, default=None)
+    defaults = ScanSettings()
+    parser.add_argument("--fps", type=float, default=defaults.sample_fps,
+                        help=f"frames sampled per second (default {defaults.sample_fps:g})")
+    parser.add_argument("--search-every", type=float, default=defaults.search_every_s,
+                        metavar="S", help="seconds between searches of the whole frame "
+                                          f"(default {defaults.search_every_s:g})")
+    parser.add_argument("--best", type=int, default=defaults.best_count, metavar="N",
+                        help=f"best frames listed per animal (default {defaults.best_count})")
+    parser.add_argument("--altitude-range", default=None, metavar="LOW,HIGH",
+                        help="altitudes (m) a usable frame must lie within")
+    parser.add_argument("--max-gimbal-off", type=float, default=defaults.max_gimbal_off_deg,
+                        metavar="DEG", help="how far from straight down the gimbal may point "
+                                            f"(default {defaults.max_gimbal_off_deg:g}°)")
+
+
+def scan_settings(args: argparse.Namespace) -> ScanSettings:
+    """The settings from the options, checked at the boundary."""
+    altitude_range = None
+    if args.altitude_range is not None:
+        try:
+            low, high = (float(v) for v in args.altitude_range.split(","))
+        except ValueError:
+            raise InputError(f"--altitude-range {args.altitude_range!r}: expected LOW,HIGH in "
+                             "metres") from None
+        if not 0 < low < high:
+            raise InputError(f"--altitude-range {args.altitude_range!r}: expected "
+                             "0 < LOW < HIGH")
+        altitude_range = (low, high)
+    return ScanSettings(sample_fps=positive(args.fps, "--fps"),
+                        search_every_s=positive(args.search_every, "--search-every"),
+                        altitude_range_m=altitude_range,
+                        max_gimbal_off_deg=positive(args.max_gimbal_off, "--max-gimbal-off"),
+                        best_count=count(args.best, 1, "--best"))
+
+
+def clip_paths(path: Path) -> list[Path]:
+    """The video, or the videos of a folder in name order; InputError when there is none."""
+    if path.is_dir():
+        videos = sorted(p for p in path.iterdir() if p.suffix.lower() in VIDEO_SUFFIXES)
+        if not videos:
+            raise InputError(f"{path}: no video in the folder "
+                             f"({', '.join(sorted(VIDEO_SUFFIXES))})")
+        return videos
+    if not path.exists():
+        raise InputError(f"{path}: no such file or folder")
+    return [path]
+
+
+def clip_telemetry(path: Path, altitude: str | None, camera: CameraChoice,
+                   warnings: list[str]) -> tuple[ClipTelemetry, Clip]:
+    """The clip (opened and checked) and what the scan knows of its camera: altitude per
+    frame, focal length in pixels, and the gimbal's pitch where the SRT records it;
+    InputError naming the clip when it cannot be used."""
+    clip = open_clip(path)
+    telemetry = load_telemetry(clip, altitude)
+    warnings.extend(telemetry.warnings)
+    srt = find_srt_sidecar(clip.path) if altitude is None else (
+        Path(altitude) if Path(altitude).suffix.lower() == SRT_SUFFIX else None)
+    times = clip.frame_time_s(np.arange(clip.num_frames))
+    pitch = gimbal_pitch_at(parse_srt(srt), times) if srt is not None else \
+        np.full(clip.num_frames, np.nan)
+    return ClipTelemetry(camera.intrinsics(clip).focal_px, telemetry.altitude_m, pitch), clip
+
+
+def _progress(name: str) -> ProgressCallback:
+    """A stderr line per tenth of a clip's samples."""
+    def show(progress: Progress) -> None:
+        step = max(1, progress.total // 10)
+        if progress.step % step == 0 or progress.step == progress.total:
+            print(f"{name}: {progress.step}/{progress.total} samples; {progress.message}",
+                  file=sys.stderr)
+    return show
+
+
+def summary_lines(scan: ClipScan) -> list[str]:
+    """What a scan found, for the terminal: each animal with its best frames."""
+    ids = scan.animal_ids()
+    lines = [f"{scan.clip_name}: {len(ids)} animal{'s' if len(ids) != 1 else ''} in "
+             f"{len(scan.sampled_frames)} sampled frames ({scan.seconds:.0f} s)"]
+    for animal in ids:
+        scores = scan.of_animal(animal)
+        best = scan.best(animal)
+        usable = sum(score.is_usable for score in scores)
+        picks = ", ".join(f"{s.frame_idx} ({s.quality:.2f})" for s in best) or "none usable"
+        lines.append(f"  animal {animal}: seen in {len(scores)}, usable in {usable}; best "
+                     f"frames (quality) {picks}")
+    return lines
+
+
+def run(args: argparse.Namespace) -> int:
+    """Scan each clip and write its files; exit 2 when no clip could be scanned."""
+    settings = scan_settings(args)
+    out = check_output_folder(args.out, "--out ")
+    camera = CameraChoice(args.camera, args.sensor_width_mm, args.focal_mm)
+    paths = clip_paths(args.clips)
+    scanner, failed = Scanner(), []
+    for path in paths:
+        warnings: list[str] = []
+        try:
+            telemetry, clip = clip_telemetry(path, args.altitude, camera, warnings)
+        except InputError as exc:
+            failed.append(str(exc))
+            continue
+        for warning in warnings:
+            print(f"warning: {warning}", file=sys.stderr)
+        with VideoReader(clip) as frames:
+            scan = scanner.scan(frames, telemetry, settings, _progress(path.name))
+        out.mkdir(parents=True, exist_ok=True)
+        write_scan_json(out / f"{path.stem}_scan.json", scan)
+        write_scan_csv(out / f"{path.stem}_scan.csv", scan)
+        print("\n".join(summary_lines(scan)))
+    if len(paths) > 1:
+        for reason in failed:
+            print(f"not scanned: {reason}", file=sys.stderr)
+    if len(paths) == 1 and failed:
+        raise InputError(failed[0])
+    if len(failed) == len(paths):
+        raise InputError(f"{args.clips}: no clip could be scanned")
+    return 0

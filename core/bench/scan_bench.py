@@ -1,0 +1,136 @@
+"""``dolphinfit bench scan``: does the scan pick the frames that measure well, and how long
+does it take?
+
+**Picks.** Each suite clip is scanned (every other frame: ``SAMPLE_FPS``); the target is the
+animal whose sightings lie on the true mask most often. On every sampled frame where the
+target shows, the fit-free elliptical volume is measured from the **true** mask (the
+midline and widths "suggest edges" places, the default HW table), so that what is compared
+is the choice of frame, not the mask. Reported per clip: the mean |volume error| of the
+scan's best ``BEST`` frames, and of ``BEST`` frames drawn at random from the same samples
+(the expectation: the mean over every sampled frame), and the same for the volume averaged
+over the ``BEST`` frames (random: the mean over ``RANDOM_DRAWS`` seeded draws).
+
+**Speed.** The 10-s 25-fps 1080p speed clip scanned with the default settings: seconds, and
+seconds per minute of video.
+"""
+
+from collections.abc import Callable
+
+import numpy as np
+
+from core.bench.scenario import Scenario, ensure_scenario, synth_camera
+from core.bench.fit_bench import SPEED_CACHE, SPEED_CLIP
+from core.io.json_file import read_json
+from core.io.masks import MaskTrack, read_masks
+from core.io.telemetry import load_telemetry
+from core.io.video import VideoReader, open_clip
+from core.measure.annotation import pixel_measurements
+from core.measure.elliptical import TAIL_EXTRAPOLATED, elliptical_volume, fill_skipped
+from core.measure.hw_ratios import DEFAULT_PRESET, load_hw_preset
+from core.measure.mask_midline import annotation_from_mask
+from core.scan.clip_scan import ClipScan, ClipTelemetry, Scanner
+from core.scan.frame_scores import ScanSettings
+from core.synth.files import ClipFiles
+from core.synth.sample import cache_dir, ensure_clip
+
+SAMPLE_FPS = 5.0        # the suite's clips are 3 s at 10 fps: every other frame
+BEST = 5
+RANDOM_DRAWS = 2000
+
+
+def elliptical_error(mask: np.ndarray, altitude_m: float, focal_px: float,
+                     truth_m3: float) -> float:
+    """Relative error of the elliptical volume measured on ``mask`` (module doc); NaN where
+    the mask gives no midline."""
+    try:
+        pixels = pixel_measurements(annotation_from_mask(mask))
+    except ValueError:
+        return float("nan")
+    metres_per_px = altitude_m / focal_px
+    widths, _ = fill_skipped(pixels.widths_px * metres_per_px, TAIL_EXTRAPOLATED)
+    volume = elliptical_volume(np.array(pixels.length_px * metres_per_px), widths,
+                               load_hw_preset(DEFAULT_PRESET).ratios, TAIL_EXTRAPOLATED)
+    return float(volume) / truth_m3 - 1.0
+
+
+def target_animal(scan: ClipScan, truth_masks: MaskTrack) -> int | None:
+    """The animal whose sightings' centres lie on the true mask most often."""
+    def hits(animal: int) -> int:
+        return sum(bool(truth_masks.mask(s.frame_idx)[round(s.centre_y_px),
+                                                      round(s.centre_x_px)])
+                   for s in scan.of_animal(animal))
+    ids = [animal for animal in scan.animal_ids() if hits(animal) > 0]
+    return max(ids, key=hits) if ids else None
+
+
+def score_clip(scenario: Scenario, scanner: Scanner) -> dict:
+    """One clip's picks against random frames (module doc)."""
+    files = ensure_scenario(scenario)
+    clip = open_clip(files.video)
+    telemetry = load_telemetry(clip, files.altitude_csv)
+    focal_px = synth_camera(scenario.config).intrinsics(clip).focal_px
+    with VideoReader(clip) as frames:
+        scan = scanner.scan(frames, ClipTelemetry(focal_px, telemetry.altitude_m,
+                                                  np.full(clip.num_frames, np.nan)),
+                            ScanSettings(sample_fps=SAMPLE_FPS))
+    truth_masks = read_masks(files.masks_dir, clip)
+    truth_m3 = float(read_json(files.truth_json, "the truth")["volume_m3"])
+    errors = {t: elliptical_error(truth_masks.mask(t), float(telemetry.altitude_m[t]), focal_px,
+                                  truth_m3)
+              for t in scan.sampled_frames if truth_masks.mask(t).any()}
+    errors = {t: e for t, e in errors.items() if np.isfinite(e)}
+    target = target_animal(scan, truth_masks)
+    picks = [s.frame_idx for s in scan.best(target, BEST)] if target is not None else []
+    picked = np.array([errors[t] for t in picks if t in errors])
+    every = np.array(list(errors.values()))
+    draws = np.random.default_rng(0).choice(len(every), (RANDOM_DRAWS, min(BEST, len(every))))
+    return {"clip": scenario.name, "seconds": scan.seconds, "animals": len(scan.animal_ids()),
+            "target_found": target is not None, "picks": picks,
+            "picked_abs_error": float(np.abs(picked).mean()) if picked.size else float("nan"),
+            "random_abs_error": float(np.abs(every).mean()),
+            "picked_mean_error": float(picked.mean()) if picked.size else float("nan"),
+            "random_abs_mean_error": float(np.abs(every[draws].mean(axis=1)).mean())}
+
+
+def bench_speed(scanner: Scanner) -> dict:
+    """The speed clip scanned with the default settings (module doc)."""
+    files: ClipFiles = ensure_clip(SPEED_CLIP, cache_dir() / SPEED_CACHE / "speed")
+    clip = open_clip(files.video)
+    telemetry = load_telemetry(clip, files.altitude_csv)
+    focal_px = synth_camera(SPEED_CLIP).intrinsics(clip).focal_px
+    with VideoReader(clip) as frames:
+        scan = scanner.scan(frames, ClipTelemetry(focal_px, telemetry.altitude_m,
+                                                  np.full(clip.num_frames, np.nan)))
+    return {"seconds": scan.seconds, "video_s": clip.duration_s,
+            "seconds_per_video_minute": scan.seconds * 60.0 / clip.duration_s,
+            "samples": len(scan.sampled_frames), "animals": len(scan.animal_ids())}
+
+
+def summarize(clips: list[dict]) -> dict:
+    """Means over the clips, and on how many the picks beat random frames."""
+    found = [c for c in clips if c["target_found"]]
+    return {"clips": len(clips), "target_found": len(found),
+            "picked_abs_error": float(np.nanmean([c["picked_abs_error"] for c in found])),
+            "random_abs_error": float(np.mean([c["random_abs_error"] for c in clips])),
+            "picks_better": sum(c["picked_abs_error"] < c["random_abs_error"] for c in found),
+            "picked_abs_mean_error": float(np.nanmean([abs(c["picked_mean_error"])
+                                                       for c in found])),
+            "random_abs_mean_error": float(np.mean([c["random_abs_mean_error"]
+                                                    for c in clips]))}
+
+
+def bench_scan(splits: dict[str, tuple[Scenario, ...]], speed: bool = True,
+               progress: Callable[[dict], None] | None = None) -> dict:
+    """Picks per clip and split, each split summarised apart, and the speed (module doc)."""
+    scanner = Scanner()
+    figures: dict = {"splits": {}}
+    for split, chosen in splits.items():
+        clips = []
+        for scenario in chosen:
+            clips.append(score_clip(scenario, scanner) | {"split": split})
+            if progress is not None:
+                progress(clips[-1])
+        figures["splits"][split] = {"clips": clips, "summary": summarize(clips)}
+    if speed:
+        figures["speed"] = bench_speed(scanner)
+    return figures

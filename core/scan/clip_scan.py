@@ -1,0 +1,187 @@
+"""The scan of a clip: every animal in view, followed across sampled frames, and each sampled
+frame scored for measuring each animal, so that a person measures the frames worth it.
+
+Frames are sampled at ``ScanSettings.sample_fps``. On the first sample, every
+``search_every_s`` after it and whenever no animal is being followed, the whole frame is
+searched as the automatic seed searches it (``auto_seed.find_animals``: the salient network
+on the frame and on tiles sized by the camera, and the colour detector), which costs 1–4 s
+at 1080p on two cores; on the samples between, each animal followed is looked for once
+around where it should be (``WINDOW_LENGTHS`` of its length across: one look of the network,
+about 0.1–0.3 s). The sightings join the animals' tracks (``tracks``) and each is scored
+(``frame_scores``). An animal must persist: seen in at least ``MIN_SIGHTINGS`` samples (where
+the clip has that many) and in at least ``MIN_SEEN_SHARE`` of the samples from its first
+sighting to its last. A splash or a patch of glitter the network takes for an animal is seen
+now and then (on the sample clip's glitter: in 2 of 5 samples), an animal in nearly every
+sample while it is in view.
+"""
+
+import threading
+import time
+from dataclasses import dataclass
+
+import numpy as np
+
+from core.fit.pipeline import DOLPHIN_LENGTH_M, expected_length_px
+from core.io.frame_source import FrameSource
+from core.io.video import frames_at_fps
+from core.progress import Progress, ProgressCallback, check_cancel
+from core.scan.frame_scores import FrameScore, ScanSettings, best_frames, track_scores
+from core.scan.sighting import sighting
+from core.scan.tracks import Track, Tracker
+from core.segment.auto_seed import (
+    MIN_TILE_PX, colour_candidates, find_animals, same_animal, window_candidates,
+)
+from core.segment.net_settings import NetSettings
+from core.segment.salient import SalientNet
+from core.segment.windows import square_window
+
+WINDOW_LENGTHS = 3.0   # the look around a followed animal is this many of its length across
+MIN_SIGHTINGS = 2      # samples an animal must be seen in (module doc)
+MIN_SEEN_SHARE = 0.6   # of the samples from its first sighting to its last (module doc)
+
+
+@dataclass(frozen=True)
+class ClipScan:
+    """A clip's scan: the clip (file name, frame rate, frame count, size), the frames
+    sampled, the settings, every animal's frame scores (animal by animal, in frame order) and
+    the seconds it took."""
+
+    clip_name: str
+    fps: float
+    num_frames: int
+    width_px: int
+    height_px: int
+    sampled_frames: tuple[int, ...]
+    settings: ScanSettings
+    scores: tuple[FrameScore, ...]
+    seconds: float
+
+    def animal_ids(self) -> list[int]:
+        """The animals found, in the order they first showed."""
+        return list(dict.fromkeys(score.animal_id for score in self.scores))
+
+    def of_animal(self, animal_id: int) -> list[FrameScore]:
+        """One animal's scores, in frame order."""
+        return [score for score in self.scores if score.animal_id == animal_id]
+
+    def best(self, animal_id: int, count: int | None = None) -> list[FrameScore]:
+        """An animal's best usable frames, best first (``settings.best_count`` of them by
+        default)."""
+        return best_frames(self.of_animal(animal_id),
+                           self.settings.best_count if count is None else count)
+
+
+@dataclass(frozen=True)
+class ClipTelemetry:
+    """What the scan knows of the camera: its focal length in pixels and, per frame of the
+    clip, the altitude (m) and the gimbal's pitch (degrees); NaN where unknown."""
+
+    focal_px: float | None
+    altitude_m: np.ndarray
+    gimbal_pitch_deg: np.ndarray
+
+
+class Scanner:
+    """The salient network and settings a scan looks with (module doc); one per thread."""
+
+    def __init__(self, net: SalientNet | None = None,
+                 settings: NetSettings = NetSettings()) -> None:
+        self.net = net if net is not None else SalientNet()
+        self.settings = settings
+
+    def scan(self, frames: FrameSource, telemetry: ClipTelemetry,
+             settings: ScanSettings = ScanSettings(),
+             progress: ProgressCallback | None = None,
+             cancel: threading.Event | None = None) -> ClipScan:
+        """Scan ``frames`` (module doc); Cancelled when ``cancel`` is set between samples."""
+        started = time.perf_counter()
+        clip = frames.clip
+        samples = [int(t) for t in frames_at_fps(clip, settings.sample_fps)]
+        expected = None if telemetry.focal_px is None else expected_length_px(
+            telemetry.focal_px, telemetry.altitude_m, DOLPHIN_LENGTH_M)
+        tracker, searched_at = Tracker(clip.fps), None
+        for step, frame_idx in enumerate(samples):
+            check_cancel(cancel)
+            frame = frames[frame_idx]
+            followed = tracker.open_tracks(frame_idx)
+            if searched_at is None or not followed or \
+                    (frame_idx - searched_at) / clip.fps >= settings.search_every_s:
+                masks = [c.mask for c in find_animals(frame, self.net.saliency,
+                                                      self.settings.tile_fraction,
+                                                      self.settings.threshold, expected)]
+                searched_at = frame_idx
+            else:
+                masks = self._followed(frame, frame_idx, followed, expected)
+            seen = [s for s in (sighting(frame, mask, frame_idx) for mask in masks)
+                    if s is not None]
+            tracker.add(frame_idx, seen, _px_per_m(telemetry, frame_idx))
+            if progress is not None:
+                progress(Progress("scan", step + 1, len(samples),
+                                  f"frame {frame_idx}: {len(seen)} animal"
+                                  f"{'s' if len(seen) != 1 else ''} in view"))
+        kept = [t for t in tracker.tracks if persists(t, samples)]
+        scores = [score for number, track in enumerate(kept, start=1)
+                  for score in track_scores(renumbered(track, number), clip.fps,
+                                            telemetry.altitude_m, telemetry.gimbal_pitch_deg,
+                                            telemetry.focal_px, settings)]
+        return ClipScan(clip.path.name, clip.fps, clip.num_frames, clip.width_px,
+                        clip.height_px, tuple(samples), settings, tuple(scores),
+                        time.perf_counter() - started)
+
+    def _followed(self, frame: np.ndarray, frame_idx: int, followed: list[Track],
+                  expected: tuple[float, float] | None) -> list[np.ndarray]:
+        """Each followed animal's mask in this frame, looked for around where it should be
+        (the network's component nearest there, else the colour detector's); animals not
+        found there are left out."""
+        height, width = frame.shape[:2]
+        taken: list[np.ndarray] = []
+        for track in followed:
+            centre = track.predicted_px(frame_idx)
+            rows, cols = square_window(centre, max(WINDOW_LENGTHS * track.length_px(),
+                                                   MIN_TILE_PX), height, width)
+            found = [c.mask for c in window_candidates(frame, rows, cols, self.net.saliency,
+                                                       self.settings.threshold, expected)]
+            if not found:
+                found = [_in_frame(c.mask, rows, cols, (height, width))
+                         for c in colour_candidates(np.ascontiguousarray(frame[rows, cols]),
+                                                    expected)]
+            found = [mask for mask in found if not any(same_animal(mask, other)
+                                                       for other in taken)]
+            if found:
+                taken.append(min(found, key=lambda mask: _distance(mask, centre)))
+        return taken
+
+
+def persists(track: Track, samples: list[int]) -> bool:
+    """Whether an animal was seen often enough to be one (module doc)."""
+    seen = len(track.sightings)
+    span = samples.index(track.last.frame_idx) - samples.index(track.sightings[0].frame_idx) + 1
+    return seen >= min(MIN_SIGHTINGS, len(samples)) and seen >= MIN_SEEN_SHARE * span
+
+
+def renumbered(track: Track, animal_id: int) -> Track:
+    """The track under another number (animals are numbered in the order they showed, once
+    the passing sightings are left out)."""
+    return Track(animal_id, track.sightings)
+
+
+def _px_per_m(telemetry: ClipTelemetry, frame_idx: int) -> float | None:
+    """Pixels per metre on the water in ``frame_idx``; None where unknown."""
+    altitude = float(telemetry.altitude_m[frame_idx])
+    if telemetry.focal_px is None or not altitude > 0:
+        return None
+    return telemetry.focal_px / altitude
+
+
+def _in_frame(mask: np.ndarray, rows: slice, cols: slice, shape: tuple[int, int]) -> np.ndarray:
+    """A window's mask placed in a frame-sized one."""
+    whole = np.zeros(shape, bool)
+    whole[rows, cols] = mask
+    return whole
+
+
+def _distance(mask: np.ndarray, centre: np.ndarray) -> float:
+    """From a mask's centroid to a point, px."""
+    rows, cols = np.nonzero(mask)
+    return float(np.hypot(cols.mean() - centre[0], rows.mean() - centre[1]))
+
