@@ -4,6 +4,8 @@ import sys
 
 from core.progress import Progress, ProgressCallback
 
+PROGRESS_LINES = 10  # lines a plain (non-terminal) progress report prints per job
+
 
 def terminal_progress() -> ProgressCallback | None:
     """A callback redrawing one stderr line per report (a new line per stage and after the
@@ -23,3 +25,10 @@ def terminal_progress() -> ProgressCallback | None:
         shown.update(stage=progress.stage, is_open=not is_done)
 
     return show
+
+
+def is_tenth(progress: Progress) -> bool:
+    """Whether a report falls on one of ``PROGRESS_LINES`` evenly spaced steps of its job (or
+    is its last): where a command's plain progress line is printed."""
+    step = max(1, progress.total // PROGRESS_LINES)
+    return progress.step % step == 0 or progress.step == progress.total

@@ -27,6 +27,7 @@ import sys
 from collections.abc import Collection
 from pathlib import Path
 
+from app.progress import is_tenth
 from core.errors import InputError
 from core.io.masks import MaskTrack, check_mask_output, write_masks
 from core.io.report import format_runs
@@ -38,7 +39,6 @@ from core.segment.sam2_backend import check_checkpoint
 from core.segment.segmenter import AutoSeed, BoxSeed, PointSeed, Seed
 from core.segment.tracking_loop import check_seed_inside
 
-PROGRESS_STEPS = 10  # progress lines per run
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -108,8 +108,7 @@ def parse_seed(args: argparse.Namespace) -> Seed:
 
 def _progress(progress: Progress) -> None:
     """A line on stderr at every tenth of the clip."""
-    step = max(1, progress.total // PROGRESS_STEPS)
-    if progress.step % step == 0 or progress.step == progress.total:
+    if is_tenth(progress):
         print(f"tracking: {progress.step}/{progress.total} frames", file=sys.stderr)
 
 

@@ -26,12 +26,13 @@ from pathlib import Path
 
 import numpy as np
 
+from app.progress import is_tenth
 from core.errors import InputError
 from core.fit.pipeline import CameraChoice
 from core.io.frame_source import Clip
 from core.io.output_paths import check_output_folder
 from core.io.srt import gimbal_pitch_at, parse_srt
-from core.io.telemetry import SRT_SUFFIX, find_srt_sidecar, load_telemetry
+from core.io.telemetry import load_telemetry
 from core.io.video import VideoReader, open_clip
 from core.limits import count, positive
 from core.progress import Progress, ProgressCallback
@@ -110,19 +111,16 @@ def clip_telemetry(path: Path, altitude: str | None, camera: CameraChoice,
     clip = open_clip(path)
     telemetry = load_telemetry(clip, altitude)
     warnings.extend(telemetry.warnings)
-    srt = find_srt_sidecar(clip.path) if altitude is None else (
-        Path(altitude) if Path(altitude).suffix.lower() == SRT_SUFFIX else None)
     times = clip.frame_time_s(np.arange(clip.num_frames))
-    pitch = gimbal_pitch_at(parse_srt(srt), times) if srt is not None else \
-        np.full(clip.num_frames, np.nan)
+    pitch = gimbal_pitch_at(parse_srt(telemetry.source.path), times) \
+        if telemetry.source.kind == "srt" else np.full(clip.num_frames, np.nan)
     return ClipTelemetry(camera.intrinsics(clip).focal_px, telemetry.altitude_m, pitch), clip
 
 
 def _progress(name: str) -> ProgressCallback:
     """A stderr line per tenth of a clip's samples."""
     def show(progress: Progress) -> None:
-        step = max(1, progress.total // 10)
-        if progress.step % step == 0 or progress.step == progress.total:
+        if is_tenth(progress):
             print(f"{name}: {progress.step}/{progress.total} samples; {progress.message}",
                   file=sys.stderr)
     return show

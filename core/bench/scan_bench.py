@@ -20,9 +20,10 @@ import numpy as np
 
 from core.bench.scenario import Scenario, ensure_scenario, synth_camera
 from core.bench.fit_bench import SPEED_CACHE, SPEED_CLIP
+from core.io.frame_source import Clip
 from core.io.json_file import read_json
 from core.io.masks import MaskTrack, read_masks
-from core.io.telemetry import load_telemetry
+from core.io.telemetry import Telemetry, load_telemetry
 from core.io.video import VideoReader, open_clip
 from core.measure.annotation import pixel_measurements
 from core.measure.elliptical import TAIL_EXTRAPOLATED, elliptical_volume, fill_skipped
@@ -30,6 +31,7 @@ from core.measure.hw_ratios import DEFAULT_PRESET, load_hw_preset
 from core.measure.mask_midline import annotation_from_mask
 from core.scan.clip_scan import ClipScan, ClipTelemetry, Scanner
 from core.scan.frame_scores import ScanSettings
+from core.synth.config import SynthConfig
 from core.synth.files import ClipFiles
 from core.synth.sample import cache_dir, ensure_clip
 
@@ -63,16 +65,24 @@ def target_animal(scan: ClipScan, truth_masks: MaskTrack) -> int | None:
     return max(ids, key=hits) if ids else None
 
 
+def scanned(files: ClipFiles, config: SynthConfig, scanner: Scanner,
+            settings: ScanSettings) -> tuple[ClipScan, Clip, Telemetry, float]:
+    """A synthetic clip scanned with its own camera and altitudes; the scan, the clip, its
+    altitudes and its focal length in pixels."""
+    clip = open_clip(files.video)
+    telemetry = load_telemetry(clip, files.altitude_csv)
+    focal_px = synth_camera(config).intrinsics(clip).focal_px
+    with VideoReader(clip) as frames:
+        scan = scanner.scan(frames, ClipTelemetry(focal_px, telemetry.altitude_m,
+                                                  np.full(clip.num_frames, np.nan)), settings)
+    return scan, clip, telemetry, focal_px
+
+
 def score_clip(scenario: Scenario, scanner: Scanner) -> dict:
     """One clip's picks against random frames (module doc)."""
     files = ensure_scenario(scenario)
-    clip = open_clip(files.video)
-    telemetry = load_telemetry(clip, files.altitude_csv)
-    focal_px = synth_camera(scenario.config).intrinsics(clip).focal_px
-    with VideoReader(clip) as frames:
-        scan = scanner.scan(frames, ClipTelemetry(focal_px, telemetry.altitude_m,
-                                                  np.full(clip.num_frames, np.nan)),
-                            ScanSettings(sample_fps=SAMPLE_FPS))
+    scan, clip, telemetry, focal_px = scanned(files, scenario.config, scanner,
+                                              ScanSettings(sample_fps=SAMPLE_FPS))
     truth_masks = read_masks(files.masks_dir, clip)
     truth_m3 = float(read_json(files.truth_json, "the truth")["volume_m3"])
     errors = {t: elliptical_error(truth_masks.mask(t), float(telemetry.altitude_m[t]), focal_px,
@@ -94,13 +104,8 @@ def score_clip(scenario: Scenario, scanner: Scanner) -> dict:
 
 def bench_speed(scanner: Scanner) -> dict:
     """The speed clip scanned with the default settings (module doc)."""
-    files: ClipFiles = ensure_clip(SPEED_CLIP, cache_dir() / SPEED_CACHE / "speed")
-    clip = open_clip(files.video)
-    telemetry = load_telemetry(clip, files.altitude_csv)
-    focal_px = synth_camera(SPEED_CLIP).intrinsics(clip).focal_px
-    with VideoReader(clip) as frames:
-        scan = scanner.scan(frames, ClipTelemetry(focal_px, telemetry.altitude_m,
-                                                  np.full(clip.num_frames, np.nan)))
+    files = ensure_clip(SPEED_CLIP, cache_dir() / SPEED_CACHE / "speed")
+    scan, clip, _, _ = scanned(files, SPEED_CLIP, scanner, ScanSettings())
     return {"seconds": scan.seconds, "video_s": clip.duration_s,
             "seconds_per_video_minute": scan.seconds * 60.0 / clip.duration_s,
             "samples": len(scan.sampled_frames), "animals": len(scan.animal_ids())}

@@ -17,7 +17,7 @@ sample while it is in view.
 
 import threading
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -120,8 +120,8 @@ class Scanner:
                                   f"frame {frame_idx}: {len(seen)} animal"
                                   f"{'s' if len(seen) != 1 else ''} in view"))
         kept = [t for t in tracker.tracks if persists(t, samples)]
-        scores = [score for number, track in enumerate(kept, start=1)
-                  for score in track_scores(renumbered(track, number), clip.fps,
+        scores = [score for number, track in enumerate(kept, start=1)   # in order of showing
+                  for score in track_scores(number, track.sightings, clip.fps,
                                             telemetry.altitude_m, telemetry.gimbal_pitch_deg,
                                             telemetry.focal_px, settings)]
         return ClipScan(clip.path.name, clip.fps, clip.num_frames, clip.width_px,
@@ -139,16 +139,16 @@ class Scanner:
             centre = track.predicted_px(frame_idx)
             rows, cols = square_window(centre, max(WINDOW_LENGTHS * track.length_px(),
                                                    MIN_TILE_PX), height, width)
-            found = [c.mask for c in window_candidates(frame, rows, cols, self.net.saliency,
-                                                       self.settings.threshold, expected)]
+            found = window_candidates(frame, rows, cols, self.net.saliency,
+                                      self.settings.threshold, expected)
             if not found:
-                found = [_in_frame(c.mask, rows, cols, (height, width))
+                found = [replace(c, mask=_in_frame(c.mask, rows, cols, (height, width)))
                          for c in colour_candidates(np.ascontiguousarray(frame[rows, cols]),
                                                     expected)]
-            found = [mask for mask in found if not any(same_animal(mask, other)
-                                                       for other in taken)]
+            found = [c for c in found if not any(same_animal(c.mask, other) for other in taken)]
             if found:
-                taken.append(min(found, key=lambda mask: _distance(mask, centre)))
+                nearest = min(found, key=lambda c: np.hypot(*np.subtract(c.centre_px(), centre)))
+                taken.append(nearest.mask)
         return taken
 
 
@@ -157,12 +157,6 @@ def persists(track: Track, samples: list[int]) -> bool:
     seen = len(track.sightings)
     span = samples.index(track.last.frame_idx) - samples.index(track.sightings[0].frame_idx) + 1
     return seen >= min(MIN_SIGHTINGS, len(samples)) and seen >= MIN_SEEN_SHARE * span
-
-
-def renumbered(track: Track, animal_id: int) -> Track:
-    """The track under another number (animals are numbered in the order they showed, once
-    the passing sightings are left out)."""
-    return Track(animal_id, track.sightings)
 
 
 def _px_per_m(telemetry: ClipTelemetry, frame_idx: int) -> float | None:
@@ -178,10 +172,3 @@ def _in_frame(mask: np.ndarray, rows: slice, cols: slice, shape: tuple[int, int]
     whole = np.zeros(shape, bool)
     whole[rows, cols] = mask
     return whole
-
-
-def _distance(mask: np.ndarray, centre: np.ndarray) -> float:
-    """From a mask's centroid to a point, px."""
-    rows, cols = np.nonzero(mask)
-    return float(np.hypot(cols.mean() - centre[0], rows.mean() - centre[1]))
-

@@ -27,7 +27,6 @@ from dataclasses import dataclass
 import numpy as np
 
 from core.scan.sighting import Sighting
-from core.scan.tracks import Track
 
 REFERENCE_PERCENTILE = 90
 EDGE_MARGIN_PX = 5
@@ -110,11 +109,11 @@ def frame_faults(seen: Sighting, length_share: float, altitude_m: float,
     return tuple(faults)
 
 
-def track_scores(track: Track, fps: float, altitude_m: np.ndarray, gimbal_pitch_deg: np.ndarray,
-                 focal_px: float | None, settings: ScanSettings) -> list[FrameScore]:
-    """The scores of one animal's sightings (module doc). ``altitude_m`` and
-    ``gimbal_pitch_deg``: per frame of the clip, NaN where unknown."""
-    seen = track.sightings
+def track_scores(animal_id: int, seen: list[Sighting], fps: float, altitude_m: np.ndarray,
+                 gimbal_pitch_deg: np.ndarray, focal_px: float | None,
+                 settings: ScanSettings) -> list[FrameScore]:
+    """The scores of one animal's sightings (module doc), under its number. ``altitude_m``
+    and ``gimbal_pitch_deg``: per frame of the clip, NaN where unknown."""
     lengths = share_of_best(np.array([s.length_px for s in seen]))
     sharpness = share_of_best(np.array([s.sharpness for s in seen]))
     contrast = share_of_best(np.array([s.contrast for s in seen]))
@@ -125,7 +124,7 @@ def track_scores(track: Track, fps: float, altitude_m: np.ndarray, gimbal_pitch_
         pitch = float(gimbal_pitch_deg[s.frame_idx])
         metres = s.length_px * altitude / focal_px if focal_px is not None else float("nan")
         scores.append(FrameScore(
-            animal_id=track.animal_id, frame_idx=s.frame_idx, time_s=s.frame_idx / fps,
+            animal_id=animal_id, frame_idx=s.frame_idx, time_s=s.frame_idx / fps,
             centre_x_px=s.centre_px[0], centre_y_px=s.centre_px[1], length_px=s.length_px,
             length_m=metres, straightness=s.straightness, sharpness=s.sharpness,
             contrast=s.contrast, border_px=s.border_px, altitude_m=altitude,

@@ -24,7 +24,6 @@ MAX_UNSEEN_S = 8.0       # a track not seen for longer is closed
 class Track:
     """One animal's sightings, in frame order."""
 
-    animal_id: int
     sightings: list[Sighting] = field(default_factory=list)
 
     @property
@@ -91,4 +90,4 @@ class Tracker:
             matched_sightings.add(i)
         for i, s in enumerate(sightings):
             if i not in matched_sightings:
-                self.tracks.append(Track(len(self.tracks) + 1, [s]))
+                self.tracks.append(Track([s]))

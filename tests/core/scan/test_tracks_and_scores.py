@@ -47,13 +47,13 @@ def test_a_sighting_beyond_reach_is_another_animal():
 
 
 def test_a_track_unseen_too_long_is_closed():
-    track = Track(1, [seen(0, 100, 100)])
+    track = Track([seen(0, 100, 100)])
     last_open = int(MAX_UNSEEN_S * FPS)
     assert track.is_open(last_open, FPS) and not track.is_open(last_open + 1, FPS)
 
 
 def test_the_prediction_follows_the_last_two_sightings():
-    track = Track(1, [seen(0, 100, 100), seen(10, 160, 130)])
+    track = Track([seen(0, 100, 100), seen(10, 160, 130)])
     assert np.allclose(track.predicted_px(20), [220, 160])
 
 
@@ -109,7 +109,7 @@ def scored_track():
     sightings = [seen(10 * i, 300, 300, length, sharpness=100.0 - 5 * i) for i, length in
                  enumerate(lengths)]
     altitude = np.full(60, 20.0)
-    return track_scores(Track(3, sightings), FPS, altitude, np.full(60, np.nan), 1000.0,
+    return track_scores(3, sightings, FPS, altitude, np.full(60, np.nan), 1000.0,
                         ScanSettings())
 
 
