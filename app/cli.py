@@ -27,7 +27,7 @@ SUBCOMMANDS: dict[str, str] = {  # name → the first line of its module's docst
     "calibrate": "Calibrate the altimeter from an object of known length, and the lens from "
                  "a checkerboard.",
     "scan": "Find the animals in clips and the frames worth measuring each of them in.",
-    "masks": "Track the dolphin through a clip with the built-in tracker and write its masks.",
+    "masks": "Track the dolphin through a clip (or find it in a still) and write its masks.",
     "bench": "Measure speed (and later accuracy) side by side in one run.",
     "fit": "Fit the 3D dolphin model to a clip: metric shape, motion, volume, condition and "
            "mass.",

@@ -1,6 +1,6 @@
-"""Track the dolphin through a clip with the built-in tracker and write its masks.
+"""Track the dolphin through a clip (or find it in a still) and write its masks.
 
-  dolphinfit masks CLIP (--seed X,Y | --box X,Y,W,H | --auto) --out DIR [--frame N]
+  dolphinfit masks CLIP|IMAGE|FOLDER (--seed X,Y | --box X,Y,W,H | --auto) --out DIR [--frame N]
                    [--backend network|network-colour-edges|colour|sam2
                     [--sam2-checkpoint PATH]] [--every K]
 
@@ -31,7 +31,7 @@ from app.progress import is_tenth
 from core.errors import InputError
 from core.io.masks import MaskTrack, check_mask_output, write_masks
 from core.io.report import format_runs
-from core.io.video import VideoReader, open_clip
+from core.io.media import open_media
 from core.limits import count, number, positive
 from core.progress import Progress
 from core.segment.backends import BACKENDS, DEFAULT_BACKEND, SAM2, make_segmenter
@@ -43,7 +43,7 @@ from core.segment.tracking_loop import check_seed_inside
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     """The clip, one kind of seed, the seed frame and the output."""
-    parser.add_argument("clip", type=Path, help="the video")
+    parser.add_argument("clip", type=Path, help="the video, a still image or a folder of frames")
     seed = parser.add_mutually_exclusive_group(required=True)
     seed.add_argument("--seed", metavar="X,Y", help="a click on the animal, pixels")
     seed.add_argument("--box", metavar="X,Y,W,H", help="a box around the animal, pixels")
@@ -115,7 +115,9 @@ def _progress(progress: Progress) -> None:
 def summary(track: MaskTrack, out: Path) -> str:
     """"wrote OUT: T frames, V with the animal; lost in frames …"."""
     lost = ~track.is_visible
-    text = f"wrote {out}: {track.num_frames} frames, {int(track.is_visible.sum())} with the animal"
+    count = track.num_frames
+    text = (f"wrote {out}: {count} frame{'s' if count != 1 else ''}, "
+            f"{int(track.is_visible.sum())} with the animal")
     return text + (f"; lost in frames {format_runs(lost)}" if lost.any() else "")
 
 
@@ -125,15 +127,17 @@ def run(args: argparse.Namespace) -> int:
     seed = parse_seed(args)
     checkpoint = sam2_checkpoint(args, (args.backend,))
     every = count(args.every, 1, "--every")
-    clip = open_clip(args.clip)
-    if not 0 <= args.frame < clip.num_frames:
-        raise InputError(f"--frame {args.frame}: {clip.path} has frames 0…{clip.num_frames - 1}")
-    try:
-        check_seed_inside(seed, clip.width_px, clip.height_px)
-    except InputError as exc:
-        raise InputError(f"{'--seed' if args.seed is not None else '--box'}: {exc}") from None
-    segmenter = make_segmenter(args.backend, range(0, clip.num_frames, every), checkpoint)
-    with VideoReader(clip) as frames:
+    with open_media(args.clip) as frames:  # a video, a still or a folder of frames
+        clip = frames.clip
+        if not 0 <= args.frame < clip.num_frames:
+            raise InputError(f"--frame {args.frame}: {clip.path} has frames "
+                             f"0…{clip.num_frames - 1}")
+        try:
+            check_seed_inside(seed, clip.width_px, clip.height_px)
+        except InputError as exc:
+            raise InputError(f"{'--seed' if args.seed is not None else '--box'}: "
+                             f"{exc}") from None
+        segmenter = make_segmenter(args.backend, range(0, clip.num_frames, every), checkpoint)
         try:
             track = segmenter.segment(frames, seed, progress=_progress)
         except InputError as exc:

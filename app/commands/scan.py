@@ -24,24 +24,20 @@ import argparse
 import sys
 from pathlib import Path
 
-import numpy as np
-
 from app.progress import is_tenth
 from core.errors import InputError
 from core.fit.pipeline import CameraChoice
 from core.io.frame_source import Clip
+from core.io.media import video_files
 from core.io.output_paths import check_output_folder
-from core.io.srt import gimbal_pitch_at, parse_srt
 from core.io.telemetry import load_telemetry
 from core.io.video import VideoReader, open_clip
 from core.limits import count, positive
 from core.progress import Progress, ProgressCallback
-from core.scan.clip_scan import ClipScan, ClipTelemetry, Scanner
+from core.scan.clip_scan import ClipScan, ClipTelemetry, scan_telemetry
+from core.scan.scanner import Scanner
 from core.scan.frame_scores import ScanSettings
 from core.scan.scan_files import write_scan_csv, write_scan_json
-
-VIDEO_SUFFIXES = {".mp4", ".mov", ".avi", ".mkv", ".m4v"}
-
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     """The clips, the output, the camera and altitude, and the scan's settings."""
@@ -90,19 +86,6 @@ def scan_settings(args: argparse.Namespace) -> ScanSettings:
                         best_count=count(args.best, 1, "--best"))
 
 
-def clip_paths(path: Path) -> list[Path]:
-    """The video, or the videos of a folder in name order; InputError when there is none."""
-    if path.is_dir():
-        videos = sorted(p for p in path.iterdir() if p.suffix.lower() in VIDEO_SUFFIXES)
-        if not videos:
-            raise InputError(f"{path}: no video in the folder "
-                             f"({', '.join(sorted(VIDEO_SUFFIXES))})")
-        return videos
-    if not path.exists():
-        raise InputError(f"{path}: no such file or folder")
-    return [path]
-
-
 def clip_telemetry(path: Path, altitude: str | None, camera: CameraChoice,
                    warnings: list[str]) -> tuple[ClipTelemetry, Clip]:
     """The clip (opened and checked) and what the scan knows of its camera: altitude per
@@ -111,10 +94,7 @@ def clip_telemetry(path: Path, altitude: str | None, camera: CameraChoice,
     clip = open_clip(path)
     telemetry = load_telemetry(clip, altitude)
     warnings.extend(telemetry.warnings)
-    times = clip.frame_time_s(np.arange(clip.num_frames))
-    pitch = gimbal_pitch_at(parse_srt(telemetry.source.path), times) \
-        if telemetry.source.kind == "srt" else np.full(clip.num_frames, np.nan)
-    return ClipTelemetry(camera.intrinsics(clip).focal_px, telemetry.altitude_m, pitch), clip
+    return scan_telemetry(clip, telemetry, camera.intrinsics(clip).focal_px), clip
 
 
 def _progress(name: str) -> ProgressCallback:
@@ -146,7 +126,7 @@ def run(args: argparse.Namespace) -> int:
     settings = scan_settings(args)
     out = check_output_folder(args.out, "--out ")
     camera = CameraChoice(args.camera, args.sensor_width_mm, args.focal_mm)
-    paths = clip_paths(args.clips)
+    paths = video_files(args.clips)
     scanner, failed = Scanner(), []
     for path in paths:
         warnings: list[str] = []

@@ -49,15 +49,18 @@ def _fit_inputs(fit: FitInputs) -> tuple[dict[str, Path], dict[str, Any]]:
                "camera": asdict(fit.camera), "config": config,
                "seed": None if fit.masks is not None
                else {"kind": type(fit.seed).__name__, **asdict(fit.seed)}}
+    if fit.also_frames:  # a scan's best frames (absent: as before scans existed)
+        options["also_frames"] = list(fit.also_frames)
     return files, options
 
 
 def _animal_project(m: ProjectMeasurement) -> Project:
-    """The project cut down to the task's clip and animal, without its saved fit (what the
-    elliptical result depends on; other animals' edits do not change it)."""
+    """The project cut down to the task's clip and animal, without its saved fit and scan
+    (what the elliptical result depends on; other animals' edits do not change it)."""
     clip = m.project.clips[m.clip_idx]
     animal = replace(clip.animals[m.animal_idx], fit_path=None)
-    return replace(m.project, clips=(replace(clip, animals=(animal,)),))
+    return replace(m.project, clips=(replace(clip, animals=(animal,), scan_path=None,
+                                             rejected_frames=()),))
 
 
 def _hw_table(spec: str) -> dict[str, Any]:
@@ -70,7 +73,10 @@ def _hw_table(spec: str) -> dict[str, Any]:
 def _measurement_inputs(m: MaskMeasurement | ProjectMeasurement
                         ) -> tuple[dict[str, Path], dict[str, Any]]:
     if isinstance(m, MaskMeasurement):
-        return {}, {**asdict(m), "hw_table": _hw_table(m.hw)}
+        options = {**asdict(m), "hw_table": _hw_table(m.hw)}
+        if not m.frames:  # the largest fitted mask (absent: as before scans existed)
+            del options["frames"]
+        return {}, options
     clip = m.project.clips[m.clip_idx]
     files = {"clip": media_path(m.project_path, clip)}  # its frame times place the altitudes
     if clip.altitude is not None and clip.altitude.path is not None:

@@ -14,6 +14,11 @@ Columns (header names; only ``clip`` is required; paths are relative to the mani
 - ``masks``: a mask PNG folder, mask video or .npz; or ``seed`` for the built-in tracker:
   ``auto``, a click ``X,Y`` or a box ``X,Y,W,H`` in pixels of frame ``seed_frame`` (default
   0). Neither: ``auto``.
+- ``scan``: the clip's scan (`dolphinfit scan`: its STEM_scan.json, or the folder it was
+  written to); ``animal`` is then the scan's animal number, the tracker is seeded on the
+  animal in its best frame (no ``seed`` with it), and the elliptical method measures the
+  animal's ``best`` best usable frames (default: as many as the scan listed), the summary
+  giving the one of median volume.
 - ``start_s``, ``end_s``, ``fps``, ``quality`` (quick, standard, thorough), ``refraction``,
   ``roi`` (yes/no): the app's fit settings (core/project/fit_settings.py); ``config``: a
   FitConfig JSON they apply to.
@@ -37,19 +42,21 @@ from core.io.json_file import read_json
 from core.io.telemetry import find_srt_sidecar
 from core.io.text_input import read_text
 from core.limits import (
-    ALTITUDE_M, FOCAL_MM, FPS, LAUNCH_HEIGHT_M, SENSOR_WIDTH_MM, Limits, in_range, number,
-    time_window,
+    ALTITUDE_M, FOCAL_MM, FPS, LAUNCH_HEIGHT_M, SENSOR_WIDTH_MM, Limits, count, in_range,
+    number, time_window,
 )
 from core.measure.altitude_calibration import AltitudeCalibration, read_altitude_calibration
 from core.measure.annotation import ALTITUDE_SOURCES
 from core.measure.uncertainty import DEFAULT_NUM_DRAWS
 from core.project.fit_settings import QUALITY_STEP_SCALE, FitSettings, fit_config, fit_dir
+from core.scan.frame_scores import FrameScore
+from core.scan.scan_files import read_scan_json
 from core.segment.segmenter import AutoSeed, BoxSeed, PointSeed, Seed
 
 COLUMNS = ("clip", "animal", "altitude", "launch_height_m", "time_offset_s", "altitude_source",
            "altitude_calibration",
-           "camera", "sensor_width_mm", "focal_mm", "masks", "seed", "seed_frame", "start_s",
-           "end_s", "fps", "quality", "refraction", "roi", "config")
+           "camera", "sensor_width_mm", "focal_mm", "masks", "seed", "seed_frame", "scan", "best",
+           "start_s", "end_s", "fps", "quality", "refraction", "roi", "config")
 REQUIRED = ("clip",)
 DEFAULT_ANIMAL = "1"
 BOOLEANS = {"yes": True, "true": True, "1": True, "no": False, "false": False, "0": False}
@@ -203,6 +210,36 @@ def _altitude_source(row: Row, altitude: float | Path | None) -> str:
     return source
 
 
+def _scan_picks(row: Row, clip: Path, animal: str) -> list[FrameScore]:
+    """The best usable frames of ``animal`` in the row's scan, best first (none without a
+    scan); InputError naming the cell when the scan is not the clip's or the animal has none."""
+    path = row.path("scan")
+    if path is None:
+        if row.text("best"):
+            raise InputError(f"{row.where('best')}: needs a scan (column 'scan')")
+        return []
+    if row.text("seed"):
+        raise InputError(f"{row.where('seed')}: give a scan or a tracker seed, not both")
+    if path.is_dir():
+        path = path / f"{clip.stem}_scan.json"
+    try:
+        scan = read_scan_json(path)
+    except InputError as exc:
+        raise InputError(f"{row.where('scan')}: {exc}") from None
+    if scan.clip_name != clip.name:
+        raise InputError(f"{row.where('scan')}: {path.name} is the scan of {scan.clip_name}, "
+                         f"not of {clip.name}")
+    numbers = {str(number): number for number in scan.animal_ids()}
+    if animal not in numbers:
+        raise InputError(f"{row.where('animal')}: {animal!r} is not an animal of the scan "
+                         f"(its animals: {', '.join(numbers) or 'none'})")
+    picks = scan.best(numbers[animal], row.parsed("best", _whole(1), scan.settings.best_count))
+    if not picks:
+        raise InputError(f"{row.where('animal')}: the scan found no usable frame of animal "
+                         f"{animal}")
+    return picks
+
+
 def task_from_row(row: Row, num_draws: int = DEFAULT_NUM_DRAWS) -> BatchTask:
     """The batch task of one manifest row."""
     clip = row.path("clip")
@@ -213,27 +250,26 @@ def task_from_row(row: Row, num_draws: int = DEFAULT_NUM_DRAWS) -> BatchTask:
     masks = row.path("masks")
     if masks is not None and row.text("seed"):
         raise InputError(f"{row.where('seed')}: give masks or a tracker seed, not both")
-    seed_frame = row.parsed("seed_frame", _frame_index, 0)
+    seed_frame = row.parsed("seed_frame", _whole(0), 0)
+    picks = _scan_picks(row, clip, animal)
+    seed = (PointSeed(picks[0].centre_x_px, picks[0].centre_y_px, picks[0].frame_idx) if picks
+            else row.parsed("seed", lambda text: _seed(text, seed_frame), AutoSeed(seed_frame)))
+    frames = tuple(sorted(pick.frame_idx for pick in picks))
     fit = FitInputs(clip=clip, altitude=altitude,
                     launch_height_m=row.number("launch_height_m", LAUNCH_HEIGHT_M, 0.0),
                     time_offset_s=row.number("time_offset_s", default=0.0),
-                    camera=_camera(row), masks=masks,
-                    seed=row.parsed("seed", lambda text: _seed(text, seed_frame),
-                                    AutoSeed(seed_frame)),
-                    config=_fit_config(row),
-                    altitude_calibration=_altitude_calibration(row))
+                    camera=_camera(row), masks=masks, seed=seed, config=_fit_config(row),
+                    altitude_calibration=_altitude_calibration(row), also_frames=frames)
     return BatchTask(name=fit_dir(row.manifest, row.text("clip"), animal).name,
                      clip=row.text("clip"), animal_id=animal,
                      where=f"{row.manifest}: row {row.row}", fit=fit,
                      measurement=MaskMeasurement(_altitude_source(row, altitude),
-                                                 num_draws=num_draws))
+                                                 num_draws=num_draws, frames=frames))
 
 
-def _frame_index(text: str) -> int:
-    value = int(text)
-    if value < 0:
-        raise ValueError("a frame index is 0 or more")
-    return value
+def _whole(minimum: int) -> Callable[[str], int]:
+    """A cell's parser: a whole number ≥ ``minimum``."""
+    return lambda text: count(int(text), minimum, "a whole number")
 
 
 def read_manifest(path: Path, num_draws: int = DEFAULT_NUM_DRAWS) -> list[BatchTask]:

@@ -12,6 +12,7 @@ import numpy as np
 from core.batch.summary import elliptical_values
 from core.batch.task import MaskMeasurement
 from core.camera_presets import DEFAULT_PRESET, CameraPreset, get_preset
+from core.errors import InputError
 from core.fit.pipeline import CameraChoice, FitRun
 from core.measure.altitude_calibration import AltitudeCalibration
 from core.measure.annotation_json import AnnotationFile
@@ -20,7 +21,8 @@ from core.measure.baseline import BaselineEstimate, BaselineSettings, estimate_b
 from core.model.hw_spec import resolve_hw
 from core.measure.mask_midline import annotation_from_mask
 from core.measure.records import (
-    default_error_model, measured_image_from_annotation, result_record, write_exports,
+    MeasureInput, default_error_model, measured_image_from_annotation, result_record,
+    write_exports,
 )
 from core.project.results import frame_altitude
 
@@ -46,16 +48,12 @@ def largest_mask_frame(run: FitRun) -> int:
     return max(frames, key=lambda f: int(run.masks.mask(f).sum()))
 
 
-def mask_baseline(run: FitRun, choice: CameraChoice, measurement: MaskMeasurement,
-                  stem: Path, altitude_calibration: AltitudeCalibration | None = None
-                  ) -> tuple[dict[str, Any], BaselineEstimate]:
-    """Measure the animal on its largest fitted mask, write STEM_measure.json, STEM_mmx.csv
-    and STEM_wide.csv; the summary's elliptical values and the estimate.
-    ``altitude_calibration``: the one the fit's altitudes were corrected by, which then sets
-    the altitude's error."""
-    frame_idx = largest_mask_frame(run)
-    mask = run.masks.mask(frame_idx)
-    annotation = annotation_from_mask(mask, frame_idx)
+def _measured(run: FitRun, frame_idx: int, choice: CameraChoice,
+              measurement: MaskMeasurement, altitude_calibration: AltitudeCalibration | None
+              ) -> tuple[MeasureInput, BaselineEstimate, dict[str, Any], str]:
+    """The elliptical measurement of one frame's mask: its input, estimate, record and image
+    ID."""
+    annotation = annotation_from_mask(run.masks.mask(frame_idx), frame_idx)
     clip = run.clip
     camera, preset_name = clip_camera(choice, clip.width_px, clip.height_px)
     calibration = Calibration(camera, preset_name, frame_altitude(run.telemetry, frame_idx),
@@ -74,6 +72,49 @@ def mask_baseline(run: FitRun, choice: CameraChoice, measurement: MaskMeasuremen
         BaselineSettings(hw=resolve_hw(measurement.hw), tail=measurement.tail),
         default_error_model(source.altitude_source, source.is_camera_approximate, **overrides),
         measurement.num_draws, np.random.default_rng(0))
-    record = result_record(source, estimate, input_name=image_id, seed=0)
-    write_exports(stem, source, estimate, record)
-    return elliptical_values(estimate, record, image_id, frame_idx), estimate
+    return source, estimate, result_record(source, estimate, input_name=image_id, seed=0), \
+        image_id
+
+
+def mask_baseline(run: FitRun, choice: CameraChoice, measurement: MaskMeasurement,
+                  stem: Path, altitude_calibration: AltitudeCalibration | None = None
+                  ) -> tuple[dict[str, Any], BaselineEstimate, list[str]]:
+    """Measure the animal on its masks and write STEM_measure.json, STEM_mmx.csv and
+    STEM_wide.csv: on its largest fitted mask, or on each of ``measurement.frames`` where
+    its mask shows it (each as STEM_IMAGEID_*), the summary's values then of the frame of
+    median volume. The summary's elliptical values, their estimate and notes.
+    ``altitude_calibration``: the one the fit's altitudes were corrected by, which then sets
+    the altitude's error."""
+    if not measurement.frames:
+        frame_idx = largest_mask_frame(run)
+        source, estimate, record, image_id = _measured(run, frame_idx, choice, measurement,
+                                                       altitude_calibration)
+        write_exports(stem, source, estimate, record)
+        return elliptical_values(estimate, record, image_id, frame_idx), estimate, []
+    masks = run.masks
+    seen = [f for f in measurement.frames if 0 <= f < masks.num_frames and masks.is_visible[f]]
+    notes: list[str] = []
+    measured = []
+    for frame_idx in seen:
+        try:
+            source, estimate, record, image_id = _measured(run, frame_idx, choice, measurement,
+                                                           altitude_calibration)
+        except (InputError, ValueError) as exc:  # e.g. no altitude on that frame
+            notes.append(f"frame {frame_idx} not measured: {exc}")
+            continue
+        write_exports(stem.with_name(f"{stem.name}_{image_id}"), source, estimate, record)
+        measured.append((float(estimate.point.volume_m3), frame_idx, estimate, record,
+                         image_id))
+    if not measured:
+        raise InputError("no frame to measure: " + ("; ".join(notes) or
+                         "the masks lost the animal on every one "
+                         f"({', '.join(map(str, measurement.frames))})"))
+    measured.sort(key=lambda item: item[0])
+    _, frame_idx, estimate, record, image_id = measured[(len(measured) - 1) // 2]
+    volumes = [item[0] for item in measured]
+    notes.insert(0, f"elliptical of frame {frame_idx}, the median volume of {len(measured)} "
+                    f"best frames ({min(volumes):.4f}–{max(volumes):.4f} m³)")
+    lost = sorted(set(measurement.frames) - set(seen))
+    if lost:
+        notes.append(f"the masks lost the animal on frames {', '.join(map(str, lost))}")
+    return elliptical_values(estimate, record, image_id, frame_idx), estimate, notes

@@ -19,7 +19,8 @@ from core.segment.segmenter import AutoSeed, Seed
 class FitInputs:
     """What ``core.fit.pipeline.run_fit`` needs: the clip, its altitude (metres, an altitude
     CSV, DJI SRT or laser log, or None for the clip's SRT sidecar) and its calibration, the
-    camera, and the masks or, without them, the tracker's seed."""
+    camera, and the masks or, without them, the tracker's seed and the frames it tracks
+    besides the fit's (``also_frames``: those the elliptical method measures)."""
 
     clip: Path
     altitude: float | Path | None
@@ -30,17 +31,20 @@ class FitInputs:
     seed: Seed = AutoSeed()
     config: FitConfig = FitConfig()
     altitude_calibration: AltitudeCalibration | None = None
+    also_frames: tuple[int, ...] = ()
 
 
 @dataclass(frozen=True)
 class MaskMeasurement:
     """The elliptical baseline taken from the fit's masks: length and widths from the mask of
-    the fitted frame where the most of the animal is seen (core/batch/mask_baseline.py)."""
+    each of ``frames`` (a scan's best frames), or where none are given, of the fitted frame
+    where the most of the animal is seen (core/batch/mask_baseline.py)."""
 
     altitude_source: str = "manual"
     hw: str = DEFAULT_PRESET
     tail: str = TAIL_EXTRAPOLATED
     num_draws: int = DEFAULT_NUM_DRAWS
+    frames: tuple[int, ...] = ()
 
 
 @dataclass(frozen=True, eq=False)

@@ -85,11 +85,12 @@ def _run_methods(task: BatchTask, folder: Path) -> tuple[dict[str, Any], list[st
         elif run is None:
             errors.append("elliptical: it measures the fit's masks, and there is no fit")
         else:
-            elliptical, estimate = mask_baseline(run, task.fit.camera, task.measurement,
-                                                 folder / ELLIPTICAL_STEM,
-                                                 task.fit.altitude_calibration)
+            elliptical, estimate, picked = mask_baseline(run, task.fit.camera,
+                                                         task.measurement,
+                                                         folder / ELLIPTICAL_STEM,
+                                                         task.fit.altitude_calibration)
             values.update(elliptical)
-            notes.append(f"elliptical {NOTE}")
+            notes += [f"elliptical {NOTE}", *picked]
     except Exception as exc:  # noqa: BLE001 (recorded; the batch goes on)
         errors.append(f"elliptical: {describe(exc)}")
     if run is not None and estimate is not None:
@@ -101,7 +102,7 @@ def _fit(task: BatchTask, folder: Path) -> FitRun:
     fit = task.fit
     run = run_fit(fit.clip, fit.altitude, fit.masks, fit.camera, fit.config,
                   fit.launch_height_m, seed=fit.seed, time_offset_s=fit.time_offset_s,
-                  altitude_calibration=fit.altitude_calibration)
+                  altitude_calibration=fit.altitude_calibration, also_frames=fit.also_frames)
     write_outputs(run.result, run.data, load_template(), folder)
     return run
 

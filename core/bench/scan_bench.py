@@ -29,7 +29,8 @@ from core.measure.annotation import pixel_measurements
 from core.measure.elliptical import TAIL_EXTRAPOLATED, elliptical_volume, fill_skipped
 from core.measure.hw_ratios import DEFAULT_PRESET, load_hw_preset
 from core.measure.mask_midline import annotation_from_mask
-from core.scan.clip_scan import ClipScan, ClipTelemetry, Scanner
+from core.scan.clip_scan import ClipScan, ClipTelemetry
+from core.scan.scanner import Scanner
 from core.scan.frame_scores import ScanSettings
 from core.synth.config import SynthConfig
 from core.synth.files import ClipFiles

@@ -8,6 +8,7 @@ raises core.progress.Cancelled.
 """
 
 import threading
+from collections.abc import Sequence
 from dataclasses import dataclass, replace
 from pathlib import Path
 
@@ -123,9 +124,11 @@ def run_fit(clip_path: Path, altitude: str | Path | float | None, masks_path: Pa
             progress: ProgressCallback | None = None,
             cancel: threading.Event | None = None, seed: Seed = AutoSeed(frame_idx=0),
             time_offset_s: float = 0.0, backend: str = DEFAULT_BACKEND,
-            altitude_calibration: AltitudeCalibration | None = None) -> FitRun:
+            altitude_calibration: AltitudeCalibration | None = None,
+            also_frames: Sequence[int] = ()) -> FitRun:
     """Fit the clip; without ``masks_path`` the mask ``backend`` (core.segment.backends)
-    finds the dolphin from ``seed`` on the frames the fit will look at, reporting its own
+    finds the dolphin from ``seed`` on the frames the fit will look at and on
+    ``also_frames`` (e.g. the frames measured by the elliptical method), reporting its own
     "track" stage first. An automatic seed looks for an animal ``DOLPHIN_LENGTH_M`` long at
     the clip's altitudes (``expected_length_px``). An ``altitude_calibration`` of the clip's
     camera corrects the altitudes first."""
@@ -142,8 +145,9 @@ def run_fit(clip_path: Path, altitude: str | Path | float | None, masks_path: Pa
             masks = read_masks(masks_path, clip)
         else:
             fit_frames = frames_at_fps(clip, config.fps, config.start_s, config.end_s)
+            tracked = sorted({*map(int, fit_frames), *map(int, also_frames)})
             if isinstance(seed, AutoSeed) and seed.length_px is None:
                 seed = sized_auto_seed(seed.frame_idx, intrinsics, telemetry)
-            masks = make_segmenter(backend, only_frames=fit_frames).segment(
+            masks = make_segmenter(backend, only_frames=tracked).segment(
                 frames, seed, progress=progress, cancel=cancel)
         return fit_clip(frames, telemetry, masks, intrinsics, config, progress, cancel)

@@ -35,6 +35,7 @@ PNG_NAME = "{:06d}.png"  # DESIGN.md §8
 PNG_PATTERN = re.compile(r"^(\d+)\.png$", re.IGNORECASE)
 VIDEO_THRESHOLD = 128  # grey level from which a mask-video pixel is dolphin
 NPZ_SUFFIX = ".npz"
+MASK_IMAGE_SUFFIXES = (".png", ".tif", ".tiff", ".bmp")  # a still's mask: lossless images
 MASK_VALUE = 255  # written for dolphin pixels in PNGs
 # A mask covering more of the frame than this is blank white or inverted (water marked as
 # dolphin): a dolphin seen from 1 m or more never fills its frame.
@@ -144,6 +145,15 @@ def read_png_folder(folder: Path, clip: Clip | None = None) -> MaskTrack:
                      lambda idx: _read_png(files[idx]))
 
 
+def read_mask_image(path: Path, clip: Clip | None = None) -> MaskTrack:
+    """The mask of a still: one image file (PNG, TIFF, …; non-zero pixels are the animal)."""
+    mask = _read_png(path)
+    if clip is not None:
+        _check_size(str(path), mask.shape, (clip.height_px, clip.width_px))
+    return MaskTrack(np.array([bool(mask.any())]), mask.shape[1], mask.shape[0],
+                     f"mask image {path}", lambda _: mask)
+
+
 def read_mask_video(path: Path, clip: Clip | None = None) -> MaskTrack:
     """Masks from a video, one frame per clip frame (decoded once here for visibility)."""
     reader = VideoReader(path)
@@ -193,8 +203,9 @@ def check_against_clip(track: MaskTrack, clip: Clip) -> None:
 
 
 def read_masks(path: Path | str, clip: Clip | None = None) -> MaskTrack:
-    """Masks from a PNG folder, an .npz or a mask video (by what ``path`` is), checked
-    against ``clip`` when given; InputError when no mask marks the dolphin."""
+    """Masks from a PNG folder, an .npz, a still's mask image or a mask video (by what
+    ``path`` is), checked against ``clip`` when given; InputError when no mask marks the
+    dolphin."""
     path = Path(path)
     if path.is_dir():
         track = read_png_folder(path, clip)
@@ -202,6 +213,8 @@ def read_masks(path: Path | str, clip: Clip | None = None) -> MaskTrack:
         raise InputError(f"{path}: no such file or folder")
     elif path.suffix.lower() == NPZ_SUFFIX:
         track = read_npz(path, clip)
+    elif path.suffix.lower() in MASK_IMAGE_SUFFIXES:
+        track = read_mask_image(path, clip)
     else:
         track = read_mask_video(path, clip)
     if clip is not None:

@@ -98,3 +98,18 @@ def open_media(path: Path | str, fps: float | None = None) -> FrameSource:
     if path.suffix.lower() in IMAGE_SUFFIXES:
         return ImageFrames([path], "image", path)
     return VideoReader(path)
+
+
+def video_files(path: Path) -> list[Path]:
+    """The video at ``path``, or the videos of a folder in natural order of their names;
+    InputError when there is none."""
+    path = Path(path)
+    if path.is_dir():
+        videos = sorted((p for p in path.iterdir() if p.suffix.lower() in VIDEO_SUFFIXES),
+                        key=lambda p: natural_key(p.name))
+        if not videos:
+            raise InputError(f"{path}: no video in the folder ({', '.join(VIDEO_SUFFIXES)})")
+        return videos
+    if not path.exists():
+        raise InputError(f"{path}: no such file or folder")
+    return [path]

@@ -182,7 +182,9 @@ class ClipEntry:
     hand). ``altitude``: None until the user gives one. ``masks_path``: the clip's masks (a
     folder of %06d.png, an .npz or a mask video; core/io/masks.py), relative like the media.
     ``altitude_calibration``: the name of the project's calibration its altitudes are
-    corrected by (None: as recorded).
+    corrected by (None: as recorded). ``scan_path``: the clip's scan (core/scan/scan_files.py),
+    relative like the media; ``rejected_frames``: (scan animal number, frame) pairs the user
+    put aside in the frame picker.
     """
 
     media_path: str
@@ -193,8 +195,12 @@ class ClipEntry:
     animals: tuple[Animal, ...] = ()
     masks_path: str | None = None
     altitude_calibration: str | None = None
+    scan_path: str | None = None
+    rejected_frames: tuple[tuple[int, int], ...] = ()
 
     def __post_init__(self) -> None:
+        object.__setattr__(self, "rejected_frames", tuple(sorted(
+            {(int(animal), int(frame)) for animal, frame in self.rejected_frames})))
         if self.kind not in MEDIA_KINDS:
             raise ValueError(f"media kind must be one of {MEDIA_KINDS}, got {self.kind!r}")
 

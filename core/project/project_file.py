@@ -7,6 +7,7 @@ Schema version 1 (``*.dolphinfit``)::
       "settings": {"hw_ratios": "tursiops-provisional", "tail": "extrapolated"},
       "clips": [{
         "media": "DJI_0042.MP4", "kind": "video", "masks": "DJI_0042_masks",
+        "scan": "survey.scans/DJI_0042_scan.json", "rejected_frames": [[1, 150]],
         "camera": {"preset": "dji-mavic3-5.1k", "focal_mm": 12.29, "sensor_width_mm": 17.27,
                    "image_width_px": 5120, "image_height_px": 2700, "approximate": false},
         "altitude": {"path": "DJI_0042.SRT", "constant_m": null, "launch_height_m": 1.5,
@@ -204,9 +205,36 @@ def _clip_from_json(data: Any, where: str) -> ClipEntry:
                          animals=animals,
                          masks_path=_get(data, "masks", str, where, optional=True),
                          altitude_calibration=_get(data, "altitude_calibration", str, where,
-                                                   optional=True))
+                                                   optional=True),
+                         scan_path=_get(data, "scan", str, where, optional=True),
+                         rejected_frames=_rejected_frames(data.get("rejected_frames"),
+                                                          f"{where}: rejected_frames"))
     except ValueError as exc:
         raise InputError(f"{where}: {exc}") from exc
+
+
+def _scan_to_json(clip: ClipEntry) -> dict[str, Any]:
+    """The clip's scan and frames put aside, where it has them (a clip never scanned is
+    written as before scans existed)."""
+    written: dict[str, Any] = {}
+    if clip.scan_path is not None:
+        written["scan"] = clip.scan_path
+    if clip.rejected_frames:
+        written["rejected_frames"] = [list(pair) for pair in clip.rejected_frames]
+    return written
+
+
+def _rejected_frames(data: Any, where: str) -> tuple[tuple[int, int], ...]:
+    """[[scan animal number, frame], ...] (absent: none)."""
+    if data is None:
+        return ()
+    pairs = data if isinstance(data, list) else None
+    if pairs is None or not all(isinstance(p, list) and len(p) == 2 and all(
+            isinstance(v, int) and not isinstance(v, bool) and v >= 0 for v in p)
+            for p in pairs):
+        raise InputError(f"{where}: expected a list of [animal, frame] pairs of whole numbers "
+                         "≥ 0")
+    return tuple((animal, frame) for animal, frame in pairs)
 
 
 def _shot_from_json(data: Any, where: str) -> ObjectShot:
@@ -277,6 +305,7 @@ def project_to_json(project: Project) -> dict[str, Any]:
             "camera": _camera_to_json(clip.camera, clip.preset_name),
             "altitude": _altitude_to_json(clip.altitude),
             "altitude_calibration": clip.altitude_calibration,
+            **_scan_to_json(clip),
             "animals": [{"id": a.animal_id, "notes": a.notes,
                          "measurements": [_measurement_to_json(m) for m in a.measurements],
                          "fit": {"settings": asdict(a.fit_settings), "result": a.fit_path}}
@@ -320,8 +349,8 @@ def media_path(project_path: Path, clip: ClipEntry) -> Path:
 
 
 def rebase_media(project: Project, old_dir: Path, new_dir: Path) -> Project:
-    """The project with its media, altitude, masks, fit and HW-table paths made relative to
-    ``new_dir`` (Save As)."""
+    """The project with its media, altitude, masks, scan, fit and HW-table paths made relative
+    to ``new_dir`` (Save As)."""
     def moved(rel: str) -> str:
         return relative_media_path(new_dir, (old_dir / rel).resolve())
 
@@ -330,6 +359,7 @@ def rebase_media(project: Project, old_dir: Path, new_dir: Path) -> Project:
         altitude=(clip.altitude if clip.altitude is None or clip.altitude.path is None
                   else replace(clip.altitude, path=moved(clip.altitude.path))),
         masks_path=None if clip.masks_path is None else moved(clip.masks_path),
+        scan_path=None if clip.scan_path is None else moved(clip.scan_path),
         animals=tuple(a if a.fit_path is None else replace(a, fit_path=moved(a.fit_path))
                       for a in clip.animals))
         for clip in project.clips)

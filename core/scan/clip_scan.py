@@ -1,43 +1,16 @@
-"""The scan of a clip: every animal in view, followed across sampled frames, and each sampled
-frame scored for measuring each animal, so that a person measures the frames worth it.
+"""A clip's scan as data: every animal found in it, each sampled frame scored for measuring
+it (``frame_scores``), and what the scan knows of the camera (``scan_telemetry``). The scan
+itself is ``scanner``'s; this module needs no network, so the app can read and show scans
+without loading torch."""
 
-Frames are sampled at ``ScanSettings.sample_fps``. On the first sample, every
-``search_every_s`` after it and whenever no animal is being followed, the whole frame is
-searched as the automatic seed searches it (``auto_seed.find_animals``: the salient network
-on the frame and on tiles sized by the camera, and the colour detector), which costs 1–4 s
-at 1080p on two cores; on the samples between, each animal followed is looked for once
-around where it should be (``WINDOW_LENGTHS`` of its length across: one look of the network,
-about 0.1–0.3 s). The sightings join the animals' tracks (``tracks``) and each is scored
-(``frame_scores``). An animal must persist: seen in at least ``MIN_SIGHTINGS`` samples (where
-the clip has that many) and in at least ``MIN_SEEN_SHARE`` of the samples from its first
-sighting to its last. A splash or a patch of glitter the network takes for an animal is seen
-now and then (on the sample clip's glitter: in 2 of 5 samples), an animal in nearly every
-sample while it is in view.
-"""
-
-import threading
-import time
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 
 import numpy as np
 
-from core.fit.pipeline import DOLPHIN_LENGTH_M, expected_length_px
-from core.io.frame_source import FrameSource
-from core.io.video import frames_at_fps
-from core.progress import Progress, ProgressCallback, check_cancel
-from core.scan.frame_scores import FrameScore, ScanSettings, best_frames, track_scores
-from core.scan.sighting import sighting
-from core.scan.tracks import Track, Tracker
-from core.segment.auto_seed import (
-    MIN_TILE_PX, colour_candidates, find_animals, same_animal, window_candidates,
-)
-from core.segment.net_settings import NetSettings
-from core.segment.salient import SalientNet
-from core.segment.windows import square_window
-
-WINDOW_LENGTHS = 3.0   # the look around a followed animal is this many of its length across
-MIN_SIGHTINGS = 2      # samples an animal must be seen in (module doc)
-MIN_SEEN_SHARE = 0.6   # of the samples from its first sighting to its last (module doc)
+from core.io.frame_source import Clip
+from core.io.srt import gimbal_pitch_at, parse_srt
+from core.io.telemetry import Telemetry
+from core.scan.frame_scores import FrameScore, ScanSettings, best_frames
 
 
 @dataclass(frozen=True)
@@ -81,94 +54,15 @@ class ClipTelemetry:
     gimbal_pitch_deg: np.ndarray
 
 
-class Scanner:
-    """The salient network and settings a scan looks with (module doc); one per thread."""
-
-    def __init__(self, net: SalientNet | None = None,
-                 settings: NetSettings = NetSettings()) -> None:
-        self.net = net if net is not None else SalientNet()
-        self.settings = settings
-
-    def scan(self, frames: FrameSource, telemetry: ClipTelemetry,
-             settings: ScanSettings = ScanSettings(),
-             progress: ProgressCallback | None = None,
-             cancel: threading.Event | None = None) -> ClipScan:
-        """Scan ``frames`` (module doc); Cancelled when ``cancel`` is set between samples."""
-        started = time.perf_counter()
-        clip = frames.clip
-        samples = [int(t) for t in frames_at_fps(clip, settings.sample_fps)]
-        expected = None if telemetry.focal_px is None else expected_length_px(
-            telemetry.focal_px, telemetry.altitude_m, DOLPHIN_LENGTH_M)
-        tracker, searched_at = Tracker(clip.fps), None
-        for step, frame_idx in enumerate(samples):
-            check_cancel(cancel)
-            frame = frames[frame_idx]
-            followed = tracker.open_tracks(frame_idx)
-            if searched_at is None or not followed or \
-                    (frame_idx - searched_at) / clip.fps >= settings.search_every_s:
-                masks = [c.mask for c in find_animals(frame, self.net.saliency,
-                                                      self.settings.tile_fraction,
-                                                      self.settings.threshold, expected)]
-                searched_at = frame_idx
-            else:
-                masks = self._followed(frame, frame_idx, followed, expected)
-            seen = [s for s in (sighting(frame, mask, frame_idx) for mask in masks)
-                    if s is not None]
-            tracker.add(frame_idx, seen, _px_per_m(telemetry, frame_idx))
-            if progress is not None:
-                progress(Progress("scan", step + 1, len(samples),
-                                  f"frame {frame_idx}: {len(seen)} animal"
-                                  f"{'s' if len(seen) != 1 else ''} in view"))
-        kept = [t for t in tracker.tracks if persists(t, samples)]
-        scores = [score for number, track in enumerate(kept, start=1)   # in order of showing
-                  for score in track_scores(number, track.sightings, clip.fps,
-                                            telemetry.altitude_m, telemetry.gimbal_pitch_deg,
-                                            telemetry.focal_px, settings)]
-        return ClipScan(clip.path.name, clip.fps, clip.num_frames, clip.width_px,
-                        clip.height_px, tuple(samples), settings, tuple(scores),
-                        time.perf_counter() - started)
-
-    def _followed(self, frame: np.ndarray, frame_idx: int, followed: list[Track],
-                  expected: tuple[float, float] | None) -> list[np.ndarray]:
-        """Each followed animal's mask in this frame, looked for around where it should be
-        (the network's component nearest there, else the colour detector's); animals not
-        found there are left out."""
-        height, width = frame.shape[:2]
-        taken: list[np.ndarray] = []
-        for track in followed:
-            centre = track.predicted_px(frame_idx)
-            rows, cols = square_window(centre, max(WINDOW_LENGTHS * track.length_px(),
-                                                   MIN_TILE_PX), height, width)
-            found = window_candidates(frame, rows, cols, self.net.saliency,
-                                      self.settings.threshold, expected)
-            if not found:
-                found = [replace(c, mask=_in_frame(c.mask, rows, cols, (height, width)))
-                         for c in colour_candidates(np.ascontiguousarray(frame[rows, cols]),
-                                                    expected)]
-            found = [c for c in found if not any(same_animal(c.mask, other) for other in taken)]
-            if found:
-                nearest = min(found, key=lambda c: np.hypot(*np.subtract(c.centre_px(), centre)))
-                taken.append(nearest.mask)
-        return taken
-
-
-def persists(track: Track, samples: list[int]) -> bool:
-    """Whether an animal was seen often enough to be one (module doc)."""
-    seen = len(track.sightings)
-    span = samples.index(track.last.frame_idx) - samples.index(track.sightings[0].frame_idx) + 1
-    return seen >= min(MIN_SIGHTINGS, len(samples)) and seen >= MIN_SEEN_SHARE * span
-
-
-def _px_per_m(telemetry: ClipTelemetry, frame_idx: int) -> float | None:
-    """Pixels per metre on the water in ``frame_idx``; None where unknown."""
-    altitude = float(telemetry.altitude_m[frame_idx])
-    if telemetry.focal_px is None or not altitude > 0:
-        return None
-    return telemetry.focal_px / altitude
-
-
-def _in_frame(mask: np.ndarray, rows: slice, cols: slice, shape: tuple[int, int]) -> np.ndarray:
-    """A window's mask placed in a frame-sized one."""
-    whole = np.zeros(shape, bool)
-    whole[rows, cols] = mask
-    return whole
+def scan_telemetry(clip: Clip, telemetry: Telemetry | None,
+                   focal_px: float | None) -> ClipTelemetry:
+    """What a scan knows of ``clip``'s camera: the altitude per frame (NaN without
+    ``telemetry``), the focal length in pixels, and the gimbal's pitch where the SRT the
+    altitude came from records it."""
+    if telemetry is None:
+        nothing = np.full(clip.num_frames, np.nan)
+        return ClipTelemetry(focal_px, nothing, nothing)
+    times = clip.frame_time_s(np.arange(clip.num_frames))
+    pitch = gimbal_pitch_at(parse_srt(telemetry.source.path), times) \
+        if telemetry.source.kind == "srt" else np.full(clip.num_frames, np.nan)
+    return ClipTelemetry(focal_px, telemetry.altitude_m, pitch)

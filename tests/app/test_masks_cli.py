@@ -35,6 +35,12 @@ def clip(tmp_path_factory) -> Path:
     return path
 
 
+def _frame(clip: Path, t: int) -> np.ndarray:
+    from core.io.video import VideoReader
+    with VideoReader(open_clip(clip)) as frames:
+        return frames[t]
+
+
 def _truth(t: int) -> np.ndarray:
     mask = np.zeros((HEIGHT_PX, WIDTH_PX), np.uint8)
     cv2.ellipse(mask, _centre(t), (30, 8), 15, 0, 360, 1, -1)
@@ -96,6 +102,17 @@ def test_network_backend_on_every_kth_frame(clip, tmp_path, capsys):
     for t in (0, 4, 8):
         got, truth = track.mask(t), _truth(t)
         assert (got & truth).sum() / (got | truth).sum() > 0.85
+
+
+def test_a_still_image_gets_its_mask(clip, tmp_path, capsys):
+    """A still (a PNG of the clip's frame 3) is found and written as one mask."""
+    still = tmp_path / "DJI_0003.png"
+    cv2.imwrite(str(still), cv2.cvtColor(_frame(clip, 3), cv2.COLOR_RGB2BGR))
+    out = tmp_path / "still.npz"
+    assert main(["masks", str(still), "--auto", "--backend", "colour", "--out", str(out)]) == 0
+    assert f"wrote {out}: 1 frame, 1 with the animal" in capsys.readouterr().out
+    got, truth = read_masks(out).mask(0), _truth(3)
+    assert (got & truth).sum() / (got | truth).sum() > 0.85
 
 
 def test_not_a_video_exits_2(tmp_path, capsys):

@@ -126,12 +126,15 @@ def test_widths_from_the_mask(tmp_path):
     half = np.interp(u, at, np.concatenate([[0.0], W_BL, [0.0]]) * BL_M / M_PER_PX / 2)
     masks = tmp_path / "masks"
     masks.mkdir()
-    cv2.imwrite(str(masks / "000000.png"), (np.abs(v - ORIGIN_PX[1]) <= half) * np.uint8(255))
-    assert main(["measure", str(path), "--mc", "0", "--from-mask", str(masks)]) == 0
-    result = _result(tmp_path)
-    widths_px = np.array([s["width_px"] for s in result["stations"]])
-    np.testing.assert_allclose(widths_px, W_BL * BL_M / M_PER_PX, atol=1.0)
-    assert result["volume_m3"] == pytest.approx(_expected_volume(), rel=0.02)
+    mask = (np.abs(v - ORIGIN_PX[1]) <= half) * np.uint8(255)
+    cv2.imwrite(str(masks / "000000.png"), mask)
+    cv2.imwrite(str(tmp_path / "still_mask.png"), mask)  # a still's mask: one image file
+    for source in (masks, tmp_path / "still_mask.png"):
+        assert main(["measure", str(path), "--mc", "0", "--from-mask", str(source)]) == 0
+        result = _result(tmp_path)
+        widths_px = np.array([s["width_px"] for s in result["stations"]])
+        np.testing.assert_allclose(widths_px, W_BL * BL_M / M_PER_PX, atol=1.0)
+        assert result["volume_m3"] == pytest.approx(_expected_volume(), rel=0.02)
 
 
 def test_morphometrix_file_as_input(tmp_path, capsys):

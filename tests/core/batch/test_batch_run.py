@@ -153,3 +153,46 @@ def test_a_calibrated_task_corrects_both_methods_altitudes(batch, tmp_path):
     assert recorded == pytest.approx(12.0, abs=0.1)   # the SRT's, as the clip was flown
     assert elliptical["altitude_m"] == pytest.approx(calibration.true_altitude(recorded))
     assert elliptical["uncertainty"]["errors"]["altitude_sd_fraction"] < 0.02
+
+
+def test_a_scans_best_frames_are_tracked_and_measured(batch, tmp_path):
+    """A row naming the clip's scan: the elliptical method measures the animal's best frames
+    (here frames 3 and 1 of 4: frame 3 is not one the fit uses, so the tracker draws it too),
+    each exported, the summary taking the frame of median volume."""
+    from core.batch.task_run import run_task
+    from core.scan.clip_scan import ClipScan
+    from core.scan.frame_scores import FrameScore, ScanSettings
+    from core.scan.scan_files import write_scan_json
+
+    from core.synth.files import clip_files
+
+    folder, _ = batch
+    video = clip_files(folder / "clip0", CLIP).video
+    truth = json.loads((folder / "clip0" / "truth.json").read_text())
+
+    def score(frame: int, quality: float) -> FrameScore:
+        centre = truth["frames"][frame]["seed_px"]
+        return FrameScore(1, frame, frame / 4, centre[0], centre[1], 45.0, 2.3, 1.0, 1.0, 1.0,
+                          30.0, 12.0, -90.0, 1.0, 1.0, 1.0, quality, ())
+    scans = tmp_path / "scans"
+    scans.mkdir()
+    write_scan_json(scans / f"{video.stem}_scan.json", ClipScan(
+        video.name, 4.0, 4, 320, 180, (0, 1, 2, 3), ScanSettings(best_count=2),
+        (score(0, 0.5), score(1, 0.8), score(2, 0.6), score(3, 0.9)), 1.0))
+    manifest = tmp_path / "manifest.csv"
+    manifest.write_text(
+        "clip,animal,altitude,camera,sensor_width_mm,focal_mm,config,scan\n"
+        f"{video},1,{folder}/clip0/altitude.csv,,{CLIP.sensor_width_mm},"
+        f"{CLIP.focal_mm},{folder}/fit_config.json,{scans}\n")
+    (task,) = read_manifest(manifest, num_draws=50)
+    assert task.measurement.frames == (1, 3) and task.fit.also_frames == (1, 3)
+    assert (task.fit.seed.frame_idx, task.fit.masks) == (3, None)
+    record = run_task(task, tmp_path / "out")
+    out = tmp_path / "out" / task.name
+    assert {"elliptical_clip_f000001_measure.json",
+            "elliptical_clip_f000003_measure.json"} <= {p.name for p in out.iterdir()}
+    assert "median volume of 2 best frames" in record.values["notes"], record.error
+    volumes = {frame: json.loads((out / f"elliptical_clip_f{frame:06d}_measure.json")
+                                 .read_text())["volume_m3"] for frame in (1, 3)}
+    assert record.values["ell_frame"] == min(volumes, key=volumes.get)  # the lower of two
+    assert record.values["volume_m3_ell"] == pytest.approx(min(volumes.values()))

@@ -63,7 +63,7 @@ def test_no_masks_and_no_seed_is_the_automatic_seed(folder):
     ("a.mp4,1,20,1.5m,,,,,,,", "launch_height_m", "expected a number"),
     ("a.mp4,1,20,,,\"1,2,3\",,,,,", "seed", "X,Y,W,H"),
     ("a.mp4,1,20,,masks,auto,,,,,", "seed", "not both"),
-    ("a.mp4,1,20,,,,-1,,,,", "seed_frame", "0 or more"),
+    ("a.mp4,1,20,,,,-1,,,,", "seed_frame", "must be at least 0"),
     ("a.mp4,1,20,,,,,-2,,,", "fps", "outside the plausible range"),
     ("a.mp4,1,20,,,,,,best,,", "quality", "expected one of"),
     ("a.mp4,1,20,,,,,,,5,2", "start_s", "not before"),
@@ -112,3 +112,53 @@ def test_an_altitude_calibration_is_read_before_any_work(folder):
     assert task.fit.altitude_calibration == _calibration()
     with pytest.raises(InputError, match="row 2, column 'altitude_calibration': .*broken.json"):
         read_manifest(_manifest(folder, "a.mp4,20,broken.json", header=header))
+
+
+def _scan(folder: Path, clip_name: str = "a.mp4", usable: bool = True) -> Path:
+    from core.scan.clip_scan import ClipScan
+    from core.scan.frame_scores import FrameScore, ScanSettings
+    from core.scan.scan_files import write_scan_json
+
+    faults = () if usable else ("at the frame's edge",)
+    scores = tuple(FrameScore(2, f, f / 10, 100.0 + f, 50.0, 80.0, 2.4, 1.0, 1.0, 1.0, 30.0,
+                              20.0, -90.0, 1.0, 1.0, 1.0, q, faults)
+                   for f, q in ((10, 0.7), (20, 0.9), (30, 0.8)))
+    path = folder / "a_scan.json"
+    write_scan_json(path, ClipScan(clip_name, 10.0, 40, 640, 360, (10, 20, 30),
+                                   ScanSettings(best_count=2), scores, 1.0))
+    return path
+
+
+def test_a_scan_seeds_the_tracker_and_names_the_frames_to_measure(folder):
+    _scan(folder)
+    header = "clip,animal,altitude,scan,best"
+    (task,) = read_manifest(_manifest(folder, "a.mp4,2,20,a_scan.json,", header=header))
+    assert task.fit.seed == PointSeed(120.0, 50.0, 20)  # the best frame's animal
+    assert task.measurement.frames == task.fit.also_frames == (20, 30)  # the scan's best 2
+    (three,) = read_manifest(_manifest(folder, "a.mp4,2,20,.,3", header=header))  # its folder
+    assert three.measurement.frames == (10, 20, 30)
+
+
+@pytest.mark.parametrize("row, column, why", [
+    ("a.mp4,1,20,a_scan.json,,", "animal", "'1' is not an animal of the scan (its animals: 2)"),
+    ("a.mp4,2,20,,3,", "best", "needs a scan"),
+    ("a.mp4,2,20,a_scan.json,0,", "best", "must be at least 1"),
+    ("a.mp4,2,20,a_scan.json,,auto", "seed", "a scan or a tracker seed, not both"),
+    ("a.mp4,2,20,gone.json,,", "scan", "does not exist"),
+])
+def test_bad_scan_cells_name_row_and_column(folder, row, column, why):
+    _scan(folder)
+    path = _manifest(folder, row, header="clip,animal,altitude,scan,best,seed")
+    with pytest.raises(InputError) as error:
+        read_manifest(path)
+    assert f"{path}: row 2, column '{column}'" in str(error.value) and why in str(error.value)
+
+
+def test_a_scan_of_another_clip_or_without_usable_frames_is_refused(folder):
+    header = "clip,animal,altitude,scan"
+    _scan(folder, clip_name="b.mp4")
+    with pytest.raises(InputError, match="a_scan.json is the scan of b.mp4, not of a.mp4"):
+        read_manifest(_manifest(folder, "a.mp4,2,20,a_scan.json", header=header))
+    _scan(folder, usable=False)
+    with pytest.raises(InputError, match="no usable frame of animal 2"):
+        read_manifest(_manifest(folder, "a.mp4,2,20,a_scan.json", header=header))

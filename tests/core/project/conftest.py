@@ -42,7 +42,8 @@ def project(camera: CameraPreset) -> Project:
                     fit_path="p.fits/clip_dolphin-1")
     clip = ClipEntry(media_path="media/clip.mp4", kind="video", camera=camera,
                      altitude=AltitudeSpec(constant_m=18.0, source="laser"),
-                     animals=(animal, Animal("dolphin 2")), masks_path="media/masks")
+                     animals=(animal, Animal("dolphin 2")), masks_path="media/masks",
+                     scan_path="p.scans/clip_scan.json", rejected_frames=((2, 40), (1, 10)))
     return Project(clips=(clip,))
 
 

@@ -33,6 +33,8 @@ def test_round_trip_keeps_everything(tmp_path, project):
     assert back.clips[0].animals[0].notes == "scar on the dorsal fin"
     assert back.clips[0].altitude.constant_m == 18.0
     assert back.clips[0].animals[0].fit_settings == project.clips[0].animals[0].fit_settings
+    assert back.clips[0].scan_path == "p.scans/clip_scan.json"
+    assert back.clips[0].rejected_frames == ((1, 10), (2, 40))  # in order
     data = json.loads(path.read_text())
     assert data["schema_version"] == 1
     assert data["clips"][0]["media"] == "media/clip.mp4"          # relative, POSIX
@@ -46,6 +48,7 @@ def test_save_as_elsewhere_rebases_relative_paths(tmp_path, project):
     moved = rebase_media(project, tmp_path, tmp_path / "out" / "deeper")
     assert moved.clips[0].media_path == "../../media/clip.mp4"
     assert moved.clips[0].masks_path == "../../media/masks"
+    assert moved.clips[0].scan_path == "../../p.scans/clip_scan.json"
     assert moved.clips[0].animals[0].fit_path == "../../p.fits/clip_dolphin-1"
     assert media_path(tmp_path / "out" / "deeper" / "p.dolphinfit", moved.clips[0]) == \
         (media / "clip.mp4").resolve()
@@ -90,6 +93,8 @@ def test_autosave_newer_than_the_project_means_unsaved_work(tmp_path, project):
      "mirror_side"),
     (lambda d: d["clips"][0].update(kind="film"), "media kind"),
     (lambda d: d["settings"].update(tail="cut"), "tail"),
+    (lambda d: d["clips"][0].update(rejected_frames=[[1, -3]]), "rejected_frames: expected"),
+    (lambda d: d["clips"][0].update(rejected_frames=[1, 3]), "rejected_frames: expected"),
     (lambda d: d["clips"][0]["animals"][0]["fit"]["settings"].update(quality="best"),
      "quality"),
     (lambda d: d["clips"][0]["animals"][0]["fit"]["settings"].update(end_s=-1.0), "end"),
