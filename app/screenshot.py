@@ -1,5 +1,6 @@
 """The README's screenshots: the app on the sample project with the dolphin measured, then
-with a quick 3D fit beside it (PNG and PNG_fit.png).
+with a quick 3D fit beside it (PNG and PNG_fit.png), and the sample clip scanned, its best
+frames in the Frames dock (PNG_scan.png).
 
 The measurement is made the way a user would start one: "measure this frame", a length
 suggested from the clip's mask (core.measure.mask_midline) and the widths from "suggest edges
@@ -56,13 +57,24 @@ def save_screenshot(project_path: Path, out_png: Path) -> int:
     with tempfile.TemporaryDirectory() as work:
         if not window.files.save(Path(work) / project_path.name):  # Save As: the fit goes there
             raise OSError(f"{work}: could not save a working copy of the sample project")
+        _scan(window, _named(out_png, "scan"))
         _measure_and_fit(window, out_png)
-    print(f"wrote {out_png} and {_fit_png(out_png)}")
+    print(f"wrote {out_png}, {_named(out_png, 'fit')} and {_named(out_png, 'scan')}")
     return 0
 
 
-def _fit_png(out_png: Path) -> Path:
-    return out_png.with_name(out_png.stem + "_fit" + out_png.suffix)
+def _named(out_png: Path, what: str) -> Path:
+    return out_png.with_name(f"{out_png.stem}_{what}{out_png.suffix}")
+
+
+def _scan(window: MainWindow, out_png: Path) -> None:
+    """Scan the sample clip and show its best frames, with their pictures."""
+    window.actions_by_name["scan_clip"].trigger()
+    picker = window.picker
+    _wait_until(lambda: picker.table.rowCount() > 0
+                and not picker.table.item(0, 2).icon().isNull(), "the scan's best frames")
+    window.docks["Frames"].raise_()
+    _grab(window, out_png)
 
 
 def _grab(window: MainWindow, out_png: Path) -> None:
@@ -109,11 +121,12 @@ def _measure_and_fit(window: MainWindow, out_png: Path) -> None:
     fits.panel.start_button.click()
     _wait_until(lambda: not fits.worker.is_running, "the 3D fit")
     window.docks["Comparison"].raise_()
+    window.docks["3D fit"].raise_()
     _wait_until(lambda: fits.comparison is not None and fits.comparison.table.rowCount() > 0,
                 "the comparison")
     _wait_until(fits.silhouette.isVisible, "the fitted silhouette")
     _wait_until(lambda: fits.viewer is not None, "the 3D view")
     _zoom_to_dolphin(window)
-    _grab(window, _fit_png(out_png))
+    _grab(window, _named(out_png, "fit"))
     window.model.mark_saved()  # nothing of the demonstration is kept
     window.close()

@@ -36,10 +36,12 @@ from ui.state.clip_session import ClipSession
 from ui.state.commands import push_edit
 from ui.dialogs.questions import Questions
 from ui.controllers.animal_commands import AnimalCommands
+from ui.controllers.clip_intake_controller import ClipIntakeController
 from ui.controllers.clip_sessions import ClipSessions
 from ui.controllers.export_controller import ExportController
 from ui.controllers.fit_controller import FitController
 from ui.controllers.project_files import ProjectFiles
+from ui.controllers.scan_controller import ScanController
 from ui.workers.frame_loader import FrameLoader
 from ui.state.handle_style import HandleStyle
 from ui.controllers.mask_controller import MaskController
@@ -47,13 +49,14 @@ from ui.widgets.measure_overlay import COARSE_NUDGE_PX, FINE_NUDGE_PX, NUDGE_PX,
 from ui.controllers.playback import Playback
 from ui.state.preferences import load_preferences, save_preference
 from ui.state.project_model import Change, ProjectModel
+from ui.widgets.frame_picker import THUMBNAIL_PX, FramePicker
 from ui.widgets.project_panel import ProjectPanel
 from ui.widgets.results_panel import ResultsPanel
 from ui.widgets.timeline import Timeline
 from ui.state.viewer_state import Notifier, ViewerState, selected_clip
 
 LAYOUT_PREFERENCE = "window_layout"   # size, place and docks when last closed
-LAYOUT_VERSION = 1                     # of the dock layout: a new one ignores older layouts
+LAYOUT_VERSION = 2                     # of the dock layout: a new one ignores older layouts
 NUDGE_ACTIONS = {  # action → (direction, image px): outward +1, inward −1
     "nudge_out": (+1, NUDGE_PX), "nudge_in": (-1, NUDGE_PX),
     "nudge_out_fine": (+1, FINE_NUDGE_PX), "nudge_in_fine": (-1, FINE_NUDGE_PX),
@@ -100,14 +103,16 @@ class MainWindow(QMainWindow):
                                     self.canvas, self.fits.fit_frames, parent=self)
         self.exports = ExportController(self.model, self.notifier, self.ask,
                                         self.fits.shown_fit, parent=self)
+        self.scans = ScanController(self.model, self.notifier, self.jobs, parent=self)
+        self.intake = ClipIntakeController(self.model, self.files, self.ask, self.notifier, self)
+        self.picker = FramePicker()
         self._build_layout()
         self.actions_by_name = self._build_menus()
         self._apply_preferences()
         self._connect()
         self._update_title()
         self.resize(1280, 900)
-        if restore_layout:
-            self._restore_layout()
+        self.layout_restored = restore_layout and self._restore_layout()
 
     # ------------------------------------------------------------------ building
     def _build_layout(self) -> None:
@@ -121,6 +126,7 @@ class MainWindow(QMainWindow):
         docks = {}
         for title, widget, area in (
                 ("Project", self.project_panel, Qt.LeftDockWidgetArea),
+                ("Frames", self.picker, Qt.LeftDockWidgetArea),
                 ("3D fit", self.fits.panel, Qt.LeftDockWidgetArea),
                 ("Results", self.results, Qt.RightDockWidgetArea),
                 ("Comparison", self.fits.comparison_slot, Qt.RightDockWidgetArea),
@@ -132,7 +138,9 @@ class MainWindow(QMainWindow):
             self.addDockWidget(area, dock)
             docks[title] = dock
         self.tabifyDockWidget(docks["Results"], docks["Comparison"])
+        self.tabifyDockWidget(docks["Frames"], docks["3D fit"])
         docks["Results"].raise_()
+        docks["Frames"].raise_()
         docks["3D view"].hide()  # shown with the first fit: VTK loads only then
         self.fits.fit_shown.connect(self._show_3d_view)
         self.resizeDocks([docks["Project"]], [300], Qt.Horizontal)
@@ -232,6 +240,7 @@ class MainWindow(QMainWindow):
         self.masks.coverage_changed.connect(self.timeline.set_coverage)
         self.files.session_closing.connect(self.sessions.close)
         self.files.clip_chosen.connect(self.sessions.open_current)
+        self.intake.clip_chosen.connect(self.sessions.open_current)
         self.sessions.opened.connect(self._on_session_opened)
         self.sessions.telemetry_changed.connect(self._on_telemetry_changed)
         self.state.session_closed.connect(self._on_session_closed)
@@ -252,6 +261,12 @@ class MainWindow(QMainWindow):
         self.canvas.space_tapped.connect(self.on_play)
         self.overlay.status_message.connect(lambda text: self.notifier.status(text, 5000))
         self.results.animal_figures.connect(self.project_panel.set_figures)
+        self.scans.statuses_changed.connect(self.project_panel.set_statuses)
+        self.scans.scan_shown.connect(self._show_scan)
+        self.picker.frame_chosen.connect(self._measure_scanned_frame)
+        self.picker.reject_toggled.connect(
+            lambda animal, frame: self.scans.toggle_rejected(self.model.clip_idx, animal, frame))
+        self.picker.thumbnails_wanted.connect(self._fetch_thumbnails)
 
     def _apply_preferences(self) -> None:
         prefs = load_preferences()
@@ -446,14 +461,15 @@ class MainWindow(QMainWindow):
             "geometry": bytes(self.saveGeometry().toBase64()).decode("ascii"),
             "docks": bytes(self.saveState(LAYOUT_VERSION).toBase64()).decode("ascii")})
 
-    def _restore_layout(self) -> None:
-        """The layout ``_save_layout`` stored, where there is a readable one."""
+    def _restore_layout(self) -> bool:
+        """The layout ``_save_layout`` stored, where there is a readable one (True)."""
         stored = load_preferences().get(LAYOUT_PREFERENCE)
         if not isinstance(stored, dict) or not all(
                 isinstance(stored.get(key), str) for key in ("geometry", "docks")):
-            return
+            return False
         self.restoreGeometry(QByteArray.fromBase64(stored["geometry"].encode("ascii")))
-        self.restoreState(QByteArray.fromBase64(stored["docks"].encode("ascii")), LAYOUT_VERSION)
+        return self.restoreState(QByteArray.fromBase64(stored["docks"].encode("ascii")),
+                                 LAYOUT_VERSION)
 
     def shutdown(self) -> None:
         """Stop every worker thread (closing; a thread left running aborts Qt on exit)."""
@@ -463,6 +479,8 @@ class MainWindow(QMainWindow):
         self.exports.shutdown()
         self.fits.shutdown()
         self.masks.shutdown()
+        self.scans.shutdown()
+        self.intake.shutdown()
         self.jobs.wait()
 
     # ------------------------------------------------------------------ actions: File
@@ -491,6 +509,16 @@ class MainWindow(QMainWindow):
         path = self.ask.frames_folder("Add a folder of numbered frames")
         if path is not None:
             self.files.add_media(path)
+
+    def on_add_clips(self) -> None:
+        videos = self.ask.videos_to_add()
+        if videos:
+            self.intake.add(videos)
+
+    def on_add_clip_folder(self) -> None:
+        folder = self.ask.frames_folder("Add a folder of clips (each with its SRT beside it)")
+        if folder is not None:
+            self.intake.add([folder])
 
     def _fill_recent_menu(self) -> None:
         self.recent_menu.clear()
@@ -607,6 +635,53 @@ class MainWindow(QMainWindow):
 
     def on_remove_animal(self) -> None:
         self.animals.remove_animal()
+
+    def on_scan_clip(self) -> None:
+        self.scans.scan_selected()
+
+    def on_scan_all(self) -> None:
+        self.scans.scan_unscanned()
+
+    def on_stop_work(self) -> None:
+        """Stop the tracking and the scans under way (each keeps what it has done)."""
+        stopped = self.scans.cancel_all()
+        if self.masks.tracker.is_running:
+            self.masks.tracker.cancel()
+            stopped = True
+        if not stopped:
+            self.notifier.status("nothing to stop: no tracking or scan is running", 5000)
+
+    def on_next_clip(self) -> None:
+        clip_idx = self.scans.next_clip_needing_work()
+        if clip_idx is None:
+            self.notifier.status("no clip needs work: every clip is scanned and each animal "
+                                 "with a usable frame measured", 10_000)
+            return
+        self.model.select(clip_idx)
+
+    def _show_scan(self, scan: object) -> None:
+        clip_idx = self.model.clip_idx
+        rejected = () if clip_idx is None else self.model.project.clips[clip_idx].rejected_frames
+        self.picker.set_scan(scan, rejected)
+
+    def _fetch_thumbnails(self, scores: list) -> None:
+        clip_idx, scan = self.model.clip_idx, self.picker.scan
+        if clip_idx is None:
+            return
+        self.scans.thumbnails(clip_idx, scores, THUMBNAIL_PX,
+                              lambda pictures: self.picker.set_thumbnails(pictures, scan))
+
+    def _measure_scanned_frame(self, number: int, frame_idx: int) -> None:
+        """Measure scan animal ``number`` (the project's "dolphin N") on ``frame_idx``."""
+        clip_idx = self.model.clip_idx
+        if clip_idx is None or self.state.session_for(clip_idx) is None:
+            self.notifier.status("the clip is still opening: pick the frame again in a "
+                                 "moment", 5000)
+            return
+        self.animals.select_scan_animal(clip_idx, number)
+        self._seek(frame_idx)
+        self.on_measure_frame()
+        self.canvas.setFocus()
 
     # ------------------------------------------------------------------ actions: Measure
     def on_measure_frame(self) -> None:

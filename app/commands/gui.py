@@ -75,7 +75,10 @@ def run_app(path: Path | None = None, quit_when_shown: bool = False) -> int:
     window = MainWindow()
     if quit_when_shown:
         window.state.frame_shown.connect(lambda _: app.quit())
-    window.show()
+    if window.layout_restored:
+        window.show()
+    else:
+        window.showMaximized()  # the first start: the video as large as the screen allows
     if path is not None:
         window.files.open_path(path)
     return app.exec()

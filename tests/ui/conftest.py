@@ -35,8 +35,8 @@ def no_modal_dialogs(monkeypatch: pytest.MonkeyPatch) -> list[str]:
 
     for cls, names in ((QMessageBox, ("warning", "question", "information", "critical",
                                       "about")),
-                       (QFileDialog, ("getOpenFileName", "getSaveFileName",
-                                      "getExistingDirectory")),
+                       (QFileDialog, ("getOpenFileName", "getOpenFileNames",
+                                      "getSaveFileName", "getExistingDirectory")),
                        (QInputDialog, ("getInt", "getText", "getDouble", "getItem"))):
         for name in names:
             monkeypatch.setattr(cls, name, staticmethod(refuse(f"{cls.__name__}.{name}")))

@@ -4,7 +4,7 @@ or cancelled, undo and redo runs, saves), and after every action the checks that
 break: no exception in a slot, no Qt warning of a deleted object or a cross-thread call, a
 project that survives its own file. A failure names the seed and the actions up to it.
 
-Tracking, fitting and opening other media are left out: they are tested on their own, and a
+Tracking, scanning, fitting and opening other media are left out: they are tested on their own, and a
 short run must stay short.
 """
 
@@ -21,8 +21,9 @@ from core.project.model import AltitudeSpec
 from core.project.project_file import project_from_json, project_to_json, read_project
 
 LEFT = Qt.MouseButton.LeftButton
-SKIPPED_ACTIONS = {  # opening media, quitting, tracking, fitting and slow exports
-    "open", "open_folder", "add_media", "add_folder", "quit", "masks", "track_click",
+SKIPPED_ACTIONS = {  # opening media, quitting, tracking, scanning, fitting and slow exports
+    "open", "open_folder", "add_media", "add_folder", "add_clips", "add_clip_folder",
+    "scan_clip", "scan_all", "quit", "masks", "track_click",
     "retrack", "track_every_frame", "masks_network", "masks_colour", "masks_sam2",
     "export_meshes", "export_comparison", "export_project", "export_animal", "export_frame",
     "calibrate_altitude", "play"}
@@ -57,6 +58,9 @@ class Monkey:
         ask.animal = lambda animal, others: (None if rng.random() < 0.3
                                              else (f"dolphin {rng.randint(1, 99)}", "monkey"))
         ask.save_path = lambda current: self.folder / f"monkey_{self.saves}.dolphinfit"
+        ask.videos_to_add = lambda: []
+        ask.launch_height = lambda names: None
+        ask.report = lambda title, text, details: self.log.append(f"  (told: {title})")
         for name in ("media_to_open", "media_to_add", "frames_folder", "export_dir",
                      "comparison_path", "mesh_export", "masks_source", "sam2_checkpoint",
                      "relink", "camera", "handle_style", "altitude_calibration"):

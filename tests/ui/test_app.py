@@ -295,10 +295,10 @@ def test_the_window_opens_at_the_size_and_dock_layout_it_was_closed_with(qtbot, 
     first.close()
     again = MainWindow()
     qtbot.addWidget(again)
-    assert again.size() == size
+    assert again.layout_restored and again.size() == size
     assert again.docks["Project"].isHidden() and not again.docks["Results"].isHidden()
     fresh = MainWindow(restore_layout=False)  # the README's screenshots start from defaults
     qtbot.addWidget(fresh)
-    assert not fresh.docks["Project"].isHidden()
+    assert not fresh.layout_restored and not fresh.docks["Project"].isHidden()
     again.shutdown()
     fresh.shutdown()

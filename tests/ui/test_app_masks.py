@@ -57,10 +57,10 @@ def test_track_every_frame_asks_the_tracker_for_all_of_them(qtbot, window, monke
     qtbot.waitUntil(lambda: window.masks.track is not None, timeout=10_000)
     with qtbot.waitSignal(window.state.frame_shown, timeout=10_000):
         window.go_to_frame(20)
-    with qtbot.waitSignal(window.masks.tracker.finished, timeout=10_000):
+    with qtbot.waitSignal(window.masks.tracking_done, timeout=10_000):
         window.masks.retrack_here()
     assert asked[0][2] == 20 and asked[0][-1] == window.fits.fit_frames()
-    with qtbot.waitSignal(window.masks.tracker.finished, timeout=10_000):
+    with qtbot.waitSignal(window.masks.tracking_done, timeout=10_000):
         window.actions_by_name["track_every_frame"].trigger()
     assert asked[1][2] == 20 and asked[1][-1] is None
 
@@ -85,7 +85,7 @@ def test_the_coverage_strip_fills_as_frames_are_tracked(qtbot, window, monkeypat
     monkeypatch.setattr(mask_controller, "track_job", track_job)
     with qtbot.waitSignal(window.state.frame_shown, timeout=10_000):
         window.go_to_frame(20)
-    with qtbot.waitSignal(window.masks.tracker.finished, timeout=10_000):
+    with qtbot.waitSignal(window.masks.tracking_done, timeout=10_000):
         window.masks.retrack_here()
     assert shown and not shown[-1].visible[21] and shown[-1].visible[20]
     assert shown[-1].visible.sum() == window.masks.track.is_visible.sum() - 1
@@ -105,7 +105,7 @@ def test_track_from_a_click_then_correct_with_the_brush(qtbot, window):
     qtbot.waitUntil(lambda: window.masks.track is not None, timeout=10_000)  # the clip's masks
     window.canvas.setFocus()
     qtbot.keyClick(window.canvas, Qt.Key.Key_T, Qt.KeyboardModifier.ControlModifier)
-    with qtbot.waitSignal(window.masks.tracker.finished, timeout=TIMEOUT_MS) as tracked:
+    with qtbot.waitSignal(window.masks.tracking_done, timeout=TIMEOUT_MS) as tracked:
         qtbot.mouseClick(window.canvas.viewport(), LEFT,
                          pos=window.canvas.mapFromScene(QPointF(u.mean(), v.mean())))
     track = tracked.args[0].track

@@ -16,6 +16,7 @@ from core.project.model import (
     remove_measurement,
     with_animal,
 )
+from core.project.scan_store import scan_animal, scan_animal_id
 from ui.dialogs.questions import Questions
 from ui.state.commands import push_edit
 from ui.state.project_model import Change, ProjectModel
@@ -39,6 +40,18 @@ class AnimalCommands(QObject):
                                          Animal(next_animal_id(clip))),
                   "add animal", Change("structure"))
         self.model.select(clip_idx, len(clip.animals))
+
+    def select_scan_animal(self, clip_idx: int, number: int) -> None:
+        """Select the project animal of scan animal ``number`` ("dolphin N"), added first
+        (undoable) when the clip has none of that name."""
+        clip = self.model.project.clips[clip_idx]
+        animal_idx = scan_animal(clip, number)
+        if animal_idx is None:
+            push_edit(self.model, add_animal(self.model.project, clip_idx,
+                                             Animal(scan_animal_id(number))),
+                      "add animal", Change("structure"))
+            animal_idx = len(clip.animals)
+        self.model.select(clip_idx, animal_idx)
 
     def edit_animal(self) -> None:
         m = self.model

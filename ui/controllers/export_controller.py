@@ -8,14 +8,15 @@ from collections.abc import Callable
 from pathlib import Path
 
 from PySide6.QtCore import QObject
-from PySide6.QtWidgets import QProgressDialog, QWidget
+from PySide6.QtWidgets import QWidget
 
 from core.fit.result import FitResult
-from core.progress import Progress, ProgressCallback
+from core.progress import ProgressCallback
 from core.project.comparison import project_comparison_rows, write_comparison_csv
 from core.project.evaluate import all_keys
 from core.project.model import MeasurementKey, get_measurement
 from core.project.results import image_id
+from ui.dialogs.job_progress import JobProgress
 from ui.dialogs.questions import Questions
 from ui.state.project_model import ProjectModel
 from ui.state.viewer_state import Notifier
@@ -35,8 +36,7 @@ class ExportController(QObject):
         self.model, self.notifier, self.ask, self.shown_fit = model, notifier, ask, shown_fit
         self.worker = ExportWorker(self)
         self.last_export: list[Path] = []
-        self._progress: QProgressDialog | None = None
-        self.worker.progress.connect(self._on_progress)
+        self._progress = JobProgress(self.worker, "Export", "Measuring and writing…", parent)
         self.worker.finished.connect(self._on_finished)
         self.worker.failed.connect(self._on_failed)
         self.worker.cancelled.connect(self._on_cancelled)
@@ -131,43 +131,20 @@ class ExportController(QObject):
         out_dir = self.ask.export_dir(self._start_dir())
         if out_dir is not None and self.worker.start(self.model.project, self.model.path, keys,
                                                      out_dir, stem):
-            self._show_progress()
+            self._progress.start()
 
     def _run(self, job: Job) -> None:
         if self.worker.run_job(job):
-            self._show_progress()
-
-    def _show_progress(self) -> None:
-        """A progress dialog over the window (after half a second) that cancels the job."""
-        self._progress = QProgressDialog("Measuring and writing…", "Cancel", 0, 0,
-                                         self.parent())
-        self._progress.setWindowTitle("Export")
-        self._progress.setMinimumDuration(500)
-        self._progress.canceled.connect(self.worker.cancel)
-
-    def _close_progress(self) -> None:
-        if self._progress is not None:
-            self._progress.reset()
-            self._progress.deleteLater()
-            self._progress = None
-
-    def _on_progress(self, progress: Progress) -> None:
-        if self._progress is not None:
-            self._progress.setMaximum(progress.total)
-            self._progress.setValue(progress.step)
-            self._progress.setLabelText(f"{progress.stage}: {progress.message}")
+            self._progress.start()
 
     def _on_failed(self, why: str) -> None:
-        self._close_progress()
         self.notifier.error("Export failed", why)
 
     def _on_cancelled(self) -> None:
-        self._close_progress()
         self.notifier.status("export cancelled: nothing written", STATUS_MS)
 
     def _on_finished(self, outcome: tuple[list, list]) -> None:
         paths, skipped = outcome
-        self._close_progress()
         self.last_export = list(paths)
         text = f"wrote {len(paths)} files"
         if paths:

@@ -41,11 +41,13 @@ class MaskController(QObject):
 
     ``coverage_changed(coverage or None)``: the open clip's mask coverage per frame, for the
     strip under the timeline; ``seeding(bool)``: the next click on the frame is the
-    tracker's (True) or the measuring overlay's again (False). ``fit_frames()``: the current
+    tracker's (True) or the measuring overlay's again (False); ``tracking_done(Tracked)``: a
+    run ended, its masks kept. ``fit_frames()``: the current
     animal's fit frames (SAM-2 tracks only those)."""
 
     coverage_changed = Signal(object)
     seeding = Signal(bool)
+    tracking_done = Signal(object)  # the whole run's Tracked (after the fit's frames too)
 
     def __init__(self, model: ProjectModel, state: ViewerState, notifier: Notifier,
                  jobs: BackgroundJobs, canvas: FrameCanvas,
@@ -61,6 +63,8 @@ class MaskController(QObject):
         self._loaded: str | None = None  # the masks_path the track was read from or saved to
         self._reading: object | None = None  # the read of the clip's masks under way, if any
         self._target: tuple | None = None  # project path, clip index, limited to fit frames
+        self._then: tuple | None = None  # start frame, the fit's frames, direction: next run
+        self._edited_meanwhile: set[int] = set()  # frames corrected while a run tracks
         self._seeding = False
         self._coverage: Coverage | None = None  # what the coverage strip shows
         self.backend = DEFAULT_BACKEND  # who draws the masks (the Clip menu; a preference)
@@ -204,43 +208,76 @@ class MaskController(QObject):
     def _start(self, seed: object, direction: str, every_frame: bool = False) -> None:
         """Track from ``seed`` on the current frame. The network and SAM-2 (about a second a
         frame and more) see only that frame and the frames the current animal's fit uses,
-        unless ``every_frame``; the others keep the masks they had. The colour tracker, cheap
-        and in need of every frame to follow the animal, always sees them all."""
-        session, path, clip = self.state.session, self.model.path, self._clip()
-        if clip is None or path is None:
+        unless ``every_frame``; the others keep the masks they had. From a click or a box
+        they track that frame first, alone, so that its mask is kept (and "suggest edges"
+        works) seconds after the click, then the fit's frames from it (a corrected mask to
+        re-track from is kept as it is: no first run). The colour tracker, cheap and in need
+        of every frame to follow the animal, always sees them all."""
+        if self._clip() is None or self.model.path is None:
             return
         if self._reading is not None:  # the frames not tracked would lose the masks they have
             self.notifier.status("the clip's masks are still being read: track again in a "
                                  "moment", 5000)
             return
-        media = (path.parent / clip.media_path).resolve()
         only = None if every_frame or self.backend == COLOUR else self.fit_frames()
+        frame_idx = self.state.frame_idx
+        if only is not None and set(only) - {frame_idx} and not isinstance(seed, np.ndarray):
+            self._then = (frame_idx, only, direction)
+            only = [frame_idx]
+        else:
+            self._then = None
+        self._run(seed, direction, only, frame_idx)
+
+    def _run(self, seed: object, direction: str, only: list[int] | None,
+             start_frame: int) -> None:
+        """One tracking run from ``start_frame`` of the open clip (``_start``)."""
+        session, path, clip = self.state.session, self.model.path, self._clip()
+        media = (path.parent / clip.media_path).resolve()
         try:
-            job = track_job(media, seed, self.state.frame_idx, direction, self.track,
+            job = track_job(media, seed, start_frame, direction, self.track,
                             self.backend, self.sam2_checkpoint, only)
         except (InputError, ValueError) as exc:  # e.g. an empty mask to re-track from
+            self._then = None
             self.notifier.error("Tracking", str(exc))
             return
         self._target = (path, session.clip_idx, only is not None)
+        self._edited_meanwhile = set()
         self.tracker.run_job(job)
 
     def _on_tracked(self, outcome: Tracked) -> None:
         path, clip_idx, limited = self._target
+        then, self._then = self._then, None
         if path != self.model.path or self.state.session_for(clip_idx) is None:
             self.notifier.error("Tracking", "the tracked masks were not kept: another clip or "
                                 "project is open now")
             return
         track = outcome.track
+        if self.track is not None and self._track_clip == clip_idx:
+            for frame_idx in self._edited_meanwhile:  # brush strokes made meanwhile stay
+                track = with_frame(track, frame_idx, self.track.mask(frame_idx))
         if not outcome.complete:
             self.notifier.status(f"tracking cancelled: the {outcome.num_tracked} frames "
                                  "tracked keep their new masks, the others the masks they had",
                                  10_000)
             self._store(track, "track masks (cancelled)")
+            self.tracking_done.emit(replace(outcome, track=track))
+            return
+        if then is not None:
+            start_frame, fit_frames, direction = then
+            if not track.is_visible[start_frame]:
+                self.notifier.error("Tracking", f"no animal found at the click on frame "
+                                    f"{start_frame}: click on the animal's body")
+                return
+            self._store(track, "track masks")
+            self.notifier.status(f"frame {start_frame} masked: now the {len(fit_frames)} "
+                                 "frames the fit uses (Ctrl+. stops)")
+            self._run(track.mask(start_frame), direction, fit_frames, start_frame)
             return
         rest = "; the fit's frames only (Clip → Track every frame for all)" if limited else ""
         self.notifier.status(f"{int(track.is_visible.sum())} of {track.num_frames} frames "
                              f"masked by {track.source}{rest}", 10_000)
         self._store(track, "track masks")
+        self.tracking_done.emit(replace(outcome, track=track))
 
     # ----- corrections and storage
     def set_tool(self, tool: str | None) -> None:
@@ -254,6 +291,9 @@ class MaskController(QObject):
             self.show_frame(self.state.frame_idx)
 
     def _on_edited(self, frame_idx: int, mask: np.ndarray) -> None:
+        if self.tracker.is_running and self._target is not None \
+                and self._track_clip == self._target[1]:
+            self._edited_meanwhile.add(frame_idx)
         if self.track is not None:
             self._store(with_frame(self.track, frame_idx, mask), "correct mask")
 

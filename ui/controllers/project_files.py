@@ -52,19 +52,21 @@ class ProjectFiles(QObject):
         if path.suffix == PROJECT_SUFFIX:
             self.open_project(path)
             return
-        project_path = project_path_for(path)
-        if project_path == self.model.path:
+        if self.open_project_for(path):
             self.add_media(path)
-            return
+
+    def open_project_for(self, media: Path) -> bool:
+        """Make the project beside ``media`` the open one: already open, opened, or started
+        (once unsaved work is saved or discarded); True when it is open."""
+        project_path = project_path_for(media)
+        if project_path == self.model.path:
+            return True
         if project_path.exists() or autosave_path(project_path).exists():
             self.open_project(project_path)
         elif self.may_leave_project():
             self.session_closing.emit()
             self.model.reset(Project(), project_path)
-        else:
-            return
-        if self.model.path == project_path:
-            self.add_media(path)
+        return self.model.path == project_path
 
     def may_leave_project(self) -> bool:
         """Whether the open project may be closed: saved, or the user saved or discarded."""

@@ -10,7 +10,7 @@ from PySide6.QtWidgets import QFileDialog, QInputDialog, QMessageBox, QWidget
 from core.camera_presets import CameraPreset
 from core.errors import InputError
 from core.io.frame_source import Clip
-from core.io.media import MEDIA_SUFFIXES
+from core.io.media import MEDIA_SUFFIXES, VIDEO_SUFFIXES
 from core.project.model import AltitudeCalibrationSet, AltitudeSpec, Animal
 from core.project.project_file import PROJECT_SUFFIX, autosave_path, find_moved_media
 from core.segment.sam2_backend import check_checkpoint, config_for
@@ -63,6 +63,12 @@ class Questions:
         name, _ = QFileDialog.getOpenFileName(self.parent, "Add clip or image", "",
                                               " ".join(f"*{s}" for s in MEDIA_SUFFIXES))
         return _path(name)
+
+    def videos_to_add(self) -> list[Path]:
+        """Videos to add to the project at once (none when cancelled)."""
+        names, _ = QFileDialog.getOpenFileNames(self.parent, "Add clips", "",
+                                                " ".join(f"*{s}" for s in VIDEO_SUFFIXES))
+        return [Path(name) for name in names]
 
     def frames_folder(self, title: str) -> Path | None:
         """A folder of numbered frames."""
@@ -150,6 +156,25 @@ class Questions:
             self.parent, "Remove animal", f"Remove {animal.animal_id} and its "
             f"{len(animal.measurements)} measured frames? (Undo brings them back.)"
         ) == QMessageBox.Yes
+
+    def launch_height(self, clip_names: list[str]) -> float | None:
+        """The take-off point's height above the water (m) for clips whose SRT records
+        height above take-off."""
+        names = ", ".join(clip_names[:5]) + (" …" if len(clip_names) > 5 else "")
+        value, ok = QInputDialog.getDouble(
+            self.parent, "Launch height",
+            f"{len(clip_names)} clip{'s' if len(clip_names) != 1 else ''} ({names}) record the "
+            "height above the take-off point.\nHow high was the take-off point above the water "
+            "(m)? Clip → Altitude… changes it per clip.", 0.0, -10.0, 100.0, 2)
+        return value if ok else None
+
+    def report(self, title: str, text: str, details: list[str]) -> None:
+        """Something done, with a list the user may read (e.g. clips put aside and why)."""
+        box = QMessageBox(QMessageBox.Icon.Information, title, text, QMessageBox.Ok,
+                          self.parent)
+        if details:
+            box.setDetailedText("\n".join(details))
+        box.exec()
 
     def frame_number(self, current: int, last: int) -> int | None:
         """A frame to go to, 0 … ``last``."""

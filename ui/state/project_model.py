@@ -32,6 +32,7 @@ class ProjectModel(QObject):
     changed = Signal(object)           # Change
     selection_changed = Signal()
     path_changed = Signal()
+    replaced = Signal()                # another project is held (opened or new), not a Save As
     dirty_changed = Signal(bool)
     autosaved = Signal(str)            # the autosave file written
     autosave_failed = Signal(str)      # why
@@ -69,6 +70,7 @@ class ProjectModel(QObject):
         self._project = project
         self._path = path
         self.clip_idx = self.animal_idx = self.measurement_idx = None
+        self.replaced.emit()
         self.path_changed.emit()
         self.changed.emit(Change("structure"))
         self.select_first()

@@ -1,10 +1,14 @@
-"""The project tree: clips, their animals and each animal's measured frames with its length
-and volume; selecting a row makes it current (and jumps to that frame)."""
+"""The project tree: clips with where each stands (altitude, scanned, animals found, frames
+measured, animals fitted; core.project.scan_store.ClipStatus), their animals and each
+animal's measured frames with its length and volume; selecting a row makes it current (and
+jumps to that frame). A clip that still needs work is shown in bold."""
 
 from PySide6.QtCore import Qt
+from PySide6.QtGui import QFont
 from PySide6.QtWidgets import QTreeWidget, QTreeWidgetItem, QVBoxLayout, QWidget
 
 from core.project.model import MeasurementKey
+from core.project.scan_store import ClipStatus
 from ui.state.project_model import Change, ProjectModel
 
 ROLE_PATH = Qt.ItemDataRole.UserRole  # (clip, animal or None, measurement or None)
@@ -17,8 +21,9 @@ class ProjectPanel(QWidget):
         super().__init__(parent)
         self._model = model
         self._figures: dict[MeasurementKey, str] = {}
+        self._statuses: list[ClipStatus] = []
         self.tree = QTreeWidget()
-        self.tree.setHeaderLabels(["clip / animal / frame", "length, volume"])
+        self.tree.setHeaderLabels(["clip / animal / frame", "status / length, volume"])
         self.tree.setColumnWidth(0, 150)
         self.tree.itemSelectionChanged.connect(self._on_tree_selection)
         layout = QVBoxLayout(self)
@@ -36,6 +41,27 @@ class ProjectPanel(QWidget):
             if path[2] is not None:
                 item.setText(1, self._figures.get(MeasurementKey(*path), ""))
 
+    def set_statuses(self, statuses: list[ClipStatus]) -> None:
+        """Every clip's status, in clip order (from the scan controller)."""
+        self._statuses = list(statuses)
+        for c in range(self.tree.topLevelItemCount()):
+            self._show_status(self.tree.topLevelItem(c), c)
+
+    def _show_status(self, item: QTreeWidgetItem, clip_idx: int) -> None:
+        clip = self._model.project.clips[clip_idx]
+        if clip_idx < len(self._statuses):
+            status = self._statuses[clip_idx]
+            text, bold = status.text(), status.needs_work
+        else:
+            text = f"{clip.kind}, {'altitude set' if clip.altitude else 'no altitude'}"
+            bold = False
+        item.setText(1, text)
+        font = QFont(item.font(0))
+        font.setBold(bold)
+        item.setFont(0, font)
+        item.setToolTip(1, "needs work (View → Next clip that needs work, Ctrl+J)" if bold
+                        else text)
+
     def _on_changed(self, change: Change) -> None:
         if change.kind in ("structure", "clip"):
             self._figures.clear()
@@ -45,11 +71,11 @@ class ProjectPanel(QWidget):
         self.tree.blockSignals(True)
         self.tree.clear()
         for c, clip in enumerate(self._model.project.clips):
-            altitude = "altitude set" if clip.altitude is not None else "no altitude"
-            clip_item = QTreeWidgetItem([clip.name, f"{clip.kind}, {altitude}"])
+            clip_item = QTreeWidgetItem([clip.name, ""])
             clip_item.setData(0, ROLE_PATH, (c, None, None))
             clip_item.setToolTip(0, clip.media_path)
             self.tree.addTopLevelItem(clip_item)
+            self._show_status(clip_item, c)
             for a, animal in enumerate(clip.animals):
                 n = len(animal.measurements)
                 animal_item = QTreeWidgetItem([animal.animal_id,
