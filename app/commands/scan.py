@@ -2,11 +2,13 @@
 
   dolphinfit scan CLIP|FOLDER --out DIR [--altitude M|FILE] [--camera PRESET |
                   --sensor-width-mm W --focal-mm F] [--fps F] [--search-every S]
-                  [--best N] [--altitude-range LOW,HIGH] [--max-gimbal-off DEG]
+                  [--tile-search-every S] [--best N] [--altitude-range LOW,HIGH]
+                  [--max-gimbal-off DEG]
 
 Samples each clip (--fps frames per second, default 1), finds every animal in view as the
-automatic seed does (the whole frame every --search-every seconds, default 5; between, each
-animal around where it was), follows each across the samples under one number, and scores
+automatic seed does (the whole frame and its tiles every --tile-search-every seconds, default
+15; between, each animal around where it was, and a look at the whole frame for animals
+coming into view every --search-every seconds, default 5), follows each across the samples under one number, and scores
 every sampled frame for measuring each animal: its length relative to its longest
 (pitched, diving or arched bodies read short), the body's straightness, the sharpness of its
 outline, its contrast to the water (at the surface or under it), its distance to the frame's
@@ -55,8 +57,13 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--fps", type=float, default=defaults.sample_fps,
                         help=f"frames sampled per second (default {defaults.sample_fps:g})")
     parser.add_argument("--search-every", type=float, default=defaults.search_every_s,
-                        metavar="S", help="seconds between searches of the whole frame "
+                        metavar="S", help="seconds between looks at the whole frame for "
+                                          "animals coming into view "
                                           f"(default {defaults.search_every_s:g})")
+    parser.add_argument("--tile-search-every", type=float,
+                        default=defaults.tile_search_every_s, metavar="S",
+                        help="seconds between full searches of the frame in tiles "
+                             f"(default {defaults.tile_search_every_s:g})")
     parser.add_argument("--best", type=int, default=defaults.best_count, metavar="N",
                         help=f"best frames listed per animal (default {defaults.best_count})")
     parser.add_argument("--altitude-range", default=None, metavar="LOW,HIGH",
@@ -81,6 +88,8 @@ def scan_settings(args: argparse.Namespace) -> ScanSettings:
         altitude_range = (low, high)
     return ScanSettings(sample_fps=positive(args.fps, "--fps"),
                         search_every_s=positive(args.search_every, "--search-every"),
+                        tile_search_every_s=positive(args.tile_search_every,
+                                                     "--tile-search-every"),
                         altitude_range_m=altitude_range,
                         max_gimbal_off_deg=positive(args.max_gimbal_off, "--max-gimbal-off"),
                         best_count=count(args.best, 1, "--best"))

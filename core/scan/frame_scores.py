@@ -36,13 +36,15 @@ NADIR_PITCH_DEG = -90.0
 
 @dataclass(frozen=True)
 class ScanSettings:
-    """What the scan samples and accepts: frames per second sampled, seconds between full
-    searches of the frame (between them each animal is looked for around where it was),
-    the altitude range in metres a frame must lie in (None: any), how far from straight
-    down the gimbal may point, and how many best frames per animal are listed."""
+    """What the scan samples and accepts: frames per second sampled, seconds between looks
+    at the whole frame for animals coming into view and between full searches of it in
+    tiles (between them each animal is looked for around where it was), the altitude range
+    in metres a frame must lie in (None: any), how far from straight down the gimbal may
+    point, and how many best frames per animal are listed."""
 
     sample_fps: float = 1.0
     search_every_s: float = 5.0
+    tile_search_every_s: float = 15.0
     altitude_range_m: tuple[float, float] | None = None
     max_gimbal_off_deg: float = 5.0
     best_count: int = 5

@@ -2,12 +2,13 @@
 frame scored for measuring each animal, so that a person measures the frames worth it.
 
 Frames are sampled at ``ScanSettings.sample_fps``. On the first sample, every
-``search_every_s`` after it and whenever no animal is being followed, the whole frame is
-searched as the automatic seed searches it (``auto_seed.find_animals``: the salient network
-on the frame and on tiles sized by the camera, and the colour detector), which costs 1–4 s
-at 1080p on two cores; on the samples between, each animal followed is looked for once
-around where it should be (``WINDOW_LENGTHS`` of its length across: one look of the network,
-about 0.1–0.3 s). The sightings join the animals' tracks (``tracks``) and each is scored
+``tile_search_every_s`` after it and whenever no animal is being followed, the whole frame
+is searched as the automatic seed searches it (``auto_seed.find_animals``: the salient
+network on the frame and on tiles sized by the camera, and the colour detector), which costs
+about 3 s at 1080p on two cores; on the samples between, each animal followed is looked for
+once around where it should be (``WINDOW_LENGTHS`` of its length across: one look of the
+network, about 0.35 s), and every ``search_every_s`` the network looks once at the whole
+frame for animals coming into view. The sightings join the animals' tracks (``tracks``) and each is scored
 (``frame_scores``). An animal must persist: seen in at least ``MIN_SIGHTINGS`` samples (where
 the clip has that many) and in at least ``MIN_SEEN_SHARE`` of the samples from its first
 sighting to its last. A splash or a patch of glitter the network takes for an animal is seen
@@ -59,19 +60,22 @@ class Scanner:
         samples = [int(t) for t in frames_at_fps(clip, settings.sample_fps)]
         expected = None if telemetry.focal_px is None else expected_length_px(
             telemetry.focal_px, telemetry.altitude_m, DOLPHIN_LENGTH_M)
-        tracker, searched_at = Tracker(clip.fps), None
+        tracker, searched_at, glanced_at = Tracker(clip.fps), None, None
         for step, frame_idx in enumerate(samples):
             check_cancel(cancel)
             frame = frames[frame_idx]
             followed = tracker.open_tracks(frame_idx)
             if searched_at is None or not followed or \
-                    (frame_idx - searched_at) / clip.fps >= settings.search_every_s:
+                    (frame_idx - searched_at) / clip.fps >= settings.tile_search_every_s:
                 masks = [c.mask for c in find_animals(frame, self.net.saliency,
                                                       self.settings.tile_fraction,
                                                       self.settings.threshold, expected)]
-                searched_at = frame_idx
+                searched_at = glanced_at = frame_idx
             else:
                 masks = self._followed(frame, frame_idx, followed, expected)
+                if (frame_idx - glanced_at) / clip.fps >= settings.search_every_s:
+                    masks += self._newcomers(frame, masks, expected)
+                    glanced_at = frame_idx
             seen = [s for s in (sighting(frame, mask, frame_idx) for mask in masks)
                     if s is not None]
             tracker.add(frame_idx, seen, _px_per_m(telemetry, frame_idx))
@@ -87,6 +91,15 @@ class Scanner:
         return ClipScan(clip.path.name, clip.fps, clip.num_frames, clip.width_px,
                         clip.height_px, tuple(samples), settings, tuple(scores),
                         time.perf_counter() - started)
+
+    def _newcomers(self, frame: np.ndarray, known: list[np.ndarray],
+                   expected: tuple[float, float] | None) -> list[np.ndarray]:
+        """Animals come into view: one look of the network at the whole frame, keeping what
+        is none of the ``known`` animals."""
+        height, width = frame.shape[:2]
+        found = window_candidates(frame, slice(0, height), slice(0, width), self.net.saliency,
+                                  self.settings.threshold, expected)
+        return [c.mask for c in found if not any(same_animal(c.mask, k) for k in known)]
 
     def _followed(self, frame: np.ndarray, frame_idx: int, followed: list[Track],
                   expected: tuple[float, float] | None) -> list[np.ndarray]:

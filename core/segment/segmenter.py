@@ -10,6 +10,7 @@ import threading
 from dataclasses import dataclass
 from typing import Protocol
 
+import cv2
 import numpy as np
 
 from core.io.masks import MaskTrack
@@ -44,6 +45,14 @@ class BoxSeed:
     width_px: int
     height_px: int
     frame_idx: int = 0
+
+    @classmethod
+    def around(cls, mask: np.ndarray, frame_idx: int) -> "BoxSeed":
+        """The box around an (H, W) mask's pixels; ValueError if it is empty."""
+        if not mask.any():
+            raise ValueError(f"frame {frame_idx}: the mask is empty, nothing to track from")
+        x_px, y_px, width_px, height_px = cv2.boundingRect(mask.astype(np.uint8))
+        return cls(x_px, y_px, width_px, height_px, frame_idx)
 
 
 @dataclass(frozen=True)

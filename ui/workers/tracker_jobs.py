@@ -14,7 +14,6 @@ from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Literal
 
-import cv2
 import numpy as np
 
 from core.io.frame_source import FrameSource
@@ -67,14 +66,6 @@ class Tracked:
     track: MaskTrack
     num_tracked: int
     complete: bool = True
-
-
-def box_around(mask: np.ndarray, frame_idx: int) -> BoxSeed:
-    """A box seed around a (H, W) mask's pixels; ValueError if it is empty."""
-    if not mask.any():
-        raise ValueError(f"frame {frame_idx}: the mask is empty, nothing to track from")
-    x_px, y_px, width_px, height_px = cv2.boundingRect(mask.astype(np.uint8))
-    return BoxSeed(x_px, y_px, width_px, height_px, frame_idx)
 
 
 def _order(start_frame: int, num_frames: int, direction: Direction) -> range:
@@ -132,7 +123,7 @@ def track_job(media_path: Path | str, seed: PointSeed | BoxSeed | np.ndarray,
     kept = None
     if isinstance(seed, np.ndarray):
         kept = seed != 0
-        seed = box_around(kept, start_frame)
+        seed = BoxSeed.around(kept, start_frame)
 
     def job(progress: ProgressCallback, cancel: threading.Event) -> MaskTrack:
         with open_media(media_path) as source:
