@@ -94,7 +94,9 @@ def score_clip(scenario: Scenario, scanner: Scanner) -> dict:
     picks = [s.frame_idx for s in scan.best(target, BEST)] if target is not None else []
     picked = np.array([errors[t] for t in picks if t in errors])
     every = np.array(list(errors.values()))
-    draws = np.random.default_rng(0).choice(len(every), (RANDOM_DRAWS, min(BEST, len(every))))
+    rng = np.random.default_rng(0)  # each draw: BEST different frames, as the picks are
+    draws = np.array([rng.choice(len(every), min(BEST, len(every)), replace=False)
+                      for _ in range(RANDOM_DRAWS)])
     return {"clip": scenario.name, "seconds": scan.seconds, "animals": len(scan.animal_ids()),
             "target_found": target is not None, "picks": picks,
             "picked_abs_error": float(np.abs(picked).mean()) if picked.size else float("nan"),

@@ -37,9 +37,9 @@ def test_the_scan_follows_the_dolphin_in_every_sample(scanned):
     dolphin = scan.of_animal(1)
     assert [s.frame_idx for s in dolphin] == [0, 10, 20, 30, 40]
     assert all(on_the_dolphin(truth, score) for score in dolphin)
-    # the glitter patch, taken for an animal in 2 of 3 samples, is never the dolphin
-    others = [score for score in scan.scores if score.animal_id != 1]
-    assert not any(on_the_dolphin(truth, score) for score in others)
+    # the glitter patch the network takes for an animal in 2 samples changes its length
+    # from one to the other (2.11 m, 1.28 m): it is not kept as an animal
+    assert scan.animal_ids() == [1]
     truth_length = json.loads(files.truth_json.read_text())["length_m"]
     best = scan.best(1)
     assert best and all(score.is_usable for score in best)

@@ -148,3 +148,20 @@ def test_gimbal_pitch_comes_from_the_latest_cue_that_records_it(tmp_path):
     assert pitch.tolist() == [-90.0, -90.0, -89.5, -60.0]
     path.write_text(cues[0].replace("[gb_yaw: 10.0 gb_pitch: -90.0 gb_roll: 0.0] ", ""))
     assert np.isnan(gimbal_pitch_at(parse_srt(path), np.array([0.5]))).all()
+
+
+def test_a_short_track_must_keep_its_length_to_be_an_animal():
+    """Glitter is seen now and then and changes shape; an animal keeps its length."""
+    from core.scan.scanner import persists
+
+    samples = [0, 10, 20, 30, 40]
+
+    def track(*sightings) -> Track:
+        return Track(list(sightings))
+    steady = track(seen(0, 100, 100, 200.0), seen(20, 120, 100, 180.0))
+    glitter = track(seen(0, 300, 100, 211.0), seen(20, 300, 110, 128.0))  # the sample's
+    assert persists(steady, samples) and not persists(glitter, samples)
+    long_lived = track(*(seen(t, 100 + t, 100, 200.0 - 2 * t) for t in samples))  # a dive
+    assert persists(long_lived, samples)
+    once_in_three = track(seen(0, 100, 100), seen(40, 140, 100))  # 2 of the 5 samples
+    assert not persists(once_in_three, samples)

@@ -1,0 +1,59 @@
+"""The scanner's schedule on a drawn clip with a stand-in for the network (dark pixels are
+salient): the frame searched in tiles at the start, each animal followed between, and an
+animal that comes into view found at the next look at the whole frame, not at the next
+search in tiles."""
+
+from pathlib import Path
+
+import cv2
+import numpy as np
+
+from core.io.frame_source import Clip
+from core.scan.clip_scan import ClipTelemetry
+from core.scan.frame_scores import ScanSettings
+from core.scan.scanner import Scanner
+
+FPS, SECONDS, WIDTH, HEIGHT = 2.0, 20, 480, 320
+ARRIVES_S = 7.0   # the second animal comes into view then
+
+
+class DrawnClip:
+    """Water with a dark elongated animal swimming right, and from ARRIVES_S a second."""
+
+    clip = Clip(Path("drawn.mp4"), FPS, int(FPS * SECONDS), WIDTH, HEIGHT)
+
+    def __getitem__(self, frame_idx: int) -> np.ndarray:
+        t = frame_idx / FPS
+        frame = np.full((HEIGHT, WIDTH, 3), (40, 110, 120), np.uint8)
+        cv2.ellipse(frame, (int(80 + 8 * t), 100), (45, 9), 0, 0, 360, (30, 30, 30), -1)
+        if t >= ARRIVES_S:
+            cv2.ellipse(frame, (int(380 - 6 * t), 230), (40, 8), 10, 0, 360, (30, 30, 30), -1)
+        return frame
+
+
+class DarkIsSalient:
+    """The network's stand-in: saliency 1 on dark pixels; counts its looks by window size."""
+
+    def __init__(self) -> None:
+        self.looks: list[tuple[int, int]] = []
+
+    def saliency(self, crop_rgb: np.ndarray) -> np.ndarray:
+        self.looks.append(crop_rgb.shape[:2])
+        return (crop_rgb.mean(axis=2) < 60).astype(np.float32)
+
+
+def test_an_animal_coming_into_view_is_found_at_the_next_look_at_the_whole_frame():
+    net = DarkIsSalient()
+    frames = DrawnClip()
+    nothing = np.full(frames.clip.num_frames, np.nan)
+    scan = Scanner(net=net).scan(frames, ClipTelemetry(None, nothing, nothing),
+                                 ScanSettings(sample_fps=1.0, search_every_s=5.0,
+                                              tile_search_every_s=15.0))
+    assert scan.animal_ids() == [1, 2]
+    first, second = scan.of_animal(1), scan.of_animal(2)
+    assert len(first) == 20  # followed in every sample
+    # in view from 7 s: found by the look at the whole frame at 10 s (the tiles wait for 15 s)
+    assert second[0].frame_idx == 20 and second[-1].frame_idx == 38
+    # the whole frame looked at by the searches in tiles at 0 and 15 s and the glances at
+    # 5 and 10 s
+    assert net.looks.count((HEIGHT, WIDTH)) == 4
