@@ -6,7 +6,7 @@
   dolphinfit bench masks [--split P] [--clips N | --only NAME,…] [--shapes S] [--frame-size F]
                          [--backends B,…] [--seeds S,…] [--sam2-checkpoint PATH] [--stride K]
                          [--json]
-  dolphinfit bench app [--parts startup,click] [--repeats N] [--json]
+  dolphinfit bench app [--parts startup,click,scan] [--repeats N] [--json]
   dolphinfit bench batch [--clips N] [--quick] [--json]
   dolphinfit bench real [--data DIR] [--seeds S,…] [--backend B] [--outlines N] [--json]
   dolphinfit bench scan [--splits tuning,held-out] [--clips N] [--no-speed] [--json]
@@ -50,7 +50,8 @@ screen (``dolphinfit gui --sample --quit-when-shown``), beside the floor of an e
 window in a fresh Python; min, median and max over --repeats runs. Needs a display (run it
 under xvfb-run on a server). Then (part "click", core/bench/click_bench.py) how long a user
 waits after a click on the animal of a 10-s 1080p clip: to that frame's mask, and to the
-masks of every frame a default fit uses.
+masks of every frame a default fit uses; and (part "scan") the scan's time per minute of
+video on that clip (as `bench scan`'s speed).
 
 batch: throughput of `dolphinfit batch` (clips per hour) on a LocalCluster of 1 worker and of
 2 workers, on the same 4 short synthetic clips (640×360, 1.5 s, 3 frames fitted, quick
@@ -76,6 +77,7 @@ from app.commands import bench_real, bench_scan
 from app.commands.masks import add_sam2_argument, sam2_checkpoint
 from core.bench.batch_bench import bench_batch
 from core.bench.click_bench import bench_click
+from core.bench.scan_bench import bench_speed as bench_scan_speed
 from core.bench.fit_bench import DEFAULT_VARIANTS, VARIANTS, bench_speed, bench_suite
 from core.bench.mask_bench import DEFAULT_STRIDE, SEED_KINDS, bench_masks
 from core.bench.render_bench import RenderBench, bench_render, bench_to_json
@@ -91,7 +93,8 @@ from core.segment.backends import ALWAYS_AVAILABLE, BACKENDS, make_segmenter
 
 CLIP_WIDTH = 21   # the longest clip name of the splits (slender_pair_touching)
 # The floor of the app's start-up: Python, PySide6 and one empty window shown, then quit
-APP_PARTS = ("startup", "click")
+APP_PARTS = ("startup", "click", "scan")
+SCAN_AIM_S_PER_MINUTE = 30.0  # issue 28, two cores
 EMPTY_WINDOW = ("from PySide6.QtCore import QTimer\n"
                 "from PySide6.QtWidgets import QApplication, QMainWindow\n"
                 "app = QApplication([])\nwindow = QMainWindow()\nwindow.show()\n"
@@ -143,7 +146,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     app = suites.add_parser("app", help="desktop app start-up against an empty Qt window, "
                                         "and the wait from a click to masks")
     app.add_argument("--parts", default=",".join(APP_PARTS),
-                     help=f"comma-separated, of {', '.join(APP_PARTS)} (default both)")
+                     help=f"comma-separated, of {', '.join(APP_PARTS)} (default all)")
     app.add_argument("--repeats", type=int, default=5, help="timed start-ups of each command")
     app.add_argument("--json", action="store_true", help="one JSON object on stdout")
     batch = suites.add_parser("batch", help="batch throughput on 1 and 2 Dask workers")
@@ -171,6 +174,9 @@ def run(args: argparse.Namespace) -> int:
             figures["startup"] = bench_app(max(1, args.repeats))
         if "click" in parts:
             figures["click"] = bench_click()
+        if "scan" in parts:
+            from core.scan.scanner import Scanner
+            figures["scan"] = bench_scan_speed(Scanner())
         print(json.dumps(figures, indent=2) if args.json else format_app(figures))
         return 0
     if args.suite_name == "batch":
@@ -257,6 +263,11 @@ def format_app(figures: dict) -> str:
             f"{click['fit_frames']} frames after {click['fit_masks_s']:.1f} s (aim ≤ "
             f"{aims['fit_masks_s']:.0f}); IoU {click['mean_iou']:.3f} (worst "
             f"{click['worst_iou']:.3f})")
+    if "scan" in figures:
+        scan = figures["scan"]
+        lines.append(f"the scan: {scan['video_s']:.0f} s of 1080p in {scan['seconds']:.1f} s, "
+                     f"{scan['seconds_per_video_minute']:.0f} s per minute of video (aim ≤ "
+                     f"{SCAN_AIM_S_PER_MINUTE:.0f})")
     return "\n".join(lines)
 
 

@@ -252,8 +252,11 @@ def test_the_click_bench_clicks_the_middle_frame_and_prints_its_waits(capsys):
     click = {"backend": "network", "video_s": 10.0, "clip_fps": 25.0, "width_px": 1920,
              "height_px": 1080, "clicked_frame": 125, "fit_frames": 51, "first_mask_s": 2.4,
              "fit_masks_s": 61.0, "mean_iou": 0.93, "worst_iou": 0.88, "aims_s": AIMS_S}
-    text = format_app({"click": click})
+    scan = {"seconds": 8.5, "video_s": 10.0, "seconds_per_video_minute": 51.0, "samples": 10,
+            "animals": 1}
+    text = format_app({"click": click, "scan": scan})
     assert "its mask after 2.4 s (aim ≤ 3)" in text
     assert "the fit's 51 frames after 61.0 s (aim ≤ 15)" in text
+    assert "the scan: 10 s of 1080p in 8.5 s, 51 s per minute of video (aim ≤ 30)" in text
     assert main(["bench", "app", "--parts", "clicks"]) == 2
     assert "--parts" in capsys.readouterr().err
