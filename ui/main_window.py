@@ -5,7 +5,7 @@ apart from the changes they lead to; errors reach the user through the notifier.
 saving are ``self.files`` (ui.controllers.project_files), exports ``self.exports``."""
 
 from collections.abc import Callable
-from dataclasses import asdict, replace
+from dataclasses import asdict
 from pathlib import Path
 
 import numpy as np
@@ -21,10 +21,6 @@ from PySide6.QtWidgets import (
 
 from core.camera_presets import preset_resolution_mismatch
 from core.errors import InputError
-from core.io.masks import read_masks
-from core.project.mask_store import masks_file, save_track
-from core.project.model import with_clip
-from core.project.project_file import relative_media_path
 from core.project.recent import recent_projects
 from core.segment.backends import BACKENDS, COLOUR, DEFAULT_BACKEND, NETWORK, SAM2
 from core.segment.sam2_backend import INSTALL_HINT, PACKAGE, installed
@@ -33,7 +29,6 @@ from ui.app import APP_NAME
 from ui.workers.background import BackgroundJobs
 from ui.widgets.canvas import FrameCanvas
 from ui.state.clip_session import ClipSession
-from ui.state.commands import push_edit
 from ui.dialogs.questions import Questions
 from ui.controllers.animal_commands import AnimalCommands
 from ui.controllers.clip_intake_controller import ClipIntakeController
@@ -716,26 +711,11 @@ class MainWindow(QMainWindow):
 
     def on_suggest_edges(self) -> None:
         """Widths where each station's perpendicular leaves the clip's mask."""
-        session, path = self.state.session, self.model.path
         measurement = self.model.current_measurement()
-        if session is None or measurement is None or not measurement.has_length:
+        if self.state.session is None or measurement is None or not measurement.has_length:
             self.notifier.error("Suggest edges", "measure a length on this frame first")
             return
-        clip = self.model.project.clips[session.clip_idx]
-        if clip.masks_path is None:
-            self.notifier.error("Suggest edges", "this clip has no masks: choose them with "
-                        "Clip → Masks…")
-            return
-        masks = (path.parent / clip.masks_path).resolve()
-        frame_idx = measurement.frame_idx
-
-        def read_mask() -> np.ndarray:
-            track = read_masks(masks, session.source.clip)
-            if not track.is_visible[frame_idx]:
-                raise InputError(f"{masks}: no dolphin in the mask of frame {frame_idx}")
-            return track.mask(frame_idx)
-
-        key = self.model.current_key()
+        key, frame_idx = self.model.current_key(), measurement.frame_idx
 
         def apply(mask: np.ndarray) -> None:
             if self.model.current_key() != key or self.state.frame_idx != frame_idx:
@@ -747,7 +727,7 @@ class MainWindow(QMainWindow):
             except InputError as exc:
                 self.notifier.error("Suggest edges", str(exc))
 
-        self.jobs.run(read_mask, apply, lambda why: self.notifier.error("Suggest edges", why))
+        self.masks.read_frame_mask(frame_idx, apply, "Suggest edges")
 
     def on_masks(self) -> None:
         """Choose the clip's masks (a PNG folder, an .npz or a mask video), checked first."""
@@ -756,26 +736,7 @@ class MainWindow(QMainWindow):
             return
         masks = self.ask.masks_source()
         if masks is not None:
-            self.set_masks(clip_idx, masks)
-
-    def set_masks(self, clip_idx: int, masks: Path) -> None:
-        """Check that ``masks`` fit the clip and keep a lossless copy with the project (in the
-        background), then make them the clip's (undoable)."""
-        media = self.state.session.source.clip
-        project_path = self.model.path
-        copy = masks_file(project_path, self.model.project.clips[clip_idx].media_path)
-
-        def keep() -> None:
-            save_track(read_masks(masks, media), copy)
-
-        def stored(_: object) -> None:
-            clip = self.model.project.clips[clip_idx]
-            push_edit(self.model, with_clip(self.model.project, clip_idx, replace(
-                clip, masks_path=relative_media_path(project_path.parent, copy))),
-                f"masks from {masks.name}", Change("clip", clip=clip_idx))
-            self.masks.load()  # the same file may hold new masks: read them again
-
-        self.jobs.run(keep, stored, lambda why: self.notifier.error("Cannot use these masks", why))
+            self.masks.use_masks(clip_idx, masks)
 
     # ------------------------------------------------------------------ actions: Help
     def on_shortcuts(self) -> None:

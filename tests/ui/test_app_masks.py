@@ -149,7 +149,7 @@ def test_track_from_a_click_then_correct_with_the_brush(qtbot, window):
 def test_imported_masks_are_kept_with_the_project(qtbot, window):
     clip = window.model.project.clips[0]
     source = (window.model.path.parent / clip.masks_path).resolve()  # the sample's PNG folder
-    window.set_masks(0, source)
+    window.masks.use_masks(0, source)
     qtbot.waitUntil(lambda: window.model.project.clips[0].masks_path == _kept(window),
                     timeout=30_000)
     kept, original = read_masks(window.model.path.parent / _kept(window)), read_masks(source)

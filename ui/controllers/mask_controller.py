@@ -322,5 +322,41 @@ class MaskController(QObject):
         self.jobs.run(lambda: save_track(track, target), saved,
                       lambda why: self.notifier.error("Masks not saved", why))
 
+    def read_frame_mask(self, frame_idx: int, done: Callable[[np.ndarray], None],
+                        what: str) -> None:
+        """The open clip's mask of ``frame_idx``, read in the background, to ``done``; an
+        error titled ``what`` when the clip has no masks or none on that frame."""
+        session, clip = self.state.session, self._clip()
+        if clip is None or clip.masks_path is None:
+            self.notifier.error(what, "this clip has no masks: track the dolphin from a click "
+                                "(Ctrl+T) or choose them with Clip → Masks…")
+            return
+        masks = (self.model.path.parent / clip.masks_path).resolve()
+
+        def read() -> np.ndarray:
+            track = read_masks(masks, session.source.clip)
+            if not track.is_visible[frame_idx]:
+                raise InputError(f"{masks}: no dolphin in the mask of frame {frame_idx}")
+            return track.mask(frame_idx)
+
+        self.jobs.run(read, done, lambda why: self.notifier.error(what, why))
+
+    def use_masks(self, clip_idx: int, masks: Path) -> None:
+        """Check that ``masks`` fit the open clip and keep a lossless copy with the project
+        (in the background), then make them the clip's (undoable)."""
+        media = self.state.session.source.clip
+        project_path = self.model.path
+        copy = masks_file(project_path, self.model.project.clips[clip_idx].media_path)
+
+        def stored(_: object) -> None:
+            clip = self.model.project.clips[clip_idx]
+            push_edit(self.model, with_clip(self.model.project, clip_idx, replace(
+                clip, masks_path=relative_media_path(project_path.parent, copy))),
+                f"masks from {masks.name}", Change("clip", clip=clip_idx))
+            self.load()  # the same file may hold new masks: read them again
+
+        self.jobs.run(lambda: save_track(read_masks(masks, media), copy), stored,
+                      lambda why: self.notifier.error("Cannot use these masks", why))
+
     def shutdown(self) -> None:
         self.tracker.shutdown()
