@@ -405,9 +405,17 @@ class MainWindow(QMainWindow):
         else:
             telemetry = self.state.session.telemetry
             how = "interpolated" if telemetry.is_interpolated[self.state.frame_idx] else "sampled"
+            where = f"{telemetry.source.kind}, {source}, {how}"
+            try:
+                calibrated = self.sessions.calibrated_altitude(self.state.session.clip_idx,
+                                                               altitude)
+            except InputError as exc:
+                calibrated, where = None, f"{where}; calibration not used: {exc}"
+            if calibrated is not None:  # what the results measure with
+                where = f"calibrated by {clip.altitude_calibration!r}; {altitude:.2f} m {where}"
+                altitude = calibrated
             gsd_cm = 100 * clip.camera.intrinsics().gsd_m_per_px(altitude)
-            parts += [f"altitude {altitude:.2f} m ({telemetry.source.kind}, {source}, {how})",
-                      f"GSD {gsd_cm:.2f} cm/px"]
+            parts += [f"altitude {altitude:.2f} m ({where})", f"GSD {gsd_cm:.2f} cm/px"]
         self.status_label.setText(" · ".join(parts))
 
     def _on_cursor_moved(self, u: float, v: float) -> None:
@@ -420,6 +428,7 @@ class MainWindow(QMainWindow):
             return  # a drag step: marks, clips, altitude and camera stay as they are
         self._update_marks()
         self._check_camera()
+        self._update_status()  # a calibration or camera changes the altitude and GSD shown
 
     def _sync_mirror_actions(self) -> None:
         """Check the mirror action of the current measurement (both sides when none)."""

@@ -96,8 +96,13 @@ def test_calibrate_the_altimeter_from_five_board_images(qtbot, new_window, still
     assert errors["altitude_sd_fraction"] < 0.03 < 0.05 == before["uncertainty"]["errors"][
         "altitude_sd_fraction"]                             # the barometer's default
     assert _interval_share(window) < 0.75 * share_before
+    # the status bar shows the altitude the results measure with, and the one recorded
+    status = window.status_label.text()
+    assert (f"altitude {after['altitude_m']:.2f} m (calibrated by 'test drone barometer'; "
+            "20.00 m constant") in status
     window.model.undo_stack.undo()
     assert window.model.project.calibrations == ()
+    assert "altitude 20.00 m (constant" in window.status_label.text()
 
 
 def test_frames_of_a_clip_come_with_their_srt_altitudes(qtbot, tmp_path):

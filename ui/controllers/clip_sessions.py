@@ -10,6 +10,7 @@ from PySide6.QtCore import QObject, Signal
 
 from core.errors import InputError
 from core.measure.altitude_calibration import same_focal_px
+from core.project.calibrations import clip_calibration
 from core.project.model import with_calibration, with_clip
 from core.project.project_file import media_path
 from core.project.results import frame_altitude
@@ -113,6 +114,13 @@ class ClipSessions(QObject):
         if session.telemetry is None:
             raise InputError(session.telemetry_error or "no altitude for this clip")
         return frame_altitude(session.telemetry, frame_idx), spec.source
+
+    def calibrated_altitude(self, clip_idx: int, recorded_m: float) -> float | None:
+        """A recorded altitude of the clip through its altitude calibration, as the results
+        take it; None when the clip names none. InputError when its calibration cannot be
+        fitted."""
+        calibration = clip_calibration(self.model.project, clip_idx)
+        return None if calibration is None else float(calibration.true_altitude(recorded_m))
 
     def _open_clip(self) -> int | None:
         """The selected clip when its session is open; an error said when none is selected."""
