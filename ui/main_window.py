@@ -416,6 +416,8 @@ class MainWindow(QMainWindow):
                 altitude = calibrated
             gsd_cm = 100 * clip.camera.intrinsics().gsd_m_per_px(altitude)
             parts += [f"altitude {altitude:.2f} m ({where})", f"GSD {gsd_cm:.2f} cm/px"]
+        if clip.lens is not None:
+            parts.append("through the lens model")
         self.status_label.setText(" · ".join(parts))
 
     def _on_cursor_moved(self, u: float, v: float) -> None:
@@ -627,6 +629,12 @@ class MainWindow(QMainWindow):
 
     def on_camera(self) -> None:
         self.sessions.set_camera()
+
+    def on_lens(self) -> None:
+        self.sessions.set_lens()
+
+    def on_clear_lens(self) -> None:
+        self.sessions.clear_lens()
 
     def on_calibrate_altitude(self) -> None:
         self.sessions.calibrate_altitude()

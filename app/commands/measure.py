@@ -43,7 +43,7 @@ from core.measure.baseline import BaselineEstimate, BaselineSettings, estimate_b
 from core.measure.condition import MassModel
 from core.measure.elliptical import TAIL_EXTRAPOLATED, TAIL_OPTIONS
 from core.measure.hw_ratios import DEFAULT_PRESET, FROM_MODEL
-from core.measure.lens import off_centre_warning, read_lens, undistorted_annotation
+from core.measure.lens import read_lens, through_lens
 from core.model.hw_spec import resolve_hw
 from core.measure.records import (
     MeasureInput, annotated_frame_mask, default_error_model, default_image_id,
@@ -164,17 +164,14 @@ def _from_annotation(args: argparse.Namespace) -> MeasureInput:
     if args.from_mask is not None:
         doc = with_mask_widths(doc, annotated_frame_mask(args.from_mask, doc))
         notes.append(f"widths from the mask {args.from_mask}")
-    intrinsics, warnings = doc.calibration.camera.intrinsics(), []
-    if args.lens is not None:
-        lens = read_lens(args.lens)
-        lens.check_image_size(intrinsics.width_px, intrinsics.height_px, str(args.input))
-        doc = replace(doc, annotation=undistorted_annotation(doc.annotation, lens))
-        notes.append(f"clicks taken through the lens model {args.lens.name}")
-        warnings += [w for w in (lens.focal_warning(intrinsics),) if w is not None]
-    elif (warning := off_centre_warning(doc.annotation, intrinsics)) is not None:
-        warnings.append(warning)
+    lens = None if args.lens is None else read_lens(args.lens)
+    try:
+        doc, lens_notes, warnings = through_lens(
+            doc, lens, f"the lens model {getattr(args.lens, 'name', '')}")
+    except InputError as exc:
+        raise InputError(f"{args.input}: {exc}") from None
     source = measured_image_from_annotation(doc, image_id=default_image_id(doc, args.input),
-                                            notes=notes)
+                                            notes=notes + lens_notes)
     return replace(source, warnings=tuple(warnings))
 
 

@@ -28,6 +28,7 @@ from core.errors import InputError
 from core.intrinsics import CameraIntrinsics
 from core.io.json_file import read_tagged_dataclass, write_json
 from core.measure.annotation import Annotation
+from core.measure.annotation_json import AnnotationFile
 
 FORMAT = "dolphinfit-lens"
 VERSION = 1
@@ -96,6 +97,23 @@ def undistorted_annotation(annotation: Annotation, lens: LensModel) -> Annotatio
     edges = lens.undistort(annotation.edges_px.reshape(-1, 2))
     return replace(annotation, midline_px=lens.undistort(annotation.midline_px),
                    edges_px=edges.reshape(annotation.edges_px.shape))
+
+
+def through_lens(doc: AnnotationFile, lens: LensModel | None,
+                 lens_name: str) -> tuple[AnnotationFile, list[str], list[str]]:
+    """An annotated frame measured through ``lens`` (called ``lens_name`` in the notes):
+    its clicks taken through it, with a note and a warning when the lens's focal length is
+    not the camera's; without a lens, the frame as it is and a warning when it was measured
+    far off-centre. InputError when the lens is of another image size. (doc, notes,
+    warnings)."""
+    camera = doc.calibration.camera.intrinsics()
+    if lens is None:
+        warning = off_centre_warning(doc.annotation, camera)
+        return doc, [], [] if warning is None else [warning]
+    lens.check_image_size(camera.width_px, camera.height_px, lens_name)
+    warning = lens.focal_warning(camera)
+    return (replace(doc, annotation=undistorted_annotation(doc.annotation, lens)),
+            [f"clicks taken through {lens_name}"], [] if warning is None else [warning])
 
 
 def off_centre_share(annotation: Annotation, camera: CameraIntrinsics) -> float:
@@ -168,16 +186,21 @@ def calibrate_lens(images: Iterable[np.ndarray], board: tuple[int, int], square_
                      rms_px=float(rms), num_views=len(image_points), source=source)
 
 
-def read_lens(path: Path | str) -> LensModel:
-    """A lens written by ``dolphinfit calibrate lens``; InputError naming the file otherwise."""
-    path = Path(path)
-    lens = read_tagged_dataclass(path, LensModel, FORMAT, VERSION, "lens model")
+def checked_lens(lens: LensModel, where: str) -> LensModel:
+    """``lens`` if its numbers can be used; InputError naming ``where`` otherwise."""
     numbers = (lens.fx_px, lens.fy_px, lens.cx_px, lens.cy_px, *lens.distortion)
     if not (np.all(np.isfinite(numbers)) and lens.fx_px > 0 and lens.fy_px > 0
             and lens.width_px > 0 and lens.height_px > 0):
-        raise InputError(f"{path}: focal lengths, image size and coefficients must be finite "
+        raise InputError(f"{where}: focal lengths, image size and coefficients must be finite "
                          f"and the focal lengths and size positive")
     return lens
+
+
+def read_lens(path: Path | str) -> LensModel:
+    """A lens written by ``dolphinfit calibrate lens``; InputError naming the file otherwise."""
+    path = Path(path)
+    return checked_lens(read_tagged_dataclass(path, LensModel, FORMAT, VERSION, "lens model"),
+                        str(path))
 
 
 def write_lens(lens: LensModel, path: Path) -> None:

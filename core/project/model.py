@@ -18,6 +18,7 @@ from core.camera_presets import CameraPreset
 from core.measure.annotation import ALTITUDE_SOURCES, SIDES, Annotation, place_stations
 from core.measure.elliptical import TAIL_EXTRAPOLATED, TAIL_OPTIONS
 from core.measure.hw_ratios import DEFAULT_PRESET
+from core.measure.lens import LensModel
 from core.measure.stations import NUM_STATIONS
 from core.project.fit_settings import FitSettings
 
@@ -184,7 +185,8 @@ class ClipEntry:
     ``altitude_calibration``: the name of the project's calibration its altitudes are
     corrected by (None: as recorded). ``scan_path``: the clip's scan (core/scan/scan_files.py),
     relative like the media; ``rejected_frames``: (scan animal number, frame) pairs the user
-    put aside in the frame picker.
+    put aside in the frame picker. ``lens``: the camera's lens model (`dolphinfit calibrate
+    lens`) measurements are taken through; None: measured as clicked.
     """
 
     media_path: str
@@ -197,6 +199,7 @@ class ClipEntry:
     altitude_calibration: str | None = None
     scan_path: str | None = None
     rejected_frames: tuple[tuple[int, int], ...] = ()
+    lens: LensModel | None = None
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "rejected_frames", tuple(sorted(

@@ -8,6 +8,8 @@ Schema version 1 (``*.dolphinfit``)::
       "clips": [{
         "media": "DJI_0042.MP4", "kind": "video", "masks": "DJI_0042_masks",
         "scan": "survey.scans/DJI_0042_scan.json", "rejected_frames": [[1, 150]],
+        "lens": {"width_px": 5120, "height_px": 2700, "fx_px": …, "distortion": [k1, k2, p1,
+                 p2, k3], …},
         "camera": {"preset": "dji-mavic3-5.1k", "focal_mm": 12.29, "sensor_width_mm": 17.27,
                    "image_width_px": 5120, "image_height_px": 2700, "approximate": false},
         "altitude": {"path": "DJI_0042.SRT", "constant_m": null, "launch_height_m": 1.5,
@@ -44,7 +46,10 @@ import numpy as np
 
 from core.camera_presets import CameraPreset
 from core.errors import InputError
-from core.io.json_file import check_schema_version, json_field, read_json, write_json
+from core.io.json_file import (
+    check_schema_version, dataclass_from_json, json_field, read_json, write_json,
+)
+from core.measure.lens import LensModel, checked_lens
 from core.measure.stations import NUM_STATIONS, STATION_PCT
 from core.project.fit_settings import FitSettings
 from core.project.model import (
@@ -208,15 +213,23 @@ def _clip_from_json(data: Any, where: str) -> ClipEntry:
                                                    optional=True),
                          scan_path=_get(data, "scan", str, where, optional=True),
                          rejected_frames=_rejected_frames(data.get("rejected_frames"),
-                                                          f"{where}: rejected_frames"))
+                                                          f"{where}: rejected_frames"),
+                         lens=_lens_from_json(data.get("lens"), f"{where}: lens"))
     except ValueError as exc:
         raise InputError(f"{where}: {exc}") from exc
 
 
-def _scan_to_json(clip: ClipEntry) -> dict[str, Any]:
-    """The clip's scan and frames put aside, where it has them (a clip never scanned is
-    written as before scans existed)."""
+def _lens_from_json(data: Any, where: str) -> LensModel | None:
+    return None if data is None else checked_lens(dataclass_from_json(LensModel, data, where),
+                                                  where)
+
+
+def _optional_to_json(clip: ClipEntry) -> dict[str, Any]:
+    """The clip's scan, frames put aside and lens model, where it has them (a clip without
+    them is written as before they existed)."""
     written: dict[str, Any] = {}
+    if clip.lens is not None:
+        written["lens"] = asdict(clip.lens)
     if clip.scan_path is not None:
         written["scan"] = clip.scan_path
     if clip.rejected_frames:
@@ -305,7 +318,7 @@ def project_to_json(project: Project) -> dict[str, Any]:
             "camera": _camera_to_json(clip.camera, clip.preset_name),
             "altitude": _altitude_to_json(clip.altitude),
             "altitude_calibration": clip.altitude_calibration,
-            **_scan_to_json(clip),
+            **_optional_to_json(clip),
             "animals": [{"id": a.animal_id, "notes": a.notes,
                          "measurements": [_measurement_to_json(m) for m in a.measurements],
                          "fit": {"settings": asdict(a.fit_settings), "result": a.fit_path}}

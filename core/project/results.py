@@ -19,6 +19,7 @@ from core.measure.annotation import Calibration
 from core.measure.baseline import BaselineEstimate, BaselineSettings, estimate_baseline
 from core.fit.config import FitConfig, fit_hw_table
 from core.measure.hw_ratios import HWRatios
+from core.measure.lens import through_lens
 from core.measure.records import (
     MeasureInput, default_error_model, measured_image_from_annotation, result_record,
     with_altitude_calibration,
@@ -91,8 +92,8 @@ class FrameResult:
 def _frame_input(project: Project, key: MeasurementKey, altitude_m: float,
                  altitude_source: str) -> tuple[str, MeasureInput, ErrorModel]:
     """The frame's export name, its measurement in pixels with its camera and altitude (the
-    clip's altitude calibration applied, if it names one) and the error SDs that go with
-    them."""
+    clicks through the clip's lens model and its altitude calibration applied, where it has
+    them) and the error SDs that go with them."""
     clip = project.clips[key.clip]
     measurement = get_measurement(project, key)
     annotation = measurement.to_annotation()
@@ -102,7 +103,9 @@ def _frame_input(project: Project, key: MeasurementKey, altitude_m: float,
     name = image_id(clip, measurement.frame_idx)
     doc = AnnotationFile(annotation=annotation, calibration=calibration, image_id=name,
                          media_path=clip.media_path, notes=measurement.notes)
-    source = measured_image_from_annotation(doc, image_id=name)
+    doc, notes, warnings = through_lens(doc, clip.lens, f"the lens model of {clip.name}")
+    source = replace(measured_image_from_annotation(doc, image_id=name, notes=notes),
+                     warnings=tuple(warnings))
     overrides = {}
     altitude_calibration = clip_calibration(project, key.clip)
     if altitude_calibration is not None:

@@ -63,7 +63,7 @@ class Monkey:
         ask.report = lambda title, text, details: self.log.append(f"  (told: {title})")
         for name in ("media_to_open", "media_to_add", "frames_folder", "export_dir",
                      "comparison_path", "mesh_export", "masks_source", "sam2_checkpoint",
-                     "relink", "camera", "handle_style", "altitude_calibration"):
+                     "relink", "camera", "handle_style", "altitude_calibration", "lens_file"):
             setattr(ask, name, lambda *asked: None)
 
     def actions(self) -> list[str]:

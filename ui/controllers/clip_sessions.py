@@ -10,6 +10,7 @@ from PySide6.QtCore import QObject, Signal
 
 from core.errors import InputError
 from core.measure.altitude_calibration import same_focal_px
+from core.measure.lens import LensModel, read_lens
 from core.project.calibrations import clip_calibration
 from core.project.model import with_calibration, with_clip
 from core.project.project_file import media_path
@@ -153,6 +154,43 @@ class ClipSessions(QObject):
             push_edit(self.model, with_clip(self.model.project, clip_idx, replace(
                 clip, camera=camera, preset_name=preset_name)),
                 "set camera", Change("clip", clip=clip_idx))
+
+    def set_lens(self) -> None:
+        """Ask for a lens model (`dolphinfit calibrate lens`) for the open clip, read and
+        check it in the background, then take the clip's measurements through it
+        (undoable)."""
+        clip_idx = self._open_clip()
+        if clip_idx is None:
+            return
+        path = self.ask.lens_file()
+        if path is None:
+            return
+        media = self.state.session.source.clip
+
+        def read() -> LensModel:
+            lens = read_lens(path)
+            lens.check_image_size(media.width_px, media.height_px, str(path))
+            return lens
+
+        def chosen(lens: LensModel) -> None:
+            clip = self.model.project.clips[clip_idx]
+            push_edit(self.model, with_clip(self.model.project, clip_idx,
+                                            replace(clip, lens=lens)),
+                      f"lens model {path.name}", Change("clip", clip=clip_idx))
+
+        self.jobs.run(read, chosen, lambda why: self.notifier.error("Lens model", why))
+
+    def clear_lens(self) -> None:
+        """Measure the open clip as clicked again, without its lens model (undoable)."""
+        clip_idx = self._open_clip()
+        if clip_idx is None:
+            return
+        clip = self.model.project.clips[clip_idx]
+        if clip.lens is None:
+            self.notifier.status("this clip has no lens model", 5000)
+            return
+        push_edit(self.model, with_clip(self.model.project, clip_idx, replace(clip, lens=None)),
+                  "no lens model", Change("clip", clip=clip_idx))
 
     def calibrate_altitude(self) -> None:
         """Build or edit the altitude calibration of the open clip's camera and choose the

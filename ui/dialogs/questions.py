@@ -114,6 +114,12 @@ class Questions:
                                                   "Masks (*.npz *.mp4 *.avi *.mkv)")
         return _path(name)
 
+    def lens_file(self) -> Path | None:
+        """A lens model written by `dolphinfit calibrate lens`."""
+        name, _ = QFileDialog.getOpenFileName(self.parent, "Lens model", "",
+                                              "Lens models (*.json);;All files (*)")
+        return _path(name)
+
     def sam2_checkpoint(self) -> Path | None:
         """A SAM-2 checkpoint whose model can be told (a warning and None otherwise)."""
         name, _ = QFileDialog.getOpenFileName(

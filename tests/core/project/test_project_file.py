@@ -141,3 +141,21 @@ def test_the_projects_own_hw_table_follows_save_as(tmp_path, project):
     moved = rebase_media(own, tmp_path, tmp_path / "elsewhere")
     assert moved.hw_ratios == "../p.fits/clip_dolphin-1_hw.csv"
     assert rebase_media(project, tmp_path, tmp_path / "x").hw_ratios == project.hw_ratios
+
+
+def test_a_clips_lens_model_round_trips_and_is_checked(tmp_path, project):
+    from dataclasses import replace
+
+    from core.measure.lens import LensModel
+    from core.project.model import with_clip
+
+    lens = LensModel(1280, 720, 900.0, 901.0, 639.5, 359.5, (-0.12, 0.05, 0.001, 0.0, 0.0),
+                     0.05, 9, "boards of 3 May")
+    with_lens = with_clip(project, 0, replace(project.clips[0], lens=lens))
+    write_project(tmp_path / "p.dolphinfit", with_lens)
+    assert read_project(tmp_path / "p.dolphinfit").clips[0].lens == lens
+    assert "lens" not in project_to_json(project)["clips"][0]  # none: written as before
+    data = json.loads(json.dumps(project_to_json(with_lens)))
+    data["clips"][0]["lens"]["fx_px"] = -900.0
+    with pytest.raises(InputError, match=r"clips\[0\]: lens: focal lengths"):
+        project_from_json(data, "p.dolphinfit")

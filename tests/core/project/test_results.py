@@ -13,7 +13,7 @@ from core.measure.hw_ratios import load_hw_preset
 from core.measure.mask_midline import midline_from_mask
 from core.measure.uncertainty import ErrorModel
 from core.project.evaluate import all_keys, frame_results
-from core.project.model import Measurement, MeasurementKey, with_measurement
+from core.project.model import Measurement, MeasurementKey, with_clip, with_measurement
 from core.project.project_file import write_project
 from core.measure.elliptical import NoWidthError
 from core.project.results import (
@@ -135,3 +135,35 @@ def test_the_fit_takes_its_hidden_heights_from_the_projects_hw_table(project, tm
                            ("tables/hw.csv", str(tmp_path / "tables/hw.csv"))):
         config = project_fit_config(settings, replace(project, hw_ratios=spec), tmp_path)
         assert config.hw_table == expected and config.fps == 2.0
+
+
+def test_a_clips_lens_model_straightens_the_clicks_before_measuring(project):
+    """With the clip's lens model the frame measures as its clicks taken through it (the
+    CLI's --lens); a lens of another video mode is refused naming it; without a lens, a frame
+    measured near the corner is warned about."""
+    from dataclasses import replace
+
+    from core.measure.lens import LensModel, undistorted_annotation
+
+    lens = LensModel(1280, 720, 900.0, 900.0, 639.5, 359.5, (-0.12, 0.05, 0.0, 0.0, 0.0),
+                     0.05, 9, "test")
+    key = MeasurementKey(0, 0, 0)
+    clip = project.clips[0]
+    through = with_clip(project, 0, replace(clip, lens=lens))
+    result = measure_frame(through, key, 18.0, "laser", load_hw_preset(), num_draws=0)
+    straight = undistorted_annotation(clip.animals[0].measurements[0].to_annotation(), lens)
+    focal_px = clip.camera.intrinsics().focal_px
+    assert result.record["length_m"] == pytest.approx(
+        pixel_measurements(straight).length_px * 18.0 / focal_px, rel=1e-9)
+    plain = measure_frame(project, key, 18.0, "laser", load_hw_preset(), num_draws=0)
+    assert result.record["length_m"] > plain.record["length_m"]  # barrel: clicks read short
+    assert not any("lens" in w for w in plain.record["warnings"])  # near the centre
+    other = with_clip(project, 0, replace(clip, lens=replace(lens, width_px=1920)))
+    with pytest.raises(InputError, match="lens model of clip.mp4: the lens was calibrated on "
+                                         "1920×720"):
+        measure_frame(other, key, 18.0, "laser", load_hw_preset(), num_draws=0)
+    measurement = clip.animals[0].measurements[0]
+    cornered = with_measurement(project, key, replace(
+        measurement, midline_px=measurement.midline_px + [550.0, 300.0]))
+    far = measure_frame(cornered, key, 18.0, "laser", load_hw_preset(), num_draws=0)
+    assert any("without a lens model" in w for w in far.record["warnings"])

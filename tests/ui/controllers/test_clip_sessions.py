@@ -1,6 +1,6 @@
 """The open clip's session, built without the window: opened when a clip is selected, its
 altitude read again when the project's setting changes (and when that is undone), the Clip
-menu's altitude command asked and done apart."""
+menu's altitude and lens commands asked and done apart."""
 
 from pathlib import Path
 
@@ -28,6 +28,9 @@ class _Answers(Questions):
 
     def altitude(self, media: Path, project_dir: Path, clip, current):
         return self.answer
+
+    def lens_file(self) -> Path | None:
+        return self.lens
 
 
 @pytest.fixture
@@ -68,3 +71,31 @@ def test_a_new_altitude_is_read_again_and_its_undo_too(qtbot, sessions):
     with qtbot.waitSignal(controller.telemetry_changed, timeout=TIMEOUT_MS):
         controller.model.undo_stack.undo()
     assert controller.altitude_at(0, 10)[0] == before and not errors
+
+
+def test_a_lens_model_of_the_clips_size_is_taken_and_undone(qtbot, sessions, tmp_path):
+    from dataclasses import replace
+
+    from core.measure.lens import LensModel, write_lens
+
+    controller, errors = sessions
+    controller.model.select(0)
+    with qtbot.waitSignal(controller.opened, timeout=TIMEOUT_MS):
+        controller.open_current()
+    media = controller.state.session.source.clip
+    lens = LensModel(media.width_px, media.height_px, 900.0, 900.0, 639.5, 359.5,
+                     (-0.1, 0.02, 0.0, 0.0, 0.0), 0.05, 9, "test")
+    write_lens(lens, tmp_path / "lens.json")
+    controller.ask.lens = tmp_path / "lens.json"
+    assert controller.model.project.clips[0].lens is None
+    controller.set_lens()
+    qtbot.waitUntil(lambda: controller.model.project.clips[0].lens == lens, timeout=TIMEOUT_MS)
+    controller.model.undo_stack.undo()
+    assert controller.model.project.clips[0].lens is None
+    # a lens of another video mode is refused, naming the file
+    write_lens(replace(lens, width_px=1920, height_px=1080), tmp_path / "other.json")
+    controller.ask.lens = tmp_path / "other.json"
+    controller.set_lens()
+    qtbot.waitUntil(lambda: len(errors) > 0, timeout=TIMEOUT_MS)
+    assert "Lens model: " in errors[0] and "other.json: the lens was calibrated on 1920×1080" \
+        in errors[0] and controller.model.project.clips[0].lens is None
