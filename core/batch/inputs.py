@@ -74,8 +74,9 @@ def _measurement_inputs(m: MaskMeasurement | ProjectMeasurement
                         ) -> tuple[dict[str, Path], dict[str, Any]]:
     if isinstance(m, MaskMeasurement):
         options = {**asdict(m), "hw_table": _hw_table(m.hw)}
-        if not m.frames:  # the largest fitted mask (absent: as before scans existed)
-            del options["frames"]
+        for name in ("frames", "lens"):  # none given: as before they existed
+            if not options[name]:
+                del options[name]
         return {}, options
     clip = m.project.clips[m.clip_idx]
     files = {"clip": media_path(m.project_path, clip)}  # its frame times place the altitudes

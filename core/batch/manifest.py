@@ -10,7 +10,9 @@ Columns (header names; only ``clip`` is required; paths are relative to the mani
   barometer for an SRT, else manual), which sets the elliptical method's altitude error.
   ``altitude_calibration``: a `dolphinfit calibrate altitude` file of the clip's camera: the
   altitudes are corrected by it and both methods' intervals take its spread as their error.
-- ``camera``: a preset name, or ``sensor_width_mm`` and ``focal_mm``.
+- ``camera``: a preset name, or ``sensor_width_mm`` and ``focal_mm``. ``lens``: a `dolphinfit
+  calibrate lens` file of its video mode: the elliptical method takes its mask's midline and
+  widths through it (the fit does not yet).
 - ``masks``: a mask PNG folder, mask video or .npz; or ``seed`` for the built-in tracker:
   ``auto``, a click ``X,Y`` or a box ``X,Y,W,H`` in pixels of frame ``seed_frame`` (default
   0). Neither: ``auto``.
@@ -45,7 +47,8 @@ from core.limits import (
     ALTITUDE_M, FOCAL_MM, FPS, LAUNCH_HEIGHT_M, SENSOR_WIDTH_MM, Limits, count, in_range,
     number, time_window,
 )
-from core.measure.altitude_calibration import AltitudeCalibration, read_altitude_calibration
+from core.measure.altitude_calibration import read_altitude_calibration
+from core.measure.lens import read_lens
 from core.measure.annotation import ALTITUDE_SOURCES
 from core.measure.uncertainty import DEFAULT_NUM_DRAWS
 from core.project.fit_settings import QUALITY_STEP_SCALE, FitSettings, fit_config, fit_dir
@@ -54,7 +57,7 @@ from core.scan.scan_files import read_scan_json
 from core.segment.segmenter import AutoSeed, BoxSeed, PointSeed, Seed
 
 COLUMNS = ("clip", "animal", "altitude", "launch_height_m", "time_offset_s", "altitude_source",
-           "altitude_calibration",
+           "altitude_calibration", "lens",
            "camera", "sensor_width_mm", "focal_mm", "masks", "seed", "seed_frame", "scan", "best",
            "start_s", "end_s", "fps", "quality", "refraction", "roi", "config")
 REQUIRED = ("clip",)
@@ -146,16 +149,16 @@ def _altitude(row: Row, clip: Path) -> float | Path | None:
     return row.path("altitude")
 
 
-def _altitude_calibration(row: Row) -> AltitudeCalibration | None:
-    """The calibration file's calibration, read here so that a bad one stops the batch
-    before any work."""
-    path = row.path("altitude_calibration")
+def _read_cell_file(row: Row, column: str, read: Callable[[Path], T]) -> T | None:
+    """The file the cell names, read here so that a bad one stops the batch before any work
+    (None when the cell is empty)."""
+    path = row.path(column)
     if path is None:
         return None
     try:
-        return read_altitude_calibration(path)
+        return read(path)
     except InputError as exc:
-        raise InputError(f"{row.where('altitude_calibration')}: {exc}") from None
+        raise InputError(f"{row.where(column)}: {exc}") from None
 
 
 def _camera(row: Row) -> CameraChoice:
@@ -259,12 +262,14 @@ def task_from_row(row: Row, num_draws: int = DEFAULT_NUM_DRAWS) -> BatchTask:
                     launch_height_m=row.number("launch_height_m", LAUNCH_HEIGHT_M, 0.0),
                     time_offset_s=row.number("time_offset_s", default=0.0),
                     camera=_camera(row), masks=masks, seed=seed, config=_fit_config(row),
-                    altitude_calibration=_altitude_calibration(row), also_frames=frames)
+                    altitude_calibration=_read_cell_file(row, "altitude_calibration",
+                                                         read_altitude_calibration), also_frames=frames)
     return BatchTask(name=fit_dir(row.manifest, row.text("clip"), animal).name,
                      clip=row.text("clip"), animal_id=animal,
                      where=f"{row.manifest}: row {row.row}", fit=fit,
                      measurement=MaskMeasurement(_altitude_source(row, altitude),
-                                                 num_draws=num_draws, frames=frames))
+                                                 num_draws=num_draws, frames=frames,
+                                                 lens=_read_cell_file(row, "lens", read_lens)))
 
 
 def _whole(minimum: int) -> Callable[[str], int]:

@@ -19,6 +19,7 @@ from core.measure.annotation_json import AnnotationFile
 from core.measure.annotation import Calibration
 from core.measure.baseline import BaselineEstimate, BaselineSettings, estimate_baseline
 from core.model.hw_spec import resolve_hw
+from core.measure.lens import through_lens
 from core.measure.mask_midline import annotation_from_mask
 from core.measure.records import (
     MeasureInput, default_error_model, measured_image_from_annotation, result_record,
@@ -61,7 +62,10 @@ def _measured(run: FitRun, frame_idx: int, choice: CameraChoice,
     image_id = f"{clip.path.stem}_f{frame_idx:06d}"
     doc = AnnotationFile(annotation=annotation, calibration=calibration, image_id=image_id,
                          media_path=str(clip.path), notes=NOTE)
-    source = measured_image_from_annotation(doc, image_id=image_id, notes=[NOTE])
+    doc, lens_notes, warnings = through_lens(doc, measurement.lens, "the row's lens model")
+    source = replace(measured_image_from_annotation(doc, image_id=image_id,
+                                                    notes=[NOTE, *lens_notes]),
+                     warnings=tuple(warnings))
     overrides = {}
     if altitude_calibration is not None:
         recorded = float(altitude_calibration.recorded_altitude(calibration.altitude_m))

@@ -9,6 +9,7 @@ from core.fit.config import FitConfig
 from core.fit.pipeline import CameraChoice
 from core.measure.altitude_calibration import AltitudeCalibration
 from core.measure.elliptical import TAIL_EXTRAPOLATED
+from core.measure.lens import LensModel
 from core.measure.hw_ratios import DEFAULT_PRESET
 from core.measure.uncertainty import DEFAULT_NUM_DRAWS
 from core.project.model import Project
@@ -38,13 +39,15 @@ class FitInputs:
 class MaskMeasurement:
     """The elliptical baseline taken from the fit's masks: length and widths from the mask of
     each of ``frames`` (a scan's best frames), or where none are given, of the fitted frame
-    where the most of the animal is seen (core/batch/mask_baseline.py)."""
+    where the most of the animal is seen (core/batch/mask_baseline.py); through ``lens``
+    where given."""
 
     altitude_source: str = "manual"
     hw: str = DEFAULT_PRESET
     tail: str = TAIL_EXTRAPOLATED
     num_draws: int = DEFAULT_NUM_DRAWS
     frames: tuple[int, ...] = ()
+    lens: LensModel | None = None
 
 
 @dataclass(frozen=True, eq=False)

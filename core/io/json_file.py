@@ -1,7 +1,7 @@
 """JSON files: reading with errors that name the file, writing atomically."""
 
 import json
-from dataclasses import fields, is_dataclass
+from dataclasses import MISSING, fields, is_dataclass
 from pathlib import Path
 from types import UnionType
 from typing import Any, TypeVar, get_args, get_origin
@@ -55,14 +55,18 @@ def check_schema_version(data: Any, version: int, where: str) -> None:
 
 def dataclass_from_json(cls: type[T], data: Any, what: str) -> T:
     """Rebuild dataclass ``cls`` from its ``asdict`` JSON: nested dataclasses and tuples come
-    back as such; unknown keys and values of the wrong type raise InputError naming ``what``
-    and the field (the class checks the values' ranges)."""
+    back as such; unknown keys, missing ones without a default and values of the wrong type
+    raise InputError naming ``what`` and the field (the class checks the values' ranges)."""
     if not isinstance(data, dict):
         raise InputError(f"{what}: expected an object, got {type(data).__name__}")
     known = {field.name: field.type for field in fields(cls)}
     unknown = sorted(set(data) - set(known))
     if unknown:
         raise InputError(f"{what}: unknown options {unknown}")
+    missing = [field.name for field in fields(cls) if field.name not in data
+               and field.default is MISSING and field.default_factory is MISSING]
+    if missing:
+        raise InputError(f"{what}: missing {missing}")
     values = {}
     for name, value in data.items():
         kind = known[name]

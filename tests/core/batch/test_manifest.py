@@ -162,3 +162,20 @@ def test_a_scan_of_another_clip_or_without_usable_frames_is_refused(folder):
     _scan(folder, usable=False)
     with pytest.raises(InputError, match="no usable frame of animal 2"):
         read_manifest(_manifest(folder, "a.mp4,2,20,a_scan.json", header=header))
+
+
+def test_a_lens_model_is_read_before_any_work(folder):
+    from core.measure.lens import LensModel, write_lens
+
+    lens = LensModel(1920, 1080, 1400.0, 1400.0, 959.5, 539.5, (-0.1, 0.02, 0.0, 0.0, 0.0),
+                     0.05, 9, "boards")
+    write_lens(lens, folder / "lens.json")
+    (folder / "bad.json").write_text('{"format": "dolphinfit-lens", "version": 1}')
+    header = "clip,animal,altitude,lens"
+    (task,) = read_manifest(_manifest(folder, "a.mp4,1,20,lens.json", header=header))
+    assert task.measurement.lens == lens
+    (plain,) = read_manifest(_manifest(folder, "a.mp4,1,20,", header=header))
+    assert plain.measurement.lens is None
+    path = _manifest(folder, "a.mp4,1,20,bad.json", header=header)
+    with pytest.raises(InputError, match=f"{path}: row 2, column 'lens': .*bad.json"):
+        read_manifest(path)
