@@ -6,6 +6,7 @@
                      [--digitisation-sd-px PX] [--altitude-sd-fraction F]
                      [--focal-sd-fraction F] [--mass-model JSON]
                      [--altitude-calibration CAL.json] [--lens LENS.json]
+                     [--subject ID]
   dolphinfit measure MORPHOMETRIX.csv [same options]
 
 The input is a dolphinfit annotation (JSON) or a MorphoMetriX v1/v2 CSV. Volume is the sum of
@@ -22,9 +23,11 @@ model (`dolphinfit calibrate lens`) before measuring; without one, a frame measu
 half-way to its corner is warned about.
 
 Writes DIR/<name>_measure.json, DIR/<name>_mmx.csv (MorphoMetriX v2 long), DIR/<name>_wide.csv
-(ours: metres, pixels, Xcertainty's columns, results) and DIR/<name>_collatrix.csv (the table
-CollatriX's body-condition tool reads); DIR defaults to the input's folder. The records are
-built by core/measure/records.py, shared with the GUI.
+(ours: metres, pixels, Xcertainty's columns, results), DIR/<name>_collatrix.csv (the table
+CollatriX's body-condition tool reads) and, for an annotation, DIR/<name>_xcertainty.csv (the
+row Xcertainty's parse_observations reads; --subject names the animal, default the image ID);
+DIR defaults to the input's folder. The records are built by core/measure/records.py, shared
+with the GUI.
 """
 
 import argparse
@@ -52,6 +55,8 @@ from core.measure.records import (
     result_record, with_mask_widths, write_exports,
 )
 from core.measure.uncertainty import DEFAULT_NUM_DRAWS, ErrorModel
+from core.measure.xcertainty import observation_row
+from core.measure.collatrix import write_wide_csv
 
 ROWS = (  # printed quantity, unit, format
     ("length_m", "m", ".3f"), ("volume_m3", "m³", ".4f"), ("volume_circular_m3", "m³", ".4f"),
@@ -71,6 +76,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--mc", type=int, default=DEFAULT_NUM_DRAWS, metavar="N",
                         help="Monte Carlo draws, 0 for none (default: %(default)s)")
     parser.add_argument("--seed", type=int, default=0, help="Monte Carlo seed (default: 0)")
+    parser.add_argument("--subject", default=None, metavar="ID",
+                        help="the animal's ID in the Xcertainty table (default: the image ID)")
     parser.add_argument("--out", type=Path, default=None, metavar="DIR",
                         help="output folder (default: the input's folder)")
     parser.add_argument("--from-mask", type=Path, default=None, metavar="MASKS",
@@ -124,6 +131,12 @@ def run(args: argparse.Namespace) -> int:
     out_dir = args.out if args.out is not None else args.input.parent
     for path in write_exports(out_dir / args.input.stem, source, estimate, result):
         print(f"wrote {path}")
+    if source.image_width_px is not None:  # an annotation knows Xcertainty's Iw and Sw
+        image = source.record.image_id
+        table = out_dir / f"{args.input.stem}_xcertainty.csv"
+        write_wide_csv(table, [observation_row(source, args.subject or image, image,
+                                               source.uas, None)])
+        print(f"wrote {table}")
     return 0
 
 

@@ -16,6 +16,7 @@ from core.measure.annotation import Annotation, Calibration
 from core.measure.elliptical import TAIL_EXTRAPOLATED, TAIL_MEASURED, elliptical_volume
 from core.measure.hw_ratios import load_hw_preset
 from core.measure.stations import STATION_FRACTIONS
+from core.measure.xcertainty import MEASUREMENT_COLUMNS
 
 V2_DEMO = Path(__file__).resolve().parents[1] / "data" / "morphometrix" / \
     "mmx_v2_demo-annotated.csv"
@@ -79,8 +80,20 @@ def test_measure_prints_the_table_and_writes_three_exports(tmp_path, capsys):
     assert (row["Iw"], row["Sw"], row["Laser_Alt"], row["TL_ratio85.00"]) == \
         ("1280", "4.3175", "20", "2.4")
     assert float(row["mass_kg_hi95"]) > float(row["mass_kg"]) > float(row["mass_kg_lo95"])
-    assert main(["measure", str(path), "--out", str(tmp_path / "again"), "--mc", "300"]) == 0
+    # the row Xcertainty reads: its columns in its order, pixels as measured
+    with open(out / "t1_xcertainty.csv", newline="", encoding="utf-8") as file:
+        reader = csv.DictReader(file)
+        (row,) = list(reader)
+    assert tuple(reader.fieldnames) == MEASUREMENT_COLUMNS
+    assert (row["whale_ID"], row["image"], row["Iw"], row["Sw"], row["Laser_Alt"],
+            row["Baro_Alt"]) == ("T1 f0", "T1 f0", "1280", "4.3175", "20", "")
+    assert float(row["TL_px"]) == pytest.approx(BL_M / M_PER_PX, rel=1e-9)
+    assert float(row["TL_w50.00_px"]) == pytest.approx(0.16 * BL_M / M_PER_PX, rel=1e-9)
+    assert main(["measure", str(path), "--out", str(tmp_path / "again"), "--mc", "300",
+                 "--subject", "Tt-0042"]) == 0
     assert _result(tmp_path / "again", "t1")["uncertainty"] == result["uncertainty"]
+    with open(tmp_path / "again" / "t1_xcertainty.csv", newline="", encoding="utf-8") as file:
+        assert next(csv.DictReader(file))["whale_ID"] == "Tt-0042"
 
 
 def test_a_corrected_altitude_rescales_every_length(tmp_path):

@@ -15,7 +15,7 @@ from core.measure.hw_ratios import load_hw_preset
 from core.project.exports import export_frames
 from core.project.model import AltitudeSpec, MeasurementKey
 from core.project.results import measure_frame
-from core.project.xcertainty import CALIBRATION_COLUMNS, MEASUREMENT_COLUMNS
+from core.measure.xcertainty import CALIBRATION_COLUMNS, MEASUREMENT_COLUMNS
 
 from .test_calibrations import calibration_set
 
