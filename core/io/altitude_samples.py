@@ -15,9 +15,9 @@ class AltitudeSource:
     """Where altitudes come from; recorded with every result (DESIGN.md §8).
 
     ``kind``: "constant", "srt", "csv" or "laser". ``family``: the DJI SRT family
-    (reference/ecosystem.md §7), "lidarbox" for a laser log, else "". ``field``: the field or
+    (reference/ecosystem.md §7), "lidarbox" or "freefly-astro" for a laser log, else "". ``field``: the field or
     column read ("rel_alt", "BAROMETER", "Hb", "H", "altitude", "laser_altitude_cm",
-    "altitude_m"). ``is_relative``: the field is height above the take-off point, so
+    "altitude_m", "Camera Range (m)"). ``is_relative``: the field is height above the take-off point, so
     ``launch_height_m`` (the take-off point's height above the water) was added to it.
     ``time_offset_s``: for a laser log, the log time (seconds after its first row) at which the
     clip's first frame was recorded.

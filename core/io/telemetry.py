@@ -1,6 +1,6 @@
 """Altitude per video frame from any source: a constant, a CSV, a DJI SRT or a laser log.
 
-The format readers (``srt.py``, ``altitude_csv.py``, ``laser_log.py``) return
+The format readers (``srt.py``, ``altitude_csv.py``, ``laser_log.py``, ``astro_log.py``) return
 ``AltitudeSamples``; this module picks the reader for a file, finds a clip's SRT sidecar (same
 stem, beside the clip) and aligns samples to the clip's frames. Frame t is shown at t / fps.
 
@@ -27,6 +27,7 @@ import numpy as np
 from core.errors import InputError
 from core.io.altitude_csv import read_altitude_csv
 from core.io.altitude_samples import AltitudeSamples, AltitudeSource
+from core.io.astro_log import is_astro_log, read_astro_log
 from core.io.laser_log import is_laser_log, read_laser_log
 from core.io.report import format_runs, list_some
 from core.io.srt import read_srt
@@ -97,8 +98,8 @@ def constant_telemetry(altitude_m: float, clip: Clip) -> Telemetry:
                      np.zeros(num_frames, bool), AltitudeSource("constant"))
 
 
-# The reader for each suffix; a LidarBoX log is recognised by its header whatever its suffix
-# (the logger names its files LOG_0000.CSV).
+# The reader for each suffix; a LidarBoX log and a Freefly Astro log are recognised by their
+# headers whatever their suffix (the LidarBoX logger names its files LOG_0000.CSV).
 READER_KINDS = {SRT_SUFFIX: "srt", ".csv": "csv", ".txt": "laser", ".tsv": "laser",
                 ".log": "laser"}
 
@@ -115,8 +116,11 @@ def read_altitude(path: Path | str, launch_height_m: float = 0.0,
     number(time_offset_s, "time offset")
     if not path.is_file():
         raise InputError(f"{path}: no such file")
-    kind = "laser" if is_laser_log(path) else READER_KINDS.get(path.suffix.lower())
-    if kind == "srt":
+    kind = ("astro" if is_astro_log(path) else "laser" if is_laser_log(path)
+            else READER_KINDS.get(path.suffix.lower()))
+    if kind == "astro":
+        samples = read_astro_log(path, time_offset_s)
+    elif kind == "srt":
         samples = read_srt(path, launch_height_m)
     elif kind == "laser":
         samples = read_laser_log(path, time_offset_s)
@@ -124,7 +128,8 @@ def read_altitude(path: Path | str, launch_height_m: float = 0.0,
         samples = read_altitude_csv(path)
     else:
         raise InputError(f"{path}: unknown altitude file type {path.suffix!r} (use a DJI .SRT, "
-                         "a frame,altitude_m or time_s,altitude_m .csv, or a LidarBoX log)")
+                         "a frame,altitude_m or time_s,altitude_m .csv, a LidarBoX log or a "
+                         "Freefly Astro log)")
     ignored = []
     if launch_height_m != 0.0 and not samples.source.is_relative:
         ignored.append(f"launch height ignored: {samples.source.field or 'the altitude'} is "
