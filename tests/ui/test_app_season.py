@@ -24,7 +24,7 @@ from core.project.model import with_animal
 from ui.state.commands import edit_measurement, push_edit
 from ui.state.project_model import Change
 
-SMALL = dict(width_px=640, height_px=360, fps=5.0, duration_s=3.0, altitude_m=12.0,
+SMALL = dict(width_px=480, height_px=270, fps=5.0, duration_s=3.0, altitude_m=9.0,
              heading_deg=10.0, sea_state=0.3)
 LAUNCH_HEIGHT_M = 1.5   # the synthetic SRT's rel_alt is the altitude less this
 QUICK_FIT = FitSettings(start_s=0.0, end_s=0.4, fps=5.0, quality="quick")
@@ -82,7 +82,7 @@ def test_a_field_day_from_folder_to_comparison(qtbot, make_window, field_day):
     assert all(clip.altitude.launch_height_m == LAUNCH_HEIGHT_M for clip in clips)
     text, details = reports[-1]
     assert "2 clips added" in text and "DJI_0003.mp4: " in text and "DJI_0003.SRT" in text
-    assert any("no preset at 640×360" in line for line in details)  # the camera to check
+    assert any("no preset at 480×270" in line for line in details)  # the camera to check
     assert "not scanned" in window.project_panel.tree.topLevelItem(0).text(1)
 
     # every clip scanned in the worker, one after the other; the scans saved with the project

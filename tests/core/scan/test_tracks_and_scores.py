@@ -151,7 +151,8 @@ def test_gimbal_pitch_comes_from_the_latest_cue_that_records_it(tmp_path):
 
 
 def test_a_short_track_must_keep_its_length_to_be_an_animal():
-    """Glitter is seen now and then and changes shape; an animal keeps its length."""
+    """Glitter is seen now and then and changes shape; an animal keeps its length (two of a
+    short track's sightings agree within 1.5×)."""
     from core.scan.scanner import persists
 
     samples = [0, 10, 20, 30, 40]
@@ -165,3 +166,6 @@ def test_a_short_track_must_keep_its_length_to_be_an_animal():
     assert persists(long_lived, samples)
     once_in_three = track(seen(0, 100, 100), seen(40, 140, 100))  # 2 of the 5 samples
     assert not persists(once_in_three, samples)
+    # one sighting cut short (a neighbour took part of its mask): two still agree
+    cut_once = track(seen(0, 100, 100, 87.0), seen(10, 110, 100, 78.0), seen(20, 120, 100, 40.0))
+    assert persists(cut_once, samples)
