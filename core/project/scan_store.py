@@ -7,6 +7,7 @@ reopening the project does not scan again. Scan animal number n is the project's
 """
 
 import threading
+from collections.abc import Collection
 from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING
@@ -101,10 +102,12 @@ class ClipStatus:
         return " · ".join(parts)
 
 
-def usable_frames(scan: ClipScan, clip: ClipEntry, number: int) -> list[FrameScore]:
-    """Scan animal ``number``'s usable frames that the user has not put aside, best first."""
+def usable_frames(scan: ClipScan, rejected: Collection[tuple[int, int]],
+                  number: int) -> list[FrameScore]:
+    """Scan animal ``number``'s usable frames not put aside (``rejected``: the clip's
+    (animal, frame) pairs), best first."""
     return [score for score in scan.best(number, len(scan.scores))
-            if (number, score.frame_idx) not in clip.rejected_frames]
+            if (number, score.frame_idx) not in rejected]
 
 
 def _measured(animal: Animal | None) -> bool:
@@ -117,7 +120,7 @@ def clip_status(clip: ClipEntry, scan: ClipScan | None) -> ClipStatus:
     if scan is not None:
         for number in scan.animal_ids():
             found += 1
-            if usable_frames(scan, clip, number):
+            if usable_frames(scan, clip.rejected_frames, number):
                 usable += 1
                 index = scan_animal(clip, number)
                 measured += _measured(None if index is None else clip.animals[index])

@@ -12,6 +12,7 @@ from PySide6.QtWidgets import (
     QTableWidgetItem, QVBoxLayout, QWidget,
 )
 
+from core.project.scan_store import usable_frames
 from core.scan.clip_scan import ClipScan
 from core.scan.frame_scores import FrameScore
 from ui.workers.frame_loader import rgb_to_qimage
@@ -96,8 +97,7 @@ class FramePicker(QWidget):
         self.animal_box.clear()
         for number in ([] if scan is None else scan.animal_ids()):
             scores = scan.of_animal(number)
-            usable = sum(s.is_usable and (number, s.frame_idx) not in self._rejected
-                         for s in scores)
+            usable = len(usable_frames(scan, self._rejected, number))
             self.animal_box.addItem(f"animal {number}: {usable} usable", number)
             self.animal_box.setItemData(self.animal_box.count() - 1,
                                         f"seen in {len(scores)} sampled frames, usable in "
@@ -134,14 +134,16 @@ class FramePicker(QWidget):
     def _rows(self, number: int) -> list[tuple[FrameScore, str]]:
         """The animal's frames to list, each with why it is put aside ("" when usable):
         usable ones best first, then (when asked) the others."""
-        usable, aside = [], []
-        for score in self._scan.of_animal(number):
-            why = "; ".join(score.faults)
-            if (number, score.frame_idx) in self._rejected:
-                why = "; ".join(filter(None, ("put aside by you", why)))
-            (aside if why else usable).append((score, why))
-        usable.sort(key=lambda row: -row[0].quality)
-        return usable + (aside if self.show_aside.isChecked() else [])
+        usable = usable_frames(self._scan, self._rejected, number)
+        rows = [(score, "") for score in usable]
+        if self.show_aside.isChecked():
+            listed = {score.frame_idx for score in usable}
+            for score in self._scan.of_animal(number):
+                if score.frame_idx not in listed:
+                    mine = "put aside by you" if (number, score.frame_idx) in self._rejected \
+                        else ""
+                    rows.append((score, "; ".join(filter(None, (mine, *score.faults)))))
+        return rows
 
     def _fill(self) -> None:
         table, number = self.table, self.current_animal()
