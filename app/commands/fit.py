@@ -198,6 +198,7 @@ def report(fit_run: FitRun, out_dir: Path, camera: CameraChoice,
     written = write_outputs(result, fit_run.data, load_template(), out_dir)
     print(f"fitted {len(result.frame_idx)} frames of {fit_run.clip.path.name} "
           f"in {result.timings_s.get('total', 0.0):.0f} s, mean IoU {result.iou.mean():.3f}")
+    print(f"masks: {fit_run.masks.source}")
     if result.volume_m3 > 0 and result.length_m > 0:
         source = altitude_source or ALTITUDE_SOURCE_OF_KIND.get(
             fit_run.telemetry.source.kind, "manual")

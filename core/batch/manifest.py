@@ -52,6 +52,7 @@ from core.measure.lens import read_lens
 from core.measure.annotation import ALTITUDE_SOURCES
 from core.measure.uncertainty import DEFAULT_NUM_DRAWS
 from core.project.fit_settings import QUALITY_STEP_SCALE, FitSettings, fit_config, fit_dir
+from core.scan.fit_seed import seed_at
 from core.scan.frame_scores import FrameScore
 from core.scan.scan_files import read_scan_json
 from core.segment.segmenter import AutoSeed, BoxSeed, PointSeed, Seed
@@ -255,7 +256,7 @@ def task_from_row(row: Row, num_draws: int = DEFAULT_NUM_DRAWS) -> BatchTask:
         raise InputError(f"{row.where('seed')}: give masks or a tracker seed, not both")
     seed_frame = row.parsed("seed_frame", _whole(0), 0)
     picks = _scan_picks(row, clip, animal)
-    seed = (PointSeed(picks[0].centre_x_px, picks[0].centre_y_px, picks[0].frame_idx) if picks
+    seed = (seed_at(picks[0]) if picks
             else row.parsed("seed", lambda text: _seed(text, seed_frame), AutoSeed(seed_frame)))
     frames = tuple(sorted(pick.frame_idx for pick in picks))
     fit = FitInputs(clip=clip, altitude=altitude,

@@ -28,12 +28,11 @@ from core.io.video import Clip, VideoReader, frames_at_fps, open_clip
 from core.measure.altitude_calibration import AltitudeCalibration, calibrated_telemetry
 from core.measure.edge_blur import edge_blur_px
 from core.progress import ProgressCallback
+from core.scan.clip_scan import scan_telemetry
+from core.scan.fit_seed import scan_pick
+from core.segment.auto_seed import DOLPHIN_LENGTH_M, expected_length_px
 from core.segment.backends import DEFAULT_BACKEND, make_segmenter
 from core.segment.segmenter import AutoSeed, Seed
-
-# Bottlenose dolphins from calf to the largest adult: what the automatic seed looks for
-DOLPHIN_LENGTH_M = (1.0, 4.0)
-
 
 @dataclass(frozen=True)
 class CameraChoice:
@@ -101,22 +100,27 @@ def fitted_edge_blur(data: FitData, clip_width_px: int,
     return float(np.median(blurs)) * scale if blurs else float("nan")
 
 
-def expected_length_px(focal_px: float, altitudes_m: np.ndarray,
-                       length_m: tuple[float, float]) -> tuple[float, float] | None:
-    """(shortest, longest) length in pixels of an animal ``length_m`` long seen from the
-    clip's altitudes (its lowest and highest); None without a valid altitude."""
-    valid = altitudes_m[np.isfinite(altitudes_m) & (altitudes_m > 0)]
-    if not valid.size:
-        return None
-    return length_m[0] * focal_px / valid.max(), length_m[1] * focal_px / valid.min()
-
-
 def sized_auto_seed(frame_idx: int, intrinsics: CameraIntrinsics,
                     telemetry: Telemetry) -> AutoSeed:
     """The automatic seed in ``frame_idx`` looking for an animal ``DOLPHIN_LENGTH_M`` long at
     the clip's altitudes (``expected_length_px``)."""
     return AutoSeed(frame_idx, expected_length_px(intrinsics.focal_px, telemetry.altitude_m,
                                                   DOLPHIN_LENGTH_M))
+
+
+def scanned_seed(frames: FrameSource, telemetry: Telemetry, intrinsics: CameraIntrinsics,
+                 config: FitConfig, seed: AutoSeed, progress: ProgressCallback | None,
+                 cancel: threading.Event | None) -> tuple[Seed, str]:
+    """The scan's pick over the fit's window as a click (core.scan.fit_seed), with its line
+    for the user; where the scan keeps no animal, ``seed`` sized by the camera
+    (``sized_auto_seed``), which looks frame by frame."""
+    pick = scan_pick(frames, scan_telemetry(frames.clip, telemetry, intrinsics.focal_px),
+                     (config.start_s, config.end_s), progress=progress, cancel=cancel)
+    if pick is not None:
+        return pick.seed, pick.line
+    sized = seed if seed.length_px is not None else \
+        sized_auto_seed(seed.frame_idx, intrinsics, telemetry)
+    return sized, "the scan kept no animal seen in two of its samples"
 
 
 def run_fit(clip_path: Path, altitude: str | Path | float | None, masks_path: Path | None,
@@ -129,9 +133,9 @@ def run_fit(clip_path: Path, altitude: str | Path | float | None, masks_path: Pa
     """Fit the clip; without ``masks_path`` the mask ``backend`` (core.segment.backends)
     finds the dolphin from ``seed`` on the frames the fit will look at and on
     ``also_frames`` (e.g. the frames measured by the elliptical method), reporting its own
-    "track" stage first. An automatic seed looks for an animal ``DOLPHIN_LENGTH_M`` long at
-    the clip's altitudes (``expected_length_px``). An ``altitude_calibration`` of the clip's
-    camera corrects the altitudes first."""
+    "track" stage first. An automatic seed is the animal a scan of the fit's window follows
+    longest (``scanned_seed``), the masks' source naming it. An ``altitude_calibration`` of
+    the clip's camera corrects the altitudes first."""
     clip = open_clip(clip_path)
     telemetry = load_telemetry(clip, altitude, launch_height_m, time_offset_s)
     intrinsics = camera.intrinsics(clip)
@@ -146,8 +150,11 @@ def run_fit(clip_path: Path, altitude: str | Path | float | None, masks_path: Pa
         else:
             fit_frames = frames_at_fps(clip, config.fps, config.start_s, config.end_s)
             tracked = sorted({*map(int, fit_frames), *map(int, also_frames)})
-            if isinstance(seed, AutoSeed) and seed.length_px is None:
-                seed = sized_auto_seed(seed.frame_idx, intrinsics, telemetry)
+            note = ""
+            if isinstance(seed, AutoSeed):
+                seed, note = scanned_seed(frames, telemetry, intrinsics, config, seed,
+                                          progress, cancel)
             masks = make_segmenter(backend, only_frames=tracked).segment(
                 frames, seed, progress=progress, cancel=cancel)
+            masks = replace(masks, source=f"{masks.source}; {note}")
         return fit_clip(frames, telemetry, masks, intrinsics, config, progress, cancel)

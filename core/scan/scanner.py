@@ -26,7 +26,6 @@ from dataclasses import replace
 
 import numpy as np
 
-from core.fit.pipeline import DOLPHIN_LENGTH_M, expected_length_px
 from core.io.frame_source import FrameSource
 from core.io.video import frames_at_fps
 from core.progress import Progress, ProgressCallback, check_cancel
@@ -35,7 +34,7 @@ from core.scan.frame_scores import ScanSettings, track_scores
 from core.scan.sighting import sighting
 from core.scan.tracks import Track, Tracker
 from core.segment.auto_seed import (
-    MIN_TILE_PX, colour_candidates, find_animals, same_animal, window_candidates,
+    DOLPHIN_LENGTH_M, MIN_TILE_PX, expected_length_px, colour_candidates, find_animals, same_animal, window_candidates,
 )
 from core.segment.net_settings import NetSettings
 from core.segment.salient import SalientNet
@@ -59,11 +58,14 @@ class Scanner:
     def scan(self, frames: FrameSource, telemetry: ClipTelemetry,
              settings: ScanSettings = ScanSettings(),
              progress: ProgressCallback | None = None,
-             cancel: threading.Event | None = None) -> ClipScan:
-        """Scan ``frames`` (module doc); Cancelled when ``cancel`` is set between samples."""
+             cancel: threading.Event | None = None,
+             samples: list[int] | None = None) -> ClipScan:
+        """Scan ``frames`` (module doc) at the ``samples`` given (default: the whole clip at
+        ``settings.sample_fps``); Cancelled when ``cancel`` is set between samples."""
         started = time.perf_counter()
         clip = frames.clip
-        samples = [int(t) for t in frames_at_fps(clip, settings.sample_fps)]
+        if samples is None:
+            samples = [int(t) for t in frames_at_fps(clip, settings.sample_fps)]
         expected = None if telemetry.focal_px is None else expected_length_px(
             telemetry.focal_px, telemetry.altitude_m, DOLPHIN_LENGTH_M)
         tracker, searched_at, glanced_at = Tracker(clip.fps), None, None

@@ -38,6 +38,8 @@ LONE, COLOUR, PART = 0, 1, 2   # tiers, best first (module doc)
 MAX_COLOUR_BLOBS = 3           # the colour detector's best blobs considered
 TILE_ANIMAL_LENGTHS = 2.0      # a tile is at most this many of the longest expected animal
 MIN_TILE_PX = 160              # half the network's input: tiles are upscaled at most 2×
+# Bottlenose dolphins from calf to the largest adult: what the automatic seed looks for
+DOLPHIN_LENGTH_M = (1.0, 4.0)
 
 
 @dataclass(frozen=True, eq=False)
@@ -54,6 +56,16 @@ class Candidate:
         """(x, y) of the mask's centroid."""
         rows, cols = np.nonzero(self.mask)
         return float(cols.mean()), float(rows.mean())
+
+
+def expected_length_px(focal_px: float, altitudes_m: np.ndarray,
+                       length_m: tuple[float, float]) -> tuple[float, float] | None:
+    """(shortest, longest) length in pixels of an animal ``length_m`` long seen from the
+    clip's altitudes (its lowest and highest); None without a valid altitude."""
+    valid = altitudes_m[np.isfinite(altitudes_m) & (altitudes_m > 0)]
+    if not valid.size:
+        return None
+    return length_m[0] * focal_px / valid.max(), length_m[1] * focal_px / valid.min()
 
 
 def extent_px(mask: np.ndarray) -> float:

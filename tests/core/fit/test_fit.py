@@ -306,15 +306,15 @@ def test_cli_fit_writes_result_meshes_and_overlays(clip_dir, tmp_path, capsys):
 
 
 def test_without_masks_the_tracker_finds_the_dolphin(clip_dir):
-    """run_fit with no mask files finds the dolphin itself (the network back-end, on the
-    frames the fit looks at only) and fits it."""
+    """run_fit with no mask files finds the dolphin itself (a scan of the fit's window picks
+    it, the network back-end tracks it on the frames the fit looks at only) and fits it."""
     from core.fit.pipeline import CameraChoice, run_fit
     from core.segment.net_tracker import BACKEND_NAME
 
     run = run_fit(clip_dir / "clip.mkv", clip_dir / "altitude.csv", None,
                   CameraChoice(sensor_width_mm=17.27, focal_mm=12.29), TINY)
     assert run.masks.source.startswith(BACKEND_NAME)
-    assert "automatic seed, frame 0: 1 animal seen" in run.masks.source
+    assert "1 animal kept; took dolphin 1" in run.masks.source
     assert run.masks.is_visible.sum() >= 6
     assert set(run.result.frame_idx) <= set(np.flatnonzero(run.masks.is_visible))
     assert run.result.iou.mean() > 0.6
@@ -322,7 +322,7 @@ def test_without_masks_the_tracker_finds_the_dolphin(clip_dir):
 
 def test_the_automatic_seed_looks_for_a_dolphins_length_at_the_clips_altitudes():
     """1–4 m at 15–25 m with a 1000 px focal length: 40–267 px; no altitude: any length."""
-    from core.fit.pipeline import DOLPHIN_LENGTH_M, expected_length_px
+    from core.segment.auto_seed import DOLPHIN_LENGTH_M, expected_length_px
 
     low, high = expected_length_px(1000.0, np.array([15.0, np.nan, 25.0]), DOLPHIN_LENGTH_M)
     assert (low, high) == pytest.approx((40.0, 4000.0 / 15.0))

@@ -7,6 +7,7 @@ from pathlib import Path
 
 import cv2
 import numpy as np
+import pytest
 
 from core.io.frame_source import Clip
 from core.scan.clip_scan import ClipTelemetry
@@ -57,3 +58,32 @@ def test_an_animal_coming_into_view_is_found_at_the_next_look_at_the_whole_frame
     # the whole frame looked at by the searches in tiles at 0 and 15 s and the glances at
     # 5 and 10 s
     assert net.looks.count((HEIGHT, WIDTH)) == 4
+
+
+def test_the_fits_automatic_seed_takes_the_animal_seen_longest_in_its_window():
+    """Over the whole clip the first animal is seen in all 20 samples and the newcomer in 10:
+    the fit takes the first, at its centre in one of its frames, and the line names both.
+    From 12 to 16 s both are seen in all 4 samples: the tie goes to the one the search ranked
+    first (the larger). Plain water: no pick (the fit falls back on the one-frame seed)."""
+    from core.scan.fit_seed import scan_pick
+
+    frames = DrawnClip()
+    nothing = np.full(frames.clip.num_frames, np.nan)
+    telemetry = ClipTelemetry(None, nothing, nothing)
+    pick = scan_pick(frames, telemetry, (None, None), Scanner(net=DarkIsSalient()))
+    assert pick.animal_id == 1
+    t = pick.seed.frame_idx / FPS
+    assert pick.seed.x_px == pytest.approx(80 + 8 * t, abs=2) and pick.seed.y_px == \
+        pytest.approx(100, abs=1)
+    assert "scan of 20 frames: 2 animals kept; took dolphin 1 seen in 20 of 20" in pick.line
+    assert "also dolphin 2 seen in 10 of 20 samples" in pick.line
+    late = scan_pick(frames, telemetry, (12.0, 16.0), Scanner(net=DarkIsSalient()))
+    assert late.line.startswith("scan of 4 frames: 2 animals kept; took dolphin 1 seen in 4")
+    assert late.seed.y_px == pytest.approx(100, abs=1)
+    assert 24 <= late.seed.frame_idx < 32
+
+    class Water(DrawnClip):
+        def __getitem__(self, frame_idx: int) -> np.ndarray:
+            return np.full((HEIGHT, WIDTH, 3), (40, 110, 120), np.uint8)
+
+    assert scan_pick(Water(), telemetry, (None, None), Scanner(net=DarkIsSalient())) is None
