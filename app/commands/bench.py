@@ -68,12 +68,12 @@ both splits apart, and its seconds per minute of 1080p video.
 """
 
 import argparse
-import json
 import os
 import statistics
 import sys
 
 from app.commands import bench_real, bench_scan
+from app.commands.bench_output import emit
 from app.commands.masks import add_sam2_argument, sam2_checkpoint
 from core.bench.batch_bench import bench_batch
 from core.bench.click_bench import bench_click
@@ -176,12 +176,10 @@ def run(args: argparse.Namespace) -> int:
         if "scan" in parts:
             from core.scan.scanner import Scanner
             figures["scan"] = bench_scan_speed(Scanner())
-        print(json.dumps(figures, indent=2) if args.json else format_app(figures))
-        return 0
+        return emit(args, figures, format_app)
     if args.suite_name == "batch":
         figures = bench_batch(max(1, args.clips), quick=args.quick)
-        print(json.dumps(figures, indent=2) if args.json else format_batch(figures))
-        return 0
+        return emit(args, figures, format_batch)
     if args.suite_name == "masks":
         backends = tuple(args.backends.split(","))
         checkpoint = sam2_checkpoint(args, backends)
@@ -196,19 +194,15 @@ def run(args: argparse.Namespace) -> int:
         figures = bench_masks({sc.name: ensure_scenario(sc) for sc in chosen}, backends,
                               count(args.stride, 1, "--stride"), seeds,
                               progress=_print_mask_score, checkpoint=checkpoint)
-        print(json.dumps(figures, indent=2) if args.json else format_masks(figures))
-        return 0
+        return emit(args, figures, format_masks)
     if args.suite_name == "fit":
         chosen = _first_clips(args)
         figures = (bench_suite(chosen, variants=tuple(args.variants.split(",")),
                                progress=_print_score)
                    if args.suite else bench_speed())
-        print(json.dumps(figures, indent=2) if args.json
-              else (format_suite(figures) if args.suite else format_speed(figures)))
-        return 0
+        return emit(args, figures, format_suite if args.suite else format_speed)
     result = bench_render(repeats=max(1, args.repeats), quick=args.quick)
-    print(json.dumps(bench_to_json(result), indent=2) if args.json else format_render(result))
-    return 0
+    return emit(args, bench_to_json(result), lambda _: format_render(result))
 
 
 def _add_split_argument(parser: argparse.ArgumentParser) -> None:

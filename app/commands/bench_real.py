@@ -6,11 +6,11 @@ described in core/bench/real_bench.py).
 """
 
 import argparse
-import json
 import math
 import sys
 from pathlib import Path
 
+from app.commands.bench_output import emit
 from core.bench.real_bench import DEFAULT_PARTS, PARTS, SEEDS, bench_real
 from core.limits import count, one_of
 from core.segment.backends import ALWAYS_AVAILABLE, DEFAULT_BACKEND, make_segmenter
@@ -47,8 +47,7 @@ def run(args: argparse.Namespace) -> int:
     figures = bench_real(args.data, parts, seeds, args.backend, limit,
                          progress=lambda line: print(line, file=sys.stderr, flush=True),
                          overlays=args.overlays)
-    print(json.dumps(figures, indent=2) if args.json else format_real(figures))
-    return 0
+    return emit(args, figures, format_real)
 
 
 def _px(offset: float) -> str:

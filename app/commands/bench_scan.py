@@ -5,9 +5,9 @@ and its speed (core/bench/scan_bench.py).
 """
 
 import argparse
-import json
 import sys
 
+from app.commands.bench_output import emit
 from core.bench.scan_bench import AIM_S_PER_MINUTE, BEST, bench_scan
 from core.bench.suites import SPLITS, scenarios
 from core.limits import count, one_of
@@ -74,5 +74,4 @@ def run(args: argparse.Namespace) -> int:
     most = None if args.clips is None else count(args.clips, 1, "--clips")
     figures = bench_scan({name: scenarios(split=name)[:most] for name in names},
                          speed=not args.no_speed, progress=_print_clip)
-    print(json.dumps(figures, indent=2) if args.json else format_scan(figures))
-    return 0
+    return emit(args, figures, format_scan)

@@ -66,6 +66,10 @@ def test_bench_render_quick_reports_consistent_ratios(capsys):
                                                         / figures["sparse_ms_at_dense_size"])
     assert figures["speedup_vs_dense"] > 1
     assert figures["paper_covered_px"] > 300
+    # the run's record: the bench and options that made the figures, and the threads
+    assert figures["run"]["bench"] == "render"
+    assert figures["run"]["options"] == {"repeats": 1, "quick": True}
+    assert figures["run"]["torch_threads"] >= 1
 
 
 @pytest.fixture(scope="module")
