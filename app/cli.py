@@ -10,9 +10,11 @@ the fitting stack (torch) that other commands need.
 import argparse
 import importlib
 import sys
+import traceback
 from collections.abc import Sequence
 from types import ModuleType
 
+from core.crash_report import write_crash_report
 from core.errors import InputError
 from core.limits import count
 
@@ -28,7 +30,7 @@ SUBCOMMANDS: dict[str, str] = {  # name → the first line of its module's docst
                  "a checkerboard.",
     "scan": "Find the animals in clips and the frames worth measuring each of them in.",
     "masks": "Track the dolphin through a clip (or find it in a still) and write its masks.",
-    "bench": "Measure speed (and later accuracy) side by side in one run.",
+    "bench": "Measure speed and accuracy side by side in one run.",
     "fit": "Fit the 3D dolphin model to a clip: metric shape, motion, volume, condition and "
            "mass.",
     "demo": "The headless main job: fit the bundled sample clip and compare with its known "
@@ -94,6 +96,24 @@ def main(argv: Sequence[str] | None = None) -> int:
               "all, so those finished before the interrupt are kept and none is half-written",
               file=sys.stderr)
         return INTERRUPTED
+    except Exception as exc:  # an internal error: the user gets a report to send, not a trace
+        return internal_error(exc, args.command)
+
+
+def internal_error(error: Exception, command: str) -> int:
+    """Write a crash report of ``error`` (core.crash_report), say where it is and what to
+    do; exit code 1. Where even the report cannot be written, the traceback is printed."""
+    try:
+        path = write_crash_report(error, f"dolphinfit {command}")
+    except OSError as exc:
+        traceback.print_exception(error)
+        print(f"dolphinfit {command}: internal error: {error} (the crash report could not be "
+              f"written: {exc})", file=sys.stderr)
+        return 1
+    print(f"dolphinfit {command}: internal error: {error}\nThis is a fault of dolphinfit, not "
+          f"of your input. The crash report is {path}: please attach it to a bug report with "
+          f"the command you ran.", file=sys.stderr)
+    return 1
 
 
 if __name__ == "__main__":

@@ -1,5 +1,14 @@
-"""Test-wide settings: one torch thread (stable on 2 cores, reference/platform.md §8)."""
+"""Test-wide settings: one torch thread (stable on 2 cores, reference/platform.md §8), and
+crash reports kept out of the user's log folder."""
+
+import pytest
 
 from core.runtime import configure_threads
 
 configure_threads(1)
+
+
+@pytest.fixture(autouse=True)
+def crash_reports_in_tmp(tmp_path_factory, monkeypatch):
+    """Every test's crash reports go to a folder of its own run."""
+    monkeypatch.setenv("DOLPHINFIT_LOG_DIR", str(tmp_path_factory.mktemp("log")))

@@ -1,6 +1,7 @@
 """The app's actions, menus and keyboard shortcuts, from one data file
-(resources/ui/actions.json); the window builds its menus from it and Help → Keyboard
-shortcuts lists it, so the two cannot disagree."""
+(resources/ui/actions.json), and the mouse gestures on the frame; the window builds its menus
+from it, and Help → Keyboard shortcuts and the manual's reference list it, so none can
+disagree. No Qt here: the manual is built without it."""
 
 from dataclasses import dataclass
 
@@ -8,6 +9,15 @@ from core.io.json_file import read_json
 from core.resources import resource_path
 
 ACTIONS_FILE = ("ui", "actions.json")
+CTRL = "{ctrl}"  # replaced by the platform's name of the Ctrl modifier (⌘ on macOS)
+MOUSE_GESTURES = (   # on the frame: (gesture, what it does)
+    ("Wheel", "Zoom in or out at the cursor"),
+    ("Middle-drag, Space+drag", "Pan"),
+    ("Left click", "Place a length point or a width handle"),
+    ("Drag", "Move a handle"),
+    ("Right click", "Delete a length point"),
+    (f"{CTRL}click", "Insert a length point"),
+)
 
 
 @dataclass(frozen=True)

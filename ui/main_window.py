@@ -4,6 +4,7 @@ command. Its questions to the user are asked through ``self.ask`` (ui.dialogs.qu
 apart from the changes they lead to; errors reach the user through the notifier. Opening and
 saving are ``self.files`` (ui.controllers.project_files), exports ``self.exports``."""
 
+from collections import deque
 from collections.abc import Callable
 from dataclasses import asdict
 from pathlib import Path
@@ -52,6 +53,7 @@ from ui.state.viewer_state import Notifier, ViewerState, selected_clip
 
 LAYOUT_PREFERENCE = "window_layout"   # size, place and docks when last closed
 LAYOUT_VERSION = 2                     # of the dock layout: a new one ignores older layouts
+RECENT_ACTIONS = 40                    # the last actions a crash report names
 NUDGE_ACTIONS = {  # action → (direction, image px): outward +1, inward −1
     "nudge_out": (+1, NUDGE_PX), "nudge_in": (-1, NUDGE_PX),
     "nudge_out_fine": (+1, FINE_NUDGE_PX), "nudge_in_fine": (-1, FINE_NUDGE_PX),
@@ -73,6 +75,7 @@ class MainWindow(QMainWindow):
         last closed (not for the README's screenshots)."""
         super().__init__()
         self.model = ProjectModel(parent=self)
+        self.recent_actions: deque[str] = deque(maxlen=RECENT_ACTIONS)  # for crash reports
         self.jobs = BackgroundJobs(self)
         self.state = ViewerState(self)
         self.notifier = Notifier(self)
@@ -184,6 +187,7 @@ class MainWindow(QMainWindow):
                 action.setShortcutContext(Qt.ShortcutContext.WidgetWithChildrenShortcut)
                 self.canvas.addAction(action)
             action.setCheckable(spec.checkable)
+            action.triggered.connect(lambda *_, name=spec.name: self.recent_actions.append(name))
             action.triggered.connect(self._handler(spec.name))
             if spec.name in MIRROR_ACTIONS:
                 mirror_group.addAction(action)
@@ -756,6 +760,9 @@ class MainWindow(QMainWindow):
             self.masks.use_masks(clip_idx, masks)
 
     # ------------------------------------------------------------------ actions: Help
+    def on_manual(self) -> None:
+        self.ask.show_manual()
+
     def on_shortcuts(self) -> None:
         self.ask.show_shortcuts()
 

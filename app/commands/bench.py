@@ -1,4 +1,4 @@
-"""Measure speed (and later accuracy) side by side in one run.
+"""Measure speed and accuracy side by side in one run.
 
   dolphinfit bench render [--json] [--repeats N] [--quick]
   dolphinfit bench fit (--suite [--split P] [--clips N] [--shapes S] [--frame-size F]

@@ -65,11 +65,13 @@ def run(args: argparse.Namespace) -> int:
 
 
 def run_app(path: Path | None = None, quit_when_shown: bool = False) -> int:
-    """Show the main window (opening ``path`` if given) and run the event loop.
+    """Show the main window (opening ``path`` if given) and run the event loop, with the
+    crash handler (ui/crash_handler.py) installed.
 
     ``quit_when_shown``: quit once the first frame is on screen (start-up timing).
     """
     from ui.app import application
+    from ui.crash_handler import CrashHandler
     from ui.main_window import MainWindow
     app = application()
     window = MainWindow()
@@ -81,4 +83,9 @@ def run_app(path: Path | None = None, quit_when_shown: bool = False) -> int:
         window.showMaximized()  # the first start: the video as large as the screen allows
     if path is not None:
         window.files.open_path(path)
-    return app.exec()
+    crashes = CrashHandler(window.model, window.recent_actions, window.ask.crash)
+    crashes.install()
+    try:
+        return app.exec()
+    finally:
+        crashes.uninstall()

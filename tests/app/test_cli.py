@@ -61,3 +61,22 @@ def test_ctrl_c_stops_at_once_with_exit_130_and_no_traceback():
     assert process.returncode == 130
     assert "dolphinfit camera: interrupted" in err and "half-written" in err
     assert "Traceback" not in err
+
+
+def test_an_internal_error_exits_1_with_a_crash_report_not_a_traceback(capsys, monkeypatch):
+    """A fault of ours (not bad input): exit 1, one message naming the crash report, which
+    holds the traceback and the command."""
+    from core.crash_report import log_dir
+
+    def broken(args):
+        raise ZeroDivisionError("division by zero in the camera table")
+
+    monkeypatch.setattr(command_module("camera"), "run", broken)
+    assert main(["camera", "list"]) == 1
+    err = capsys.readouterr().err
+    assert "internal error: division by zero in the camera table" in err
+    assert "Traceback" not in err
+    (report,) = log_dir().glob("crash-*.txt")
+    assert str(report) in err
+    text = report.read_text()
+    assert "where: dolphinfit camera" in text and "ZeroDivisionError" in text

@@ -48,7 +48,7 @@ class Monkey:
         """Every dialog answered at random, as a user might, without showing it."""
         ask, rng = self.window.ask, self.rng
         ask.warn = lambda title, text: self.log.append(f"  (told: {title})")
-        ask.show_shortcuts = ask.show_about = lambda: None
+        ask.show_shortcuts = ask.show_about = ask.show_manual = lambda: None
         ask.save_changes = lambda: "discard"
         ask.restore_autosave = lambda path: False
         ask.remove_animal = lambda animal: rng.random() < 0.5

@@ -189,6 +189,47 @@ def test_unsaved_work_comes_back_after_a_crash(qtbot, new_window, still):
     assert again.model.current_measurement() is None
 
 
+@pytest.mark.qt_no_exception_capture   # the app's own handler must see the exception
+def test_an_exception_in_a_slot_writes_a_crash_report_and_keeps_the_work(qtbot, new_window,
+                                                                          still):
+    """A slot that raises: the crash report names the last actions and holds the traceback,
+    the unsaved measurement is in the autosave, and the user is told both; the app goes on."""
+    from core.crash_report import log_dir
+    from core.project.project_file import read_project
+    from ui.crash_handler import CrashHandler
+
+    window = new_window()
+    open_and_wait(qtbot, window, still)
+    press(qtbot, window, Qt.Key.Key_S, CTRL)
+    press(qtbot, window, Qt.Key.Key_M, CTRL)   # measure this frame: unsaved work
+    assert window.model.is_dirty and not autosave_path(window.model.path).exists()
+    told = []
+    handler = CrashHandler(window.model, window.recent_actions,
+                           lambda report, work: told.append((report, work)))
+    handler.install()
+    try:
+        def broken_slot():
+            raise ValueError("a station with no width")
+
+        QTimer.singleShot(0, broken_slot)
+        qtbot.waitUntil(lambda: bool(told), timeout=SIGNAL_TIMEOUT_MS)
+    finally:
+        handler.uninstall()
+    ((report, work),) = told
+    assert report.parent == log_dir()
+    text = report.read_text()
+    assert "ValueError: a station with no width" in text and "in broken_slot" in text
+    assert "  save\n  measure_frame\n" in text
+    kept = autosave_path(window.model.path)
+    assert str(kept) in work
+    frames = [[m.frame_idx for m in animal.measurements]
+              for animal in read_project(kept).clips[0].animals]
+    assert frames == [[0]] == [[m.frame_idx for m in animal.measurements]
+                               for animal in window.model.project.clips[0].animals]
+    press(qtbot, window, Qt.Key.Key_Z, CTRL)   # the app goes on
+    assert window.model.current_measurement() is None
+
+
 def test_moved_media_is_found_and_relinked(qtbot, new_window, still):
     window = new_window()
     open_and_wait(qtbot, window, still)

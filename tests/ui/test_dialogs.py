@@ -24,7 +24,8 @@ from ui.dialogs.camera_dialog import CameraDialog
 from ui.dialogs.handle_style_dialog import HandleStyleDialog
 from ui.state.handle_style import HandleStyle
 from ui.dialogs.relink_dialog import RelinkDialog
-from ui.dialogs.shortcuts_dialog import MOUSE_GESTURES, ShortcutsDialog
+from ui.action_table import MOUSE_GESTURES
+from ui.dialogs.shortcuts_dialog import ShortcutsDialog
 
 DATA = Path(__file__).parents[1] / "data"
 SRT_SAMPLE = DATA / "srt" / "p4p_sample.SRT"  # single-line family: H, relative, 45.60 m
@@ -331,3 +332,35 @@ def test_questions_mesh_export_asks_the_format_then_the_folder(qtbot, monkeypatc
     assert ask.mesh_export(tmp_path) is None     # format cancelled: no folder asked
     assert ask.mesh_export(tmp_path) is None     # folder cancelled
     assert not formats and not folders
+
+
+def test_help_manual_opens_the_built_manual_or_says_how_to_build_it(qtbot, tmp_path,
+                                                                     monkeypatch):
+    """Built: the browser gets the local index page. Not built: a warning naming the missing
+    page and `make docs`, and nothing opened."""
+    from PySide6.QtWidgets import QWidget
+
+    from ui.dialogs import questions
+
+    opened, told = [], []
+    monkeypatch.setattr(questions.QDesktopServices, "openUrl", lambda url: opened.append(url))
+    parent = QWidget()
+    qtbot.addWidget(parent)
+    ask = questions.Questions(parent)
+    ask.warn = lambda title, text: told.append(text)
+    index = tmp_path / "site" / "index.html"
+    monkeypatch.setattr(questions, "MANUAL_INDEX", index)
+    ask.show_manual()
+    assert opened == [] and "make docs" in told[0] and str(index) in told[0]
+    index.parent.mkdir()
+    index.write_text("<html></html>")
+    ask.show_manual()
+    assert [url.toLocalFile() for url in opened] == [str(index)]
+
+
+def test_the_about_box_gives_the_version_licence_and_citation():
+    from ui.dialogs.questions import ABOUT, version
+
+    text = ABOUT.format(version=version())
+    assert version() != "unknown" and f"dolphinfit {version()}" in text
+    assert "MIT licence" in text and "arXiv:2504.15782" in text

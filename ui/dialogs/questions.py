@@ -3,8 +3,12 @@ asking apart from the doing, as SLEAP's commands): each method opens one dialog 
 the answer, or None (False, "cancel") when the user cancels. The window's handlers ask here,
 then act; tests answer by replacing a method, with no dialog shown."""
 
+from importlib.metadata import PackageNotFoundError
+from importlib.metadata import version as package_version
 from pathlib import Path
 
+from PySide6.QtCore import QUrl
+from PySide6.QtGui import QDesktopServices
 from PySide6.QtWidgets import QFileDialog, QInputDialog, QMessageBox, QWidget
 
 from core.camera_presets import CameraPreset
@@ -23,9 +27,23 @@ from ui.dialogs.relink_dialog import RelinkDialog
 from ui.dialogs.shortcuts_dialog import ShortcutsDialog
 from ui.state.handle_style import HandleStyle
 
-ABOUT = ("dolphinfit: body length, volume, body condition and mass of dolphins from nadir "
-         "drone video.\nElliptical baseline (Christiansen et al. 2019) and a model-based 3D "
-         "fit.")
+ABOUT = ("<p><b>dolphinfit {version}</b>: body length, volume, body condition and mass of "
+         "dolphins from nadir drone video, by the elliptical baseline (Christiansen et al. "
+         "2019) and a model-based 3D fit.</p><p>MIT licence.</p><p>If you use it, cite the "
+         "method it implements: Baieri D., Cicciarella R., Krützen M., Rodolà E., Zuffi S. "
+         "(2025) Model-based metric 3D shape and motion reconstruction of wild bottlenose "
+         "dolphins in drone-shot videos. arXiv:2504.15782; and dolphinfit {version} itself "
+         "(CITATION.cff in its repository).</p>")
+# the manual as `make docs` builds it beside the package folders of a clone
+MANUAL_INDEX = Path(__file__).resolve().parents[2] / "site" / "index.html"
+
+
+def version() -> str:
+    """The installed dolphinfit's version ("unknown" outside an installed package)."""
+    try:
+        return package_version("dolphinfit")
+    except PackageNotFoundError:
+        return "unknown"
 
 
 def _path(name: str) -> Path | None:
@@ -43,11 +61,31 @@ class Questions:
         """Something failed: a warning the user closes."""
         QMessageBox.warning(self.parent, title, text)
 
+    def crash(self, report: Path | None, work: str) -> None:
+        """Something in dolphinfit failed: where its report is, what became of the work."""
+        where = (f"A crash report was written to {report}. Please attach it to a bug report "
+                 f"and say what you were doing." if report is not None
+                 else "The crash report could not be written (see the terminal).")
+        QMessageBox.critical(self.parent, "dolphinfit: internal error",
+                             f"Something in dolphinfit failed; the last action did not "
+                             f"complete.\n\n{work}\n\n{where}")
+
     def show_shortcuts(self) -> None:
         ShortcutsDialog(self.parent).exec()
 
     def show_about(self) -> None:
-        QMessageBox.about(self.parent, "About dolphinfit", ABOUT)
+        QMessageBox.about(self.parent, "About dolphinfit", ABOUT.format(version=version()))
+
+    def show_manual(self) -> None:
+        """The manual in the web browser, from the files on this machine; where it is not
+        built, how to build it."""
+        if MANUAL_INDEX.exists():
+            QDesktopServices.openUrl(QUrl.fromLocalFile(str(MANUAL_INDEX)))
+        else:
+            self.warn("Manual", f"The manual is not built on this machine ({MANUAL_INDEX} "
+                                f"is missing). Run `make docs` in the dolphinfit folder to "
+                                f"build it; its pages are also readable as Markdown in "
+                                f"{MANUAL_INDEX.parents[1] / 'docs'}.")
 
     # ------------------------------------------------------------------ files and folders
     def media_to_open(self) -> Path | None:

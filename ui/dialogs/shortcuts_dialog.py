@@ -4,19 +4,10 @@ from PySide6.QtGui import QKeySequence
 from PySide6.QtWidgets import (QAbstractItemView, QDialog, QDialogButtonBox, QHeaderView,
                                QTableWidget, QTableWidgetItem, QVBoxLayout, QWidget)
 
-from ui.action_table import load_action_table
+from ui.action_table import CTRL, MOUSE_GESTURES, load_action_table
 
 COLUMNS = ("Menu", "Key", "Action")
 MOUSE = "Mouse"
-CTRL = "{ctrl}"  # replaced by the platform's name of the Ctrl modifier (⌘ on macOS)
-MOUSE_GESTURES = (
-    ("Wheel", "Zoom in or out at the cursor"),
-    ("Middle-drag, Space+drag", "Pan"),
-    ("Left click", "Place a length point or a width handle"),
-    ("Drag", "Move a handle"),
-    ("Right click", "Delete a length point"),
-    (f"{CTRL}click", "Insert a length point"),
-)
 
 
 def native_key_text(shortcut: str) -> str:
