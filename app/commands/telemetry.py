@@ -5,7 +5,8 @@
 
 FILE is a DJI .SRT of any family (modern rel_alt/abs_alt, html-bracket altitude, single-line
 H, Matrice 300 and legacy BAROMETER or Hb), an altitude CSV (frame,altitude_m or
-time_s,altitude_m) or a LidarBoX laser log (laser_altitude_cm × cos(tilt_deg)).
+time_s,altitude_m), a LidarBoX laser log (laser_altitude_cm × cos(tilt_deg)) or a Freefly
+Astro flight log (its camera range).
 --launch-height adds the take-off point's height above the water to relative altitudes.
 --time-offset is the laser-log time (s after its first row) at which the clip starts.
 --clip also aligns the altitude to the clip's frames (an SRT beside it is its own clock).
@@ -28,7 +29,8 @@ from core.io.telemetry import Telemetry, align_to_frames, read_altitude, summari
 from core.io.video import open_clip
 from core.limits import LAUNCH_HEIGHT_M, in_range, number
 
-SOURCE_NAMES = {"srt": "DJI SRT", "csv": "altitude CSV", "laser": "laser log (LidarBoX)"}
+SOURCE_NAMES = {"srt": "DJI SRT", "csv": "altitude CSV", "laser": "laser log"}
+LOGGER_NAMES = {"lidarbox": "LidarBoX", "freefly-astro": "Freefly Astro"}  # by source.family
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -77,6 +79,8 @@ def format_summary(samples: AltitudeSamples, telemetry: Telemetry | None,
     kind = SOURCE_NAMES[source.kind]
     if source.kind == "srt":
         kind += f", {source.family} family ({FAMILIES[source.family].models})"
+    elif source.kind == "laser":
+        kind += f" ({LOGGER_NAMES[source.family]})"
     field = source.field or "none"
     if source.is_relative:
         field += f" (relative to take-off) + launch height {source.launch_height_m:.2f} m"

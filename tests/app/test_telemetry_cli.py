@@ -68,3 +68,15 @@ def test_bad_input_exits_2(tmp_path, capsys, name, text, problem):
     assert main(["telemetry", str(path)]) == 2
     err = capsys.readouterr().err
     assert problem in err and str(path) in err
+
+
+def test_a_freefly_astro_log_is_named_as_one(tmp_path, capsys):
+    """An Astro log's camera range is a laser source, named by its logger (not LidarBoX)."""
+    path = tmp_path / "astro_flight.csv"
+    path.write_text("Unix Time (ms),Video Time (s),Altitude (m above takeoff location),"
+                    "Camera Range (m),Latitude,Longitude\n"
+                    "1700000000500,0.00,20.0,20.42,-25.7,113.7\n"
+                    "1700000001500,1.00,20.1,20.57,-25.7,113.7\n", encoding="utf-8")
+    assert main(["telemetry", str(path)]) == 0
+    text = capsys.readouterr().out
+    assert "laser log (Freefly Astro)" in text and "LidarBoX" not in text
