@@ -3,13 +3,15 @@
 #   make test   installs into .venv (first time only) and runs the test suite
 #   make demo   the headless main job (fit the sample clip), for machines without a screen
 #   make screenshot   the README's screenshots of the app (under Xvfb when there is no display)
+#   make docs   the manual (mkdocs-material) into site/, warnings as errors; Help → Manual opens it
 VENV ?= .venv
 PY := $(VENV)/bin/python
 STAMP := $(VENV)/.installed
 THREADS ?= 2
 TEST_WORKERS ?= 2   # pytest-xdist processes, one torch thread each
 
-.PHONY: run test demo screenshot clean-venv
+.PHONY: run test demo screenshot docs clean-venv
+DOCS_STAMP := $(VENV)/.docs-installed
 
 $(STAMP): pyproject.toml constraints.txt
 	python3 -m venv $(VENV)
@@ -31,6 +33,13 @@ screenshot: $(STAMP)
 test: $(STAMP)
 	$(VENV)/bin/lint-imports
 	OMP_NUM_THREADS=1 DOLPHINFIT_THREADS=1 $(PY) -m pytest -q -n $(TEST_WORKERS) --dist worksteal --durations=25
+
+$(DOCS_STAMP): $(STAMP)
+	$(PY) -m pip install --quiet -c constraints.txt -e ".[docs]"
+	touch $(DOCS_STAMP)
+
+docs: $(DOCS_STAMP)   # MkDocs' notices of its own future silenced; see docs/development.md
+	NO_MKDOCS_2_WARNING=1 DISABLE_MKDOCS_2_WARNING=true $(VENV)/bin/mkdocs build --strict --quiet
 
 clean-venv:
 	rm -rf $(VENV)

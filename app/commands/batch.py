@@ -5,7 +5,7 @@
   dolphinfit batch PROJECT.dolphinfit [same options]
 
 A manifest is a CSV with one row per clip and animal (columns in core/batch/manifest.py and
-the README: clip, animal, altitude, launch_height_m, camera, masks or seed or a scan's best
+the manual's batches guide: clip, animal, altitude, launch_height_m, camera, masks or seed or a scan's best
 frames, start_s, end_s, fps, quality, …); a project file gives every animal of its clips, fitted with the animal's fit
 settings and measured on the frames measured in the app. Every row is checked before anything
 runs (a bad cell: exit 2, naming the row and column).

@@ -14,8 +14,10 @@ sam2.1_hiera_tiny.pt); it needs --seed or --box. --every K runs the network or S
 K-th frame only (the others are written empty), e.g. the frames a fit will use.
 
 --seed is a click on the animal and --box a box around it (top-left x, y, width, height), in
-pixels of frame N (--frame, default 0); --auto finds the most dolphin-like blob (dark and
-elongated against the water) by itself. The tracker runs forwards and backwards from that
+pixels of frame N (--frame, default 0); --auto finds the animal by itself in frame N or,
+where none shows there, in frames spread over the clip (the network's most salient lone
+animal of a dolphin's length and shape, else the colour detector's darkest elongated
+blob). The tracker runs forwards and backwards from that
 frame and marks frames where the animal is lost (dived out of sight). --out DIR writes
 DIR/%06d.png, one per frame (255 = dolphin, empty where lost); a path ending in .npz writes
 one .npz file instead. Masks from another segmenter (a SAM-family model run elsewhere, say)

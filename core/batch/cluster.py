@@ -17,8 +17,8 @@ from distributed.system import MEMORY_LIMIT
 from core.errors import InputError
 from core.runtime import configure_threads
 
-# Memory one worker needs: a fit's peak (1.36 GB added on a 10 s, 1920×1080 clip: README
-# "Speed") and the worker's own ~0.5 GB (Python, torch, the template).
+# Memory one worker needs: a fit's peak (1.36 GB added on a 10 s, 1920×1080 clip, `bench fit
+# --speed`) and the worker's own ~0.5 GB (Python, torch, the template).
 WORKER_MEMORY_BYTES = 2 * 1024 ** 3
 
 

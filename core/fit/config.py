@@ -60,7 +60,7 @@ class LossWeights:
     # ours: the profile field's coefficients (core/model/profile_field.py) stay small and
     # vary smoothly from knot to knot
     profile: float = 0.001
-    profile_smooth: float = 1.0
+    profile_smooth: float = 1.0     # ours: the same field's smoothness from knot to knot
 
     def __post_init__(self) -> None:
         check_fields(self, "fit option weights.", minimum={f.name: 0.0 for f in fields(self)})
@@ -95,14 +95,14 @@ class FitConfig:
     # Frames rendered per step where fewer serve as well (0: all; evenly spread in time): the
     # heading trials only compare two headings; the shape stage fits shared shape, and its
     # last shape_full_steps steps render all its frames so each pose catches up with it.
-    heading_max_frames: int = 8
-    shape_max_frames: int = 16
-    shape_full_steps: int = 10
+    heading_max_frames: int = 8     # frames per step in the heading trials
+    shape_max_frames: int = 16      # frames per step in the shape stage (above)
+    shape_full_steps: int = 10      # the shape stage's last steps, on all its frames (above)
     # The heading trials and the first coarse_steps steps of the pose stages (global, then
     # body) render at 1/coarse_factor of the crops' resolution (1: native throughout); the
     # rest, and the shape stage, see native pixels.
     coarse_factor: int = 2
-    coarse_steps: int = 40
+    coarse_steps: int = 40          # pose-stage steps at the coarse level (above)
     # Both switches beyond the paper were measured by `dolphinfit bench fit --suite` (8 clips):
     # crops halve the length error (median 0.70 % vs 1.18 %, worst 1.44 % vs 2.79 %) and fit
     # 2.1× faster, so they are on; refraction did not help yet (median volume error 4.98 % on
@@ -113,9 +113,9 @@ class FitConfig:
     use_direction_loss: bool = False   # heading follows the direction of motion
     smooth_order: int = 2           # 1: the paper's first differences; 2: constant velocity
     fps: float = 5.0                # frames fitted per second of video
-    start_s: float | None = None
-    end_s: float | None = None
-    roi_margin_px: int = 24
+    start_s: float | None = None   # the part of the clip fitted, s (None: from its start)
+    end_s: float | None = None     # … to this time, s (None: to its end)
+    roi_margin_px: int = 24         # the crops' margin around the masks' box, px
     paper_width_px: int = 720       # whole-frame width when use_roi is off (the paper's)
     init_depth_m: float = 0.15      # root depth at the start (back at the surface)
     # At most this many frames (at native resolution; as many pixels at coarse ones) are
@@ -139,13 +139,13 @@ class FitConfig:
     # target (widths came out 10 % narrow on a synthetic clip), 1 the measured profile. An
     # empirical calibration: with the depth prior, 0.92 makes the fit's own volume error
     # (its error minus the clip's hidden-height floor) average +0.1 % over the suite (0.78:
-    # −3.7 %, 0.85: −1.8 %, 1.0: +1.8 %; `dolphinfit bench fit --suite`, README). 0.78 was
+    # −3.7 %, 0.85: −1.8 %, 1.0: +1.8 %; `dolphinfit bench fit --suite`, docs/decisions/0010). 0.78 was
     # set while depth drifted with size.
     target_edge_scale: float = 0.92
     # Which stages the colour term's gradient moves the geometry in (pose, position, shape):
     # the lit model's shading and water-depth cue. "all_stages" is the paper's; with
     # "pose_stages" the shape stage's colour term fits albedo, water and light only, with
-    # "none" it does so everywhere. Measured by `dolphinfit bench fit --suite` (README): in
+    # "none" it does so everywhere. Measured by `dolphinfit bench fit --suite` (docs/decisions/0006): in
     # the shape stage the cue traded silhouette for colour in a flat valley whose end float
     # order picked (grey_green_high −15.9 % or −7.7 % volume by chunk size), and in the pose
     # stages it made the animals about 2 % short.

@@ -15,7 +15,7 @@ error source would have (first order in the error), and reruns body condition an
   notch). Checked against fits on the suite's true masks grown by 1.2 px all round: this
   model gives +24.6 % and +38.6 % of volume where the fit gave +19.5 % and +31.9 %
   (`grey_green`, `grey_green_high`); on masks shrunk by 0.84 px it gives a little less than
-  the fit (README, "How sure the fit is").
+  the fit (docs/explanation/uncertainty.md).
 - **Hidden heights**: the heights a top view cannot see come from the HW table; each draw
   moves every station's ratio by one shared z times its SD, as the elliptical method's draws
   do (``uncertainty`` module doc).

@@ -28,7 +28,7 @@ def outline_offset_px(result: np.ndarray, truth: np.ndarray) -> float:
     """How far the result's outline lies outside (+) or inside (−) the truth's on average, in
     pixels: the difference of their areas over the length of the truth's outline (NaN where
     the truth is empty). Volume follows it closely: every width is two outlines apart, so at
-    the suite's pixel size a tenth of a pixel is 1.5–2.5 % of volume (README)."""
+    the suite's pixel size a tenth of a pixel is 1.5–2.5 % of volume (docs/explanation/accuracy.md)."""
     contours, _ = cv2.findContours(truth.astype(np.uint8), cv2.RETR_EXTERNAL,
                                    cv2.CHAIN_APPROX_NONE)
     length = sum(cv2.arcLength(contour, True) for contour in contours)
