@@ -116,8 +116,9 @@ def test_bench_real_command_prints_the_parts_asked_for(capsys):
     assert main(["bench", "real", "--parts", "replay,outlines", "--outlines", "5",
                  "--json"]) == 0
     figures = json.loads(capsys.readouterr().out)
-    assert set(figures) == {"medidor_replay", "outlines"}
+    assert set(figures) == {"medidor_replay", "outlines", "run"}
     assert figures["outlines"]["outlines"] == 5
+    assert figures["run"]["options"]["parts"] == "replay,outlines"
     assert main(["bench", "real", "--parts", "replay,outlines", "--outlines", "5"]) == 0
     out = capsys.readouterr().out
     assert "largest difference of length and 9 widths" in out

@@ -17,7 +17,6 @@ from core.fit.config import FitConfig
 from core.fit.data import prepare_data
 from core.fit.engine import fit
 from core.fit.init import initial_state
-from core.fit.pipeline import fit_clip
 from core.fit.reporter import STAGE_ORDER
 from core.fit.result_io import (
     RESULT_JSON,
@@ -25,7 +24,6 @@ from core.fit.result_io import (
     read_fit_result,
     write_fit_result,
 )
-from core.intrinsics import CameraIntrinsics
 from core.io.masks import read_png_folder
 from core.io.telemetry import load_telemetry
 from core.io.video import VideoReader, open_clip
@@ -33,12 +31,9 @@ from core.model.model import DolphinModel
 from core.measure.altitude_calibration import write_altitude_calibration
 from core.progress import Cancelled
 
-# The clip (conftest.py): a 2.3 m animal in 1920×1080 footage at 20 m, 8 frames, with the
-# template's heights, which the fit then takes too.
-QUICK = FitConfig(heading_trial_steps=8, steps_global=20, steps_body=20, steps_shape=40,
-                  hw_table=None)
-TINY = replace(QUICK, heading_trial_steps=2, steps_global=3, steps_body=2, steps_shape=3)
-INTRINSICS = CameraIntrinsics.from_sensor(12.29, 17.27, 1920, 1080)
+# conftest.py: the clip (a 2.3 m animal in 1920×1080 footage at 20 m, 8 frames, with the
+# template's heights, which the fit then takes too), the configurations and the tiny fit.
+from .conftest import INTRINSICS, QUICK, TINY, fit_on_clip
 
 
 def _data(clip_dir, config=QUICK):
@@ -47,21 +42,6 @@ def _data(clip_dir, config=QUICK):
     telemetry = load_telemetry(clip, clip_dir / "altitude.csv")
     with VideoReader(clip) as frames:
         return prepare_data(clip, frames.frame, masks, telemetry, INTRINSICS, config)
-
-
-def _fit_clip(clip_dir, config, progress=None, cancel=None):
-    """fit_clip on the open clip, as the GUI worker calls it."""
-    with VideoReader(clip_dir / "clip.mkv") as frames:
-        masks = read_png_folder(clip_dir / "masks", frames.clip)
-        telemetry = load_telemetry(frames.clip, clip_dir / "altitude.csv")
-        return fit_clip(frames, telemetry, masks, INTRINSICS, config, progress, cancel)
-
-
-@pytest.fixture(scope="module")
-def tiny_run(clip_dir):
-    """A tiny fit through fit_clip with every progress report recorded."""
-    reports = []
-    return _fit_clip(clip_dir, TINY, progress=reports.append), reports
 
 
 def _truth(clip_dir):
@@ -187,7 +167,7 @@ def test_cancel_while_preparing_raises(clip_dir):
         cancel.set()
 
     with pytest.raises(Cancelled):
-        _fit_clip(clip_dir, TINY, progress=on_progress, cancel=cancel)
+        fit_on_clip(clip_dir, TINY, progress=on_progress, cancel=cancel)
 
 
 def test_diverging_fit_keeps_its_best_state(clip_dir, monkeypatch):
