@@ -3,21 +3,24 @@
 #   make test   installs into .venv (first time only) and runs the test suite
 #   make demo   the headless main job (fit the sample clip), for machines without a screen
 #   make screenshot   the README's screenshots of the app (under Xvfb when there is no display)
-#   make docs   the manual (mkdocs-material) into site/, warnings as errors; Help → Manual opens it
+#   make docs   the manual (mkdocs-material) into resources/manual/, warnings as errors; Help → Manual opens it
+#   make dist   the wheel and sdist into dist/ (the wheel carries the resources, the network weights and the manual)
+#   make check-dist   the wheel installed into a fresh venv, then `dolphinfit --help` and `dolphinfit demo --quick`
 VENV ?= .venv
 PY := $(VENV)/bin/python
 STAMP := $(VENV)/.installed
 THREADS ?= 2
 TEST_WORKERS ?= 2   # pytest-xdist processes, one torch thread each
 
-.PHONY: run test demo screenshot docs clean-venv
+.PHONY: run test demo screenshot docs dist check-dist clean-venv
+DIST_VENV ?= /tmp/dolphinfit-dist-venv
 DOCS_STAMP := $(VENV)/.docs-installed
 
 $(STAMP): pyproject.toml constraints.txt
 	python3 -m venv $(VENV)
 	$(PY) -m pip install --quiet torch==2.13.0
 	$(PY) -m pip install --quiet -c constraints.txt -e ".[test]"
-	$(PY) -m core.segment.weights
+	$(PY) -m dolphinfit.core.segment.weights
 	touch $(STAMP)
 
 run: $(STAMP)
@@ -40,6 +43,21 @@ $(DOCS_STAMP): $(STAMP)
 
 docs: $(DOCS_STAMP)   # MkDocs' notices of its own future silenced; see docs/development.md
 	NO_MKDOCS_2_WARNING=1 DISABLE_MKDOCS_2_WARNING=true $(VENV)/bin/mkdocs build --strict --quiet
+
+dist: docs
+	rm -rf dist
+	$(PY) -m pip install --quiet build
+	$(PY) -m build --outdir dist
+
+# Outside the clone (cwd in the fresh venv), so nothing resolves to the repository's folders.
+check-dist: dist
+	rm -rf $(DIST_VENV) && python3 -m venv $(DIST_VENV)
+	$(DIST_VENV)/bin/pip install --quiet torch==2.13.0
+	$(DIST_VENV)/bin/pip install --quiet -c constraints.txt dist/*.whl
+	cd $(DIST_VENV) && bin/dolphinfit --help > /dev/null
+	cd $(DIST_VENV) && ! bin/python -c "import core" 2> /dev/null   # no top-level core, app, ui
+	cd $(DIST_VENV) && DOLPHINFIT_CACHE_DIR=$(DIST_VENV)/cache bin/dolphinfit --threads $(THREADS) \
+	  demo --quick --out $(DIST_VENV)/demo
 
 clean-venv:
 	rm -rf $(VENV)

@@ -14,9 +14,9 @@ import traceback
 from collections.abc import Sequence
 from types import ModuleType
 
-from core.crash_report import write_crash_report
-from core.errors import InputError
-from core.limits import count
+from dolphinfit.core.crash_report import write_crash_report
+from dolphinfit.core.errors import InputError
+from dolphinfit.core.limits import count
 
 SUBCOMMANDS: dict[str, str] = {  # name → the first line of its module's docstring
     "gui": "The desktop app: measure length and widths by hand, see volume, BCI and mass at once.",
@@ -43,7 +43,7 @@ SUBCOMMANDS: dict[str, str] = {  # name → the first line of its module's docst
 
 def command_module(name: str) -> ModuleType:
     """The module of subcommand ``name`` (``app/commands/NAME.py``)."""
-    return importlib.import_module(f"app.commands.{name}")
+    return importlib.import_module(f"dolphinfit.app.commands.{name}")
 
 
 def build_parser(command: str | None = None) -> argparse.ArgumentParser:
@@ -85,7 +85,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         if args.threads is not None:
             count(args.threads, 1, "--threads")
         if getattr(args.module, "LOADS_TORCH", True):
-            from core.runtime import configure_threads
+            from dolphinfit.core.runtime import configure_threads
             configure_threads(args.threads)
         return args.run(args)
     except InputError as exc:

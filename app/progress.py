@@ -2,7 +2,7 @@
 
 import sys
 
-from core.progress import Progress, ProgressCallback
+from dolphinfit.core.progress import Progress, ProgressCallback
 
 PROGRESS_LINES = 10  # lines a plain (non-terminal) progress report prints per job
 

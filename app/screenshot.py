@@ -18,13 +18,13 @@ from pathlib import Path
 
 from PySide6.QtCore import QRectF
 
-from core.io.masks import read_masks
-from core.measure.mask_midline import midline_from_mask
-from core.project.edits import set_skipped
-from core.project.fit_settings import FitSettings
-from ui.app import application
-from ui.state.commands import edit_measurement
-from ui.main_window import MainWindow
+from dolphinfit.core.io.masks import read_masks
+from dolphinfit.core.measure.mask_midline import midline_from_mask
+from dolphinfit.core.project.edits import set_skipped
+from dolphinfit.core.project.fit_settings import FitSettings
+from dolphinfit.ui.app import application
+from dolphinfit.ui.state.commands import edit_measurement
+from dolphinfit.ui.main_window import MainWindow
 
 SCREENSHOT_FRAME = 24     # the sample dolphin lies flat and whole in the frame here
 FLIPPER_STATIONS = (4, 5)  # 25 % and 30 %: the mask's outline runs round the flippers there

@@ -37,7 +37,7 @@ from typing import Self
 
 import torch
 
-from core.intrinsics import CameraIntrinsics
+from dolphinfit.core.intrinsics import CameraIntrinsics
 
 N_WATER = 1.333  # refractive index of (sea) water, DESIGN.md §3
 N_AIR = 1.0  # air taken as 1: DESIGN.md §3's n_water is relative to air

@@ -13,10 +13,10 @@ from dataclasses import asdict, dataclass, fields
 from pathlib import Path
 from typing import Any
 
-from core.errors import InputError
-from core.intrinsics import CameraIntrinsics, require_positive
-from core.io.json_file import read_json, write_json
-from core.resources import resource_path
+from dolphinfit.core.errors import InputError
+from dolphinfit.core.intrinsics import CameraIntrinsics, require_positive
+from dolphinfit.core.io.json_file import read_json, write_json
+from dolphinfit.core.resources import resource_path
 
 PRESETS_FILE = "cameras.json"  # bundled in resources/, and the user file's name
 PRESETS_SCHEMA_VERSION = 1

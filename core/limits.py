@@ -12,7 +12,7 @@ from dataclasses import dataclass, fields
 from numbers import Integral, Real
 from typing import get_args
 
-from core.errors import InputError
+from dolphinfit.core.errors import InputError
 
 
 @dataclass(frozen=True)

@@ -2,7 +2,7 @@
 
 from pathlib import Path
 
-from core.errors import InputError
+from dolphinfit.core.errors import InputError
 
 RESOURCES_DIR = Path(__file__).resolve().parent.parent / "resources"
 

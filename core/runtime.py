@@ -11,8 +11,8 @@ from contextlib import contextmanager
 
 import torch
 
-from core.errors import InputError
-from core.limits import count
+from dolphinfit.core.errors import InputError
+from dolphinfit.core.limits import count
 
 THREADS_ENV = "DOLPHINFIT_THREADS"
 DEFAULT_THREADS = 2

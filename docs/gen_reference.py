@@ -15,9 +15,9 @@ import mkdocs_gen_files
 
 os.environ["COLUMNS"] = "96"   # argparse wraps its help to this width
 
-from app.cli import build_parser  # noqa: E402  (after COLUMNS: argparse reads it at import)
-from core.fit.config import FitConfig, LearningRates, LossWeights  # noqa: E402
-from ui.action_table import CTRL, MOUSE_GESTURES, load_action_table  # noqa: E402
+from dolphinfit.app.cli import build_parser  # noqa: E402 (argparse reads COLUMNS)
+from dolphinfit.core.fit.config import FitConfig, LearningRates, LossWeights  # noqa: E402
+from dolphinfit.ui.action_table import CTRL, MOUSE_GESTURES, load_action_table  # noqa: E402
 
 BENCH_DIR = Path(__file__).parent / "bench"
 PAPERS = "the paper's value"

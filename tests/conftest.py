@@ -3,7 +3,7 @@ crash reports kept out of the user's log folder."""
 
 import pytest
 
-from core.runtime import configure_threads
+from dolphinfit.core.runtime import configure_threads
 
 configure_threads(1)
 

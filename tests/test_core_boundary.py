@@ -7,8 +7,8 @@ FORBIDDEN = ("PySide6", "pyvista", "pyvistaqt", "vtk", "vtkmodules", "qtpy")
 
 _PROBE = f"""
 import importlib, pkgutil, sys
-import core
-names = [m.name for m in pkgutil.walk_packages(core.__path__, "core.")]
+import dolphinfit.core as core
+names = [m.name for m in pkgutil.walk_packages(core.__path__, "dolphinfit.core.")]
 for name in names:
     importlib.import_module(name)
 loaded = sorted({{m.split(".")[0] for m in sys.modules}} & set({FORBIDDEN!r}))

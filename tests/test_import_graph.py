@@ -7,7 +7,7 @@ import grimp
 
 
 def test_no_module_imports_itself_round_a_loop():
-    graph = grimp.build_graph("core", "ui", "app", cache_dir=None)
+    graph = grimp.build_graph("dolphinfit.core", "dolphinfit.ui", "dolphinfit.app", cache_dir=None)
     imports = {module: graph.find_modules_directly_imported_by(module)
                for module in graph.modules}
     assert len(imports) > 200

@@ -3,8 +3,8 @@
 import pytest
 import torch
 
-from core.errors import InputError
-from core.runtime import THREADS_ENV, configure_threads
+from dolphinfit.core.errors import InputError
+from dolphinfit.core.runtime import THREADS_ENV, configure_threads
 
 
 def test_explicit_thread_count_is_applied():

@@ -6,8 +6,8 @@ import sys
 
 _PROBE = """
 import importlib, pkgutil, sys
-import ui
-names = [m.name for m in pkgutil.walk_packages(ui.__path__, "ui.")]
+import dolphinfit.ui as ui
+names = [m.name for m in pkgutil.walk_packages(ui.__path__, "dolphinfit.ui.")]
 for name in names:
     importlib.import_module(name)
 print(len(names), "torch" in sys.modules)

@@ -5,8 +5,8 @@ disagree. No Qt here: the manual is built without it."""
 
 from dataclasses import dataclass
 
-from core.io.json_file import read_json
-from core.resources import resource_path
+from dolphinfit.core.io.json_file import read_json
+from dolphinfit.core.resources import resource_path
 
 ACTIONS_FILE = ("ui", "actions.json")
 CTRL = "{ctrl}"  # replaced by the platform's name of the Ctrl modifier (⌘ on macOS)

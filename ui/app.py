@@ -5,7 +5,7 @@ import sys
 
 from PySide6.QtWidgets import QApplication
 
-from ui.gc_guard import GuiThreadGarbageCollector
+from dolphinfit.ui.gc_guard import GuiThreadGarbageCollector
 
 APP_NAME = "dolphinfit"
 

@@ -12,9 +12,9 @@ from collections.abc import Callable, Sequence
 from pathlib import Path
 from types import TracebackType
 
-from core.crash_report import open_fault_log, write_crash_report
-from core.project.project_file import autosave_path
-from ui.state.project_model import ProjectModel
+from dolphinfit.core.crash_report import open_fault_log, write_crash_report
+from dolphinfit.core.project.project_file import autosave_path
+from dolphinfit.ui.state.project_model import ProjectModel
 
 
 class CrashHandler:

@@ -20,36 +20,38 @@ from PySide6.QtWidgets import (
     QWidget,
 )
 
-from core.camera_presets import preset_resolution_mismatch
-from core.errors import InputError
-from core.project.recent import recent_projects
-from core.segment.backends import BACKENDS, COLOUR, DEFAULT_BACKEND, NETWORK, SAM2
-from core.segment.sam2_backend import INSTALL_HINT, PACKAGE, installed
-from ui.action_table import load_action_table
-from ui.app import APP_NAME
-from ui.workers.background import BackgroundJobs
-from ui.widgets.canvas import FrameCanvas
-from ui.state.clip_session import ClipSession
-from ui.dialogs.questions import Questions
-from ui.controllers.animal_commands import AnimalCommands
-from ui.controllers.clip_intake_controller import ClipIntakeController
-from ui.controllers.clip_sessions import ClipSessions
-from ui.controllers.export_controller import ExportController
-from ui.controllers.fit_controller import FitController
-from ui.controllers.project_files import ProjectFiles
-from ui.controllers.scan_controller import ScanController
-from ui.workers.frame_loader import FrameLoader
-from ui.state.handle_style import HandleStyle
-from ui.controllers.mask_controller import MaskController
-from ui.widgets.measure_overlay import COARSE_NUDGE_PX, FINE_NUDGE_PX, NUDGE_PX, MeasureOverlay
-from ui.controllers.playback import Playback
-from ui.state.preferences import load_preferences, save_preference
-from ui.state.project_model import Change, ProjectModel
-from ui.widgets.frame_picker import THUMBNAIL_PX, FramePicker
-from ui.widgets.project_panel import ProjectPanel
-from ui.widgets.results_panel import ResultsPanel
-from ui.widgets.timeline import Timeline
-from ui.state.viewer_state import Notifier, ViewerState, selected_clip
+from dolphinfit.core.camera_presets import preset_resolution_mismatch
+from dolphinfit.core.errors import InputError
+from dolphinfit.core.project.recent import recent_projects
+from dolphinfit.core.segment.backends import BACKENDS, COLOUR, DEFAULT_BACKEND, NETWORK, SAM2
+from dolphinfit.core.segment.sam2_backend import INSTALL_HINT, PACKAGE, installed
+from dolphinfit.ui.action_table import load_action_table
+from dolphinfit.ui.app import APP_NAME
+from dolphinfit.ui.workers.background import BackgroundJobs
+from dolphinfit.ui.widgets.canvas import FrameCanvas
+from dolphinfit.ui.state.clip_session import ClipSession
+from dolphinfit.ui.dialogs.questions import Questions
+from dolphinfit.ui.controllers.animal_commands import AnimalCommands
+from dolphinfit.ui.controllers.clip_intake_controller import ClipIntakeController
+from dolphinfit.ui.controllers.clip_sessions import ClipSessions
+from dolphinfit.ui.controllers.export_controller import ExportController
+from dolphinfit.ui.controllers.fit_controller import FitController
+from dolphinfit.ui.controllers.project_files import ProjectFiles
+from dolphinfit.ui.controllers.scan_controller import ScanController
+from dolphinfit.ui.workers.frame_loader import FrameLoader
+from dolphinfit.ui.state.handle_style import HandleStyle
+from dolphinfit.ui.controllers.mask_controller import MaskController
+from dolphinfit.ui.widgets.measure_overlay import (
+    COARSE_NUDGE_PX, FINE_NUDGE_PX, NUDGE_PX, MeasureOverlay,
+)
+from dolphinfit.ui.controllers.playback import Playback
+from dolphinfit.ui.state.preferences import load_preferences, save_preference
+from dolphinfit.ui.state.project_model import Change, ProjectModel
+from dolphinfit.ui.widgets.frame_picker import THUMBNAIL_PX, FramePicker
+from dolphinfit.ui.widgets.project_panel import ProjectPanel
+from dolphinfit.ui.widgets.results_panel import ResultsPanel
+from dolphinfit.ui.widgets.timeline import Timeline
+from dolphinfit.ui.state.viewer_state import Notifier, ViewerState, selected_clip
 
 LAYOUT_PREFERENCE = "window_layout"   # size, place and docks when last closed
 LAYOUT_VERSION = 2                     # of the dock layout: a new one ignores older layouts

@@ -5,9 +5,10 @@
   dolphinfit batch PROJECT.dolphinfit [same options]
 
 A manifest is a CSV with one row per clip and animal (columns in core/batch/manifest.py and
-the manual's batches guide: clip, animal, altitude, launch_height_m, camera, masks or seed or a scan's best
-frames, start_s, end_s, fps, quality, …); a project file gives every animal of its clips, fitted with the animal's fit
-settings and measured on the frames measured in the app. Every row is checked before anything
+the manual's batches guide: clip, animal, altitude, launch_height_m, camera, masks or seed or
+a scan's best frames, start_s, end_s, fps, quality, …); a project file gives every animal of
+its clips, fitted with the animal's fit settings and measured on the frames measured in the
+app. Every row is checked before anything
 runs (a bad cell: exit 2, naming the row and column).
 
 Each task fits the 3D model (`dolphinfit fit`'s outputs) and measures the elliptical baseline
@@ -33,19 +34,19 @@ from pathlib import Path
 
 from distributed import Future, progress
 
-from core.batch.cluster import ClusterPlan, batch_client, local_plan
-from core.batch.manifest import read_manifest
-from core.batch.project_tasks import project_tasks
-from core.batch.record import STATUS_COMPLETE, TaskRecord
-from core.batch.summary import SUMMARY_CSV
-from core.batch.runner import run_batch
-from core.batch.task import BatchTask, check_unique_names
-from core.errors import InputError
-from core.io.output_paths import check_output_folder
-from core.limits import count
-from core.measure.uncertainty import DEFAULT_NUM_DRAWS
-from core.project.project_file import PROJECT_SUFFIX
-from core.runtime import THREADS_ENV, thread_count
+from dolphinfit.core.batch.cluster import ClusterPlan, batch_client, local_plan
+from dolphinfit.core.batch.manifest import read_manifest
+from dolphinfit.core.batch.project_tasks import project_tasks
+from dolphinfit.core.batch.record import STATUS_COMPLETE, TaskRecord
+from dolphinfit.core.batch.summary import SUMMARY_CSV
+from dolphinfit.core.batch.runner import run_batch
+from dolphinfit.core.batch.task import BatchTask, check_unique_names
+from dolphinfit.core.errors import InputError
+from dolphinfit.core.io.output_paths import check_output_folder
+from dolphinfit.core.limits import count
+from dolphinfit.core.measure.uncertainty import DEFAULT_NUM_DRAWS
+from dolphinfit.core.project.project_file import PROJECT_SUFFIX
+from dolphinfit.core.runtime import THREADS_ENV, thread_count
 
 OUT_SUFFIX = "_batch"  # default output folder: INPUT_batch beside the input
 

@@ -72,24 +72,24 @@ import os
 import statistics
 import sys
 
-from app.commands import bench_real, bench_scan
-from app.commands.bench_output import emit
-from app.commands.masks import add_sam2_argument, sam2_checkpoint
-from core.bench.batch_bench import bench_batch
-from core.bench.click_bench import bench_click
-from core.bench.scan_bench import bench_speed as bench_scan_speed
-from core.bench.fit_bench import DEFAULT_VARIANTS, VARIANTS, bench_speed, bench_suite
-from core.bench.mask_bench import DEFAULT_STRIDE, SEED_KINDS, bench_masks
-from core.bench.render_bench import RenderBench, bench_render, bench_to_json
-from core.bench.scenario import Scenario, ensure_scenario
-from core.bench.suites import (
+from dolphinfit.app.commands import bench_real, bench_scan
+from dolphinfit.app.commands.bench_output import emit
+from dolphinfit.app.commands.masks import add_sam2_argument, sam2_checkpoint
+from dolphinfit.core.bench.batch_bench import bench_batch
+from dolphinfit.core.bench.click_bench import bench_click
+from dolphinfit.core.bench.scan_bench import bench_speed as bench_scan_speed
+from dolphinfit.core.bench.fit_bench import DEFAULT_VARIANTS, VARIANTS, bench_speed, bench_suite
+from dolphinfit.core.bench.mask_bench import DEFAULT_STRIDE, SEED_KINDS, bench_masks
+from dolphinfit.core.bench.render_bench import RenderBench, bench_render, bench_to_json
+from dolphinfit.core.bench.scenario import Scenario, ensure_scenario
+from dolphinfit.core.bench.suites import (
     DEFAULT_FRAME_SIZE, DEFAULT_SHAPES, DEFAULT_SPLIT, FRAME_SIZES, SHAPES, SPLITS, SUITE,
     scenarios, scenarios_named,
 )
-from core.bench.timing import command_seconds
-from core.errors import InputError
-from core.limits import count, one_of
-from core.segment.backends import ALWAYS_AVAILABLE, BACKENDS, make_segmenter
+from dolphinfit.core.bench.timing import command_seconds
+from dolphinfit.core.errors import InputError
+from dolphinfit.core.limits import count, one_of
+from dolphinfit.core.segment.backends import ALWAYS_AVAILABLE, BACKENDS, make_segmenter
 
 CLIP_WIDTH = 21   # the longest clip name of the splits (slender_pair_touching)
 # The floor of the app's start-up: Python, PySide6 and one empty window shown, then quit
@@ -174,7 +174,7 @@ def run(args: argparse.Namespace) -> int:
         if "click" in parts:
             figures["click"] = bench_click()
         if "scan" in parts:
-            from core.scan.scanner import Scanner
+            from dolphinfit.core.scan.scanner import Scanner
             figures["scan"] = bench_scan_speed(Scanner())
         return emit(args, figures, format_app)
     if args.suite_name == "batch":
@@ -219,10 +219,10 @@ def bench_app(repeats: int) -> dict:
     """Start-up seconds of the app on the sample and of an empty window, and their ratio."""
     if not (os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY")):
         raise InputError("bench app needs a display: run it under xvfb-run -a")
-    from core.project.sample import ensure_sample_project
+    from dolphinfit.core.project.sample import ensure_sample_project
     ensure_sample_project()  # rendered once, outside the timing
     commands = {
-        "app_to_first_frame_s": [sys.executable, "-m", "app.cli", "gui", "--sample",
+        "app_to_first_frame_s": [sys.executable, "-m", "dolphinfit.app.cli", "gui", "--sample",
                                  "--quit-when-shown"],
         "empty_window_s": [sys.executable, "-c", EMPTY_WINDOW],
     }

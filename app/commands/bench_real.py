@@ -10,10 +10,10 @@ import math
 import sys
 from pathlib import Path
 
-from app.commands.bench_output import emit
-from core.bench.real_bench import DEFAULT_PARTS, PARTS, SEEDS, bench_real
-from core.limits import count, one_of
-from core.segment.backends import ALWAYS_AVAILABLE, DEFAULT_BACKEND, make_segmenter
+from dolphinfit.app.commands.bench_output import emit
+from dolphinfit.core.bench.real_bench import DEFAULT_PARTS, PARTS, SEEDS, bench_real
+from dolphinfit.core.limits import count, one_of
+from dolphinfit.core.segment.backends import ALWAYS_AVAILABLE, DEFAULT_BACKEND, make_segmenter
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:

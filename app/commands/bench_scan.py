@@ -7,10 +7,10 @@ and its speed (core/bench/scan_bench.py).
 import argparse
 import sys
 
-from app.commands.bench_output import emit
-from core.bench.scan_bench import AIM_S_PER_MINUTE, BEST, bench_scan
-from core.bench.suites import SPLITS, scenarios
-from core.limits import count, one_of
+from dolphinfit.app.commands.bench_output import emit
+from dolphinfit.core.bench.scan_bench import AIM_S_PER_MINUTE, BEST, bench_scan
+from dolphinfit.core.bench.suites import SPLITS, scenarios
+from dolphinfit.core.limits import count, one_of
 
 CLIP_WIDTH = 21
 

@@ -26,14 +26,14 @@ import argparse
 import json
 from pathlib import Path
 
-from core.camera_presets import get_preset
-from core.errors import InputError
-from core.io.calibration_table import ALTIMETERS, read_calibration_table
-from core.io.media import VIDEO_SUFFIXES
-from core.io.output_paths import check_output_file
-from core.project.project_file import PROJECT_SUFFIX
-from core.limits import count
-from core.measure.altitude_calibration import (
+from dolphinfit.core.camera_presets import get_preset
+from dolphinfit.core.errors import InputError
+from dolphinfit.core.io.calibration_table import ALTIMETERS, read_calibration_table
+from dolphinfit.core.io.media import VIDEO_SUFFIXES
+from dolphinfit.core.io.output_paths import check_output_file
+from dolphinfit.core.project.project_file import PROJECT_SUFFIX
+from dolphinfit.core.limits import count
+from dolphinfit.core.measure.altitude_calibration import (
     AltitudeCalibration,
     CalibrationCamera,
     fit_altitude_calibration,
@@ -133,8 +133,8 @@ def summary(calibration: AltitudeCalibration) -> str:
 def _project_calibration(args: argparse.Namespace):
     """The shots and fitted line of a project's calibration set (the one named by --drone,
     or its only one); the object and camera are the set's own."""
-    from core.project.calibrations import fitted_calibration
-    from core.project.project_file import read_project
+    from dolphinfit.core.project.calibrations import fitted_calibration
+    from dolphinfit.core.project.project_file import read_project
 
     given = [option for option, value in (("--object-length", args.object_length),
                                           ("--camera", args.camera),
@@ -172,7 +172,7 @@ def run_altitude(args: argparse.Namespace) -> int:
         calibration = fit_altitude_calibration(table, args.object_length, _camera(args))
     write_altitude_calibration(calibration, args.out)
     if args.plot is not None:
-        from core.measure.calibration_plot import save_altitude_calibration_plot
+        from dolphinfit.core.measure.calibration_plot import save_altitude_calibration_plot
 
         save_altitude_calibration_plot(shots, calibration, args.plot)
     print(json.dumps(calibration.to_json(), indent=2) if args.as_json else summary(calibration))
@@ -191,8 +191,8 @@ def _board(text: str) -> tuple[int, int]:
 def _board_images(inputs: list[Path], every: int):
     """The images to look for the board in: each file, or every ``every``-th frame of one
     video or folder of frames."""
-    from core.io.image_file import read_image
-    from core.io.media import open_media
+    from dolphinfit.core.io.image_file import read_image
+    from dolphinfit.core.io.media import open_media
 
     if len(inputs) == 1 and (inputs[0].is_dir() or inputs[0].suffix.lower() in VIDEO_SUFFIXES):
         with open_media(inputs[0]) as frames:
@@ -205,7 +205,7 @@ def _board_images(inputs: list[Path], every: int):
 
 def run_lens(args: argparse.Namespace) -> int:
     """Find the board, calibrate, write LENS.json, print what was fitted."""
-    from core.measure.lens import calibrate_lens, write_lens
+    from dolphinfit.core.measure.lens import calibrate_lens, write_lens
 
     check_output_file(args.out, "--out ")
     count(args.every, 1, "--every")

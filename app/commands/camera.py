@@ -11,15 +11,15 @@ import json
 import math
 from dataclasses import asdict
 
-from core.camera_presets import (
+from dolphinfit.core.camera_presets import (
     DEFAULT_PRESET,
     CameraPreset,
     get_preset,
     load_presets,
     save_user_preset,
 )
-from core.errors import InputError
-from core.limits import ALTITUDE_M, FOCAL_MM, IMAGE_SIZE_PX, SENSOR_WIDTH_MM, in_range
+from dolphinfit.core.errors import InputError
+from dolphinfit.core.limits import ALTITUDE_M, FOCAL_MM, IMAGE_SIZE_PX, SENSOR_WIDTH_MM, in_range
 
 REFERENCE_ALTITUDE_M = 20.0  # mid-range of the 15–25 m flights of DESIGN.md §1
 CM_PER_M = 100.0

@@ -34,26 +34,28 @@ import sys
 from dataclasses import replace
 from pathlib import Path
 
-from app.progress import terminal_progress
-from core.errors import InputError
-from core.fit.config import FitConfig, fit_hw_table
-from core.fit.interval import run_interval
-from core.fit.outputs import check_fit_folder, write_outputs
-from core.fit.pipeline import CameraChoice, FitRun, run_fit
-from core.fit.result import STATUS_COMPLETE, FitResult
-from core.io.json_file import read_json, write_json
-from core.measure.annotation import ALTITUDE_SOURCE_OF_KIND, ALTITUDE_SOURCES
-from core.measure.fit_uncertainty import FitInterval
-from core.model.hw_spec import resolve_hw
-from core.measure.altitude_calibration import AltitudeCalibration, read_altitude_calibration
-from core.measure.records import default_error_model
-from core.measure.uncertainty import ErrorModel
-from core.limits import (
+from dolphinfit.app.progress import terminal_progress
+from dolphinfit.core.errors import InputError
+from dolphinfit.core.fit.config import FitConfig, fit_hw_table
+from dolphinfit.core.fit.interval import run_interval
+from dolphinfit.core.fit.outputs import check_fit_folder, write_outputs
+from dolphinfit.core.fit.pipeline import CameraChoice, FitRun, run_fit
+from dolphinfit.core.fit.result import STATUS_COMPLETE, FitResult
+from dolphinfit.core.io.json_file import read_json, write_json
+from dolphinfit.core.measure.annotation import ALTITUDE_SOURCE_OF_KIND, ALTITUDE_SOURCES
+from dolphinfit.core.measure.fit_uncertainty import FitInterval
+from dolphinfit.core.model.hw_spec import resolve_hw
+from dolphinfit.core.measure.altitude_calibration import (
+    AltitudeCalibration, read_altitude_calibration,
+)
+from dolphinfit.core.measure.records import default_error_model
+from dolphinfit.core.measure.uncertainty import ErrorModel
+from dolphinfit.core.limits import (
     ALTITUDE_M, FOCAL_MM, FPS, LAUNCH_HEIGHT_M, MASK_OUTLINE_SD_PX, SENSOR_WIDTH_MM, in_range,
     result_figures, time_window,
 )
-from core.model.template import load_template
-from core.project.comparison import method_value
+from dolphinfit.core.model.template import load_template
+from dolphinfit.core.project.comparison import method_value
 
 
 INTERVAL_JSON = "interval.json"

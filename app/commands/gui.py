@@ -17,7 +17,7 @@ import os
 import sys
 from pathlib import Path
 
-from core.errors import InputError
+from dolphinfit.core.errors import InputError
 
 # The app opens without the fitting stack; work that needs torch sets its threads itself.
 LOADS_TORCH = False
@@ -55,11 +55,11 @@ def run(args: argparse.Namespace) -> int:
         raise InputError(f"{args.path}: no such file or folder")
     path = args.path
     if args.sample:
-        from core.project.sample import ensure_sample_project
+        from dolphinfit.core.project.sample import ensure_sample_project
         print("sample clip: rendering on first use, then cached")
         path = ensure_sample_project()
     if args.screenshot is not None:
-        from app.screenshot import save_screenshot
+        from dolphinfit.app.screenshot import save_screenshot
         return save_screenshot(path, args.screenshot)
     return run_app(path, quit_when_shown=args.quit_when_shown)
 
@@ -70,9 +70,9 @@ def run_app(path: Path | None = None, quit_when_shown: bool = False) -> int:
 
     ``quit_when_shown``: quit once the first frame is on screen (start-up timing).
     """
-    from ui.app import application
-    from ui.crash_handler import CrashHandler
-    from ui.main_window import MainWindow
+    from dolphinfit.ui.app import application
+    from dolphinfit.ui.crash_handler import CrashHandler
+    from dolphinfit.ui.main_window import MainWindow
     app = application()
     window = MainWindow()
     if quit_when_shown:

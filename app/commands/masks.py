@@ -29,17 +29,17 @@ import sys
 from collections.abc import Collection
 from pathlib import Path
 
-from app.progress import is_tenth
-from core.errors import InputError
-from core.io.masks import MaskTrack, check_mask_output, write_masks
-from core.io.report import format_runs
-from core.io.media import open_media
-from core.limits import count, number, positive
-from core.progress import Progress
-from core.segment.backends import BACKENDS, DEFAULT_BACKEND, SAM2, make_segmenter
-from core.segment.sam2_backend import check_checkpoint
-from core.segment.segmenter import AutoSeed, BoxSeed, PointSeed, Seed
-from core.segment.tracking_loop import check_seed_inside
+from dolphinfit.app.progress import is_tenth
+from dolphinfit.core.errors import InputError
+from dolphinfit.core.io.masks import MaskTrack, check_mask_output, write_masks
+from dolphinfit.core.io.report import format_runs
+from dolphinfit.core.io.media import open_media
+from dolphinfit.core.limits import count, number, positive
+from dolphinfit.core.progress import Progress
+from dolphinfit.core.segment.backends import BACKENDS, DEFAULT_BACKEND, SAM2, make_segmenter
+from dolphinfit.core.segment.sam2_backend import check_checkpoint
+from dolphinfit.core.segment.segmenter import AutoSeed, BoxSeed, PointSeed, Seed
+from dolphinfit.core.segment.tracking_loop import check_seed_inside
 
 
 

@@ -36,27 +36,31 @@ from pathlib import Path
 
 import numpy as np
 
-from core.errors import InputError
-from core.measure.annotation_json import read_annotation_json
-from core.io.output_paths import check_output_folder
-from core.limits import ALTITUDE_M, at_least, body_measurements, count, in_range, result_figures
-from core.measure.altitude_calibration import AltitudeCalibration, read_altitude_calibration
-from core.measure.annotation import ALTITUDE_SOURCES
-from core.measure.baseline import BaselineEstimate, BaselineSettings, estimate_baseline
-from core.measure.condition import MassModel
-from core.measure.elliptical import TAIL_EXTRAPOLATED, TAIL_OPTIONS
-from core.measure.hw_ratios import DEFAULT_PRESET, FROM_MODEL
-from core.measure.lens import read_lens, through_lens
-from core.model.hw_spec import resolve_hw
-from core.measure.records import (
+from dolphinfit.core.errors import InputError
+from dolphinfit.core.measure.annotation_json import read_annotation_json
+from dolphinfit.core.io.output_paths import check_output_folder
+from dolphinfit.core.limits import (
+    ALTITUDE_M, at_least, body_measurements, count, in_range, result_figures,
+)
+from dolphinfit.core.measure.altitude_calibration import (
+    AltitudeCalibration, read_altitude_calibration,
+)
+from dolphinfit.core.measure.annotation import ALTITUDE_SOURCES
+from dolphinfit.core.measure.baseline import BaselineEstimate, BaselineSettings, estimate_baseline
+from dolphinfit.core.measure.condition import MassModel
+from dolphinfit.core.measure.elliptical import TAIL_EXTRAPOLATED, TAIL_OPTIONS
+from dolphinfit.core.measure.hw_ratios import DEFAULT_PRESET, FROM_MODEL
+from dolphinfit.core.measure.lens import read_lens, through_lens
+from dolphinfit.core.model.hw_spec import resolve_hw
+from dolphinfit.core.measure.records import (
     MeasureInput, annotated_frame_mask, default_error_model, default_image_id,
     with_altitude_calibration,
     mass_model_from_json, measured_image_from_annotation, measured_image_from_morphometrix,
     result_record, with_mask_widths, write_exports,
 )
-from core.measure.uncertainty import DEFAULT_NUM_DRAWS, ErrorModel
-from core.measure.xcertainty import observation_row
-from core.measure.collatrix import write_wide_csv
+from dolphinfit.core.measure.uncertainty import DEFAULT_NUM_DRAWS, ErrorModel
+from dolphinfit.core.measure.xcertainty import observation_row
+from dolphinfit.core.measure.collatrix import write_wide_csv
 
 ROWS = (  # printed quantity, unit, format
     ("length_m", "m", ".3f"), ("volume_m3", "m³", ".4f"), ("volume_circular_m3", "m³", ".4f"),

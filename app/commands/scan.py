@@ -26,20 +26,20 @@ import argparse
 import sys
 from pathlib import Path
 
-from app.progress import is_tenth
-from core.errors import InputError
-from core.fit.pipeline import CameraChoice
-from core.io.frame_source import Clip
-from core.io.media import video_files
-from core.io.output_paths import check_output_folder
-from core.io.telemetry import load_telemetry
-from core.io.video import VideoReader, open_clip
-from core.limits import count, positive
-from core.progress import Progress, ProgressCallback
-from core.scan.clip_scan import ClipScan, ClipTelemetry, scan_telemetry
-from core.scan.scanner import Scanner
-from core.scan.frame_scores import ScanSettings
-from core.scan.scan_files import write_scan_csv, write_scan_json
+from dolphinfit.app.progress import is_tenth
+from dolphinfit.core.errors import InputError
+from dolphinfit.core.fit.pipeline import CameraChoice
+from dolphinfit.core.io.frame_source import Clip
+from dolphinfit.core.io.media import video_files
+from dolphinfit.core.io.output_paths import check_output_folder
+from dolphinfit.core.io.telemetry import load_telemetry
+from dolphinfit.core.io.video import VideoReader, open_clip
+from dolphinfit.core.limits import count, positive
+from dolphinfit.core.progress import Progress, ProgressCallback
+from dolphinfit.core.scan.clip_scan import ClipScan, ClipTelemetry, scan_telemetry
+from dolphinfit.core.scan.scanner import Scanner
+from dolphinfit.core.scan.frame_scores import ScanSettings
+from dolphinfit.core.scan.scan_files import write_scan_csv, write_scan_json
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     """The clips, the output, the camera and altitude, and the scan's settings."""

@@ -22,13 +22,13 @@ import argparse
 from dataclasses import fields, replace
 from pathlib import Path
 
-from app.progress import terminal_progress
-from core.errors import InputError
-from core.io.json_file import read_json
-from core.io.output_paths import check_output_folder
-from core.synth.clip import make_clip
-from core.synth.config import COLOURATIONS, Effects, SynthConfig
-from core.synth.water import WATER_PRESETS, with_water
+from dolphinfit.app.progress import terminal_progress
+from dolphinfit.core.errors import InputError
+from dolphinfit.core.io.json_file import read_json
+from dolphinfit.core.io.output_paths import check_output_folder
+from dolphinfit.core.synth.clip import make_clip
+from dolphinfit.core.synth.config import COLOURATIONS, Effects, SynthConfig
+from dolphinfit.core.synth.water import WATER_PRESETS, with_water
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:

@@ -19,15 +19,17 @@ import argparse
 import math
 from pathlib import Path
 
-from core.errors import InputError
-from core.io.altitude_csv import write_altitude_csv
-from core.io.altitude_samples import AltitudeSamples
-from core.io.output_paths import check_output_file
-from core.io.report import format_runs
-from core.io.srt import FAMILIES
-from core.io.telemetry import Telemetry, align_to_frames, read_altitude, summarize_samples
-from core.io.video import open_clip
-from core.limits import LAUNCH_HEIGHT_M, in_range, number
+from dolphinfit.core.errors import InputError
+from dolphinfit.core.io.altitude_csv import write_altitude_csv
+from dolphinfit.core.io.altitude_samples import AltitudeSamples
+from dolphinfit.core.io.output_paths import check_output_file
+from dolphinfit.core.io.report import format_runs
+from dolphinfit.core.io.srt import FAMILIES
+from dolphinfit.core.io.telemetry import (
+    Telemetry, align_to_frames, read_altitude, summarize_samples,
+)
+from dolphinfit.core.io.video import open_clip
+from dolphinfit.core.limits import LAUNCH_HEIGHT_M, in_range, number
 
 SOURCE_NAMES = {"srt": "DJI SRT", "csv": "altitude CSV", "laser": "laser log"}
 LOGGER_NAMES = {"lidarbox": "LidarBoX", "freefly-astro": "Freefly Astro"}  # by source.family

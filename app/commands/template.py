@@ -17,15 +17,15 @@ from pathlib import Path
 
 import torch
 
-from core.errors import InputError
-from core.io.mesh_export import MESH_SUFFIXES, export_mesh
-from core.io.output_paths import check_output_file
-from core.limits import BODY_LENGTH_M, in_range, number
-from core.measure.mesh import body_length
-from core.model.builder import build_template
-from core.model.model import NUM_SHAPE_PARAMS, DolphinModel
-from core.model.summary import TemplateSummary, shape_targets, summarize
-from core.model.template import TEMPLATE_PATH, load_template, save_template
+from dolphinfit.core.errors import InputError
+from dolphinfit.core.io.mesh_export import MESH_SUFFIXES, export_mesh
+from dolphinfit.core.io.output_paths import check_output_file
+from dolphinfit.core.limits import BODY_LENGTH_M, in_range, number
+from dolphinfit.core.measure.mesh import body_length
+from dolphinfit.core.model.builder import build_template
+from dolphinfit.core.model.model import NUM_SHAPE_PARAMS, DolphinModel
+from dolphinfit.core.model.summary import TemplateSummary, shape_targets, summarize
+from dolphinfit.core.model.template import TEMPLATE_PATH, load_template, save_template
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:

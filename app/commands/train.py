@@ -19,17 +19,17 @@ import json
 from dataclasses import replace
 from pathlib import Path
 
-from app.progress import terminal_progress
-from core.errors import InputError
-from core.io.output_paths import check_output_file
-from core.limits import count
+from dolphinfit.app.progress import terminal_progress
+from dolphinfit.core.errors import InputError
+from dolphinfit.core.io.output_paths import check_output_file
+from dolphinfit.core.limits import count
 
 NETWORKS = ("edges",)
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     """The network, the output and the recipe's sizes."""
-    from core.segment.edge_training import TrainSettings
+    from dolphinfit.core.segment.edge_training import TrainSettings
     defaults = TrainSettings()
     parser.add_argument("network", choices=NETWORKS, help="which network")
     parser.add_argument("--out", type=Path, required=True, help="the weights file (.npz)")
@@ -47,7 +47,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Check the options, train, write the weights and print the held-out scores."""
-    from core.segment.edge_training import TrainSettings, train_edges
+    from dolphinfit.core.segment.edge_training import TrainSettings, train_edges
     if args.out.suffix != ".npz":
         raise InputError(f"--out {args.out}: the weights are written as .npz")
     check_output_file(args.out, "--out ")

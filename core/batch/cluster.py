@@ -14,8 +14,8 @@ from dask.system import CPU_COUNT
 from distributed import Client, LocalCluster, WorkerPlugin
 from distributed.system import MEMORY_LIMIT
 
-from core.errors import InputError
-from core.runtime import configure_threads
+from dolphinfit.core.errors import InputError
+from dolphinfit.core.runtime import configure_threads
 
 # Memory one worker needs: a fit's peak (1.36 GB added on a 10 s, 1920×1080 clip, `bench fit
 # --speed`) and the worker's own ~0.5 GB (Python, torch, the template).

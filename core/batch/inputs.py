@@ -8,12 +8,12 @@ from dataclasses import asdict, replace
 from pathlib import Path
 from typing import Any
 
-from core.batch.task import BatchTask, FitInputs, MaskMeasurement, ProjectMeasurement
-from core.io.telemetry import find_srt_sidecar
-from core.model.hw_spec import resolve_hw
-from core.project.model import Project
-from core.project.project_file import media_path, project_to_json
-from core.project.results import project_hw_spec
+from dolphinfit.core.batch.task import BatchTask, FitInputs, MaskMeasurement, ProjectMeasurement
+from dolphinfit.core.io.telemetry import find_srt_sidecar
+from dolphinfit.core.model.hw_spec import resolve_hw
+from dolphinfit.core.project.model import Project
+from dolphinfit.core.project.project_file import media_path, project_to_json
+from dolphinfit.core.project.results import project_hw_spec
 
 
 def _file_digest(path: Path) -> str:

@@ -35,27 +35,29 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import TypeVar
 
-from core.batch.task import BatchTask, FitInputs, MaskMeasurement
-from core.camera_presets import get_preset
-from core.errors import InputError
-from core.fit.config import FitConfig
-from core.fit.pipeline import CameraChoice
-from core.io.json_file import read_json
-from core.io.telemetry import find_srt_sidecar
-from core.io.text_input import read_text
-from core.limits import (
+from dolphinfit.core.batch.task import BatchTask, FitInputs, MaskMeasurement
+from dolphinfit.core.camera_presets import get_preset
+from dolphinfit.core.errors import InputError
+from dolphinfit.core.fit.config import FitConfig
+from dolphinfit.core.fit.pipeline import CameraChoice
+from dolphinfit.core.io.json_file import read_json
+from dolphinfit.core.io.telemetry import find_srt_sidecar
+from dolphinfit.core.io.text_input import read_text
+from dolphinfit.core.limits import (
     ALTITUDE_M, FOCAL_MM, FPS, LAUNCH_HEIGHT_M, SENSOR_WIDTH_MM, Limits, count, in_range,
     number, time_window,
 )
-from core.measure.altitude_calibration import read_altitude_calibration
-from core.measure.lens import read_lens
-from core.measure.annotation import ALTITUDE_SOURCES
-from core.measure.uncertainty import DEFAULT_NUM_DRAWS
-from core.project.fit_settings import QUALITY_STEP_SCALE, FitSettings, fit_config, fit_dir
-from core.scan.fit_seed import seed_at
-from core.scan.frame_scores import FrameScore
-from core.scan.scan_files import read_scan_json
-from core.segment.segmenter import AutoSeed, BoxSeed, PointSeed, Seed
+from dolphinfit.core.measure.altitude_calibration import read_altitude_calibration
+from dolphinfit.core.measure.lens import read_lens
+from dolphinfit.core.measure.annotation import ALTITUDE_SOURCES
+from dolphinfit.core.measure.uncertainty import DEFAULT_NUM_DRAWS
+from dolphinfit.core.project.fit_settings import (
+    QUALITY_STEP_SCALE, FitSettings, fit_config, fit_dir,
+)
+from dolphinfit.core.scan.fit_seed import seed_at
+from dolphinfit.core.scan.frame_scores import FrameScore
+from dolphinfit.core.scan.scan_files import read_scan_json
+from dolphinfit.core.segment.segmenter import AutoSeed, BoxSeed, PointSeed, Seed
 
 COLUMNS = ("clip", "animal", "altitude", "launch_height_m", "time_offset_s", "altitude_source",
            "altitude_calibration", "lens",

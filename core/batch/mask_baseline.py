@@ -9,23 +9,23 @@ from typing import Any
 
 import numpy as np
 
-from core.batch.summary import elliptical_values
-from core.batch.task import MaskMeasurement
-from core.camera_presets import DEFAULT_PRESET, CameraPreset, get_preset
-from core.errors import InputError
-from core.fit.pipeline import CameraChoice, FitRun
-from core.measure.altitude_calibration import AltitudeCalibration
-from core.measure.annotation_json import AnnotationFile
-from core.measure.annotation import Calibration
-from core.measure.baseline import BaselineEstimate, BaselineSettings, estimate_baseline
-from core.model.hw_spec import resolve_hw
-from core.measure.lens import through_lens
-from core.measure.mask_midline import annotation_from_mask
-from core.measure.records import (
+from dolphinfit.core.batch.summary import elliptical_values
+from dolphinfit.core.batch.task import MaskMeasurement
+from dolphinfit.core.camera_presets import DEFAULT_PRESET, CameraPreset, get_preset
+from dolphinfit.core.errors import InputError
+from dolphinfit.core.fit.pipeline import CameraChoice, FitRun
+from dolphinfit.core.measure.altitude_calibration import AltitudeCalibration
+from dolphinfit.core.measure.annotation_json import AnnotationFile
+from dolphinfit.core.measure.annotation import Calibration
+from dolphinfit.core.measure.baseline import BaselineEstimate, BaselineSettings, estimate_baseline
+from dolphinfit.core.model.hw_spec import resolve_hw
+from dolphinfit.core.measure.lens import through_lens
+from dolphinfit.core.measure.mask_midline import annotation_from_mask
+from dolphinfit.core.measure.records import (
     MeasureInput, default_error_model, measured_image_from_annotation, result_record,
     write_exports,
 )
-from core.project.results import frame_altitude
+from dolphinfit.core.project.results import frame_altitude
 
 NOTE = "automatic: midline and widths from the mask, not reviewed"
 

@@ -3,14 +3,14 @@ settings (as the app would fit it) and measured on the frames the user measured.
 
 from pathlib import Path
 
-from core.batch.task import BatchTask, FitInputs, ProjectMeasurement
-from core.fit.pipeline import CameraChoice
-from core.measure.uncertainty import DEFAULT_NUM_DRAWS
-from core.project.calibrations import fitted_calibration
-from core.project.fit_settings import fit_dir
-from core.project.results import project_fit_config
-from core.project.model import Animal, ClipEntry, Project
-from core.project.project_file import media_path, read_project
+from dolphinfit.core.batch.task import BatchTask, FitInputs, ProjectMeasurement
+from dolphinfit.core.fit.pipeline import CameraChoice
+from dolphinfit.core.measure.uncertainty import DEFAULT_NUM_DRAWS
+from dolphinfit.core.project.calibrations import fitted_calibration
+from dolphinfit.core.project.fit_settings import fit_dir
+from dolphinfit.core.project.results import project_fit_config
+from dolphinfit.core.project.model import Animal, ClipEntry, Project
+from dolphinfit.core.project.project_file import media_path, read_project
 
 
 def _fit_inputs(project_path: Path, project: Project, clip: ClipEntry,

@@ -5,8 +5,8 @@ from dataclasses import asdict, dataclass, field, fields
 from pathlib import Path
 from typing import Any
 
-from core.errors import InputError
-from core.io.json_file import read_json, write_json
+from dolphinfit.core.errors import InputError
+from dolphinfit.core.io.json_file import read_json, write_json
 
 RECORD_JSON = "task.json"
 SCHEMA_VERSION = 1

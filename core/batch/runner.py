@@ -9,10 +9,10 @@ from pathlib import Path
 
 from distributed import Client, Future, as_completed
 
-from core.batch.record import STATUS_FAILED, TaskRecord
-from core.batch.summary import SUMMARY_CSV, write_summary
-from core.batch.task import BatchTask
-from core.batch.task_run import describe, run_task
+from dolphinfit.core.batch.record import STATUS_FAILED, TaskRecord
+from dolphinfit.core.batch.summary import SUMMARY_CSV, write_summary
+from dolphinfit.core.batch.task import BatchTask
+from dolphinfit.core.batch.task_run import describe, run_task
 
 
 def run_batch(client: Client, tasks: Sequence[BatchTask], out_dir: Path,

@@ -6,11 +6,11 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
-from core.batch.record import TaskRecord
-from core.fit.result import FitResult
-from core.measure.collatrix import write_wide_csv
-from core.measure.baseline import BaselineEstimate
-from core.project.comparison import QUANTITIES, fit_interval_of, interval_of
+from dolphinfit.core.batch.record import TaskRecord
+from dolphinfit.core.fit.result import FitResult
+from dolphinfit.core.measure.collatrix import write_wide_csv
+from dolphinfit.core.measure.baseline import BaselineEstimate
+from dolphinfit.core.project.comparison import QUANTITIES, fit_interval_of, interval_of
 
 SUMMARY_CSV = "summary.csv"
 COLUMNS = ("clip", "animal_id", "status", "error", "notes", "folder", "reused", "Image",

@@ -4,16 +4,16 @@ elliptical method, with its own output folder."""
 from dataclasses import dataclass
 from pathlib import Path
 
-from core.errors import InputError
-from core.fit.config import FitConfig
-from core.fit.pipeline import CameraChoice
-from core.measure.altitude_calibration import AltitudeCalibration
-from core.measure.elliptical import TAIL_EXTRAPOLATED
-from core.measure.lens import LensModel
-from core.measure.hw_ratios import DEFAULT_PRESET
-from core.measure.uncertainty import DEFAULT_NUM_DRAWS
-from core.project.model import Project
-from core.segment.segmenter import AutoSeed, Seed
+from dolphinfit.core.errors import InputError
+from dolphinfit.core.fit.config import FitConfig
+from dolphinfit.core.fit.pipeline import CameraChoice
+from dolphinfit.core.measure.altitude_calibration import AltitudeCalibration
+from dolphinfit.core.measure.elliptical import TAIL_EXTRAPOLATED
+from dolphinfit.core.measure.lens import LensModel
+from dolphinfit.core.measure.hw_ratios import DEFAULT_PRESET
+from dolphinfit.core.measure.uncertainty import DEFAULT_NUM_DRAWS
+from dolphinfit.core.project.model import Project
+from dolphinfit.core.segment.segmenter import AutoSeed, Seed
 
 
 @dataclass(frozen=True)

@@ -11,22 +11,22 @@ from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
-from core.batch.inputs import inputs_digest, task_inputs
-from core.batch.mask_baseline import NOTE, mask_baseline
-from core.batch.record import (
+from dolphinfit.core.batch.inputs import inputs_digest, task_inputs
+from dolphinfit.core.batch.mask_baseline import NOTE, mask_baseline
+from dolphinfit.core.batch.record import (
     STATUS_COMPLETE, STATUS_FAILED, TaskRecord, read_record, write_record,
 )
-from core.batch.summary import elliptical_values, fit_interval_values, fit_values
-from core.batch.task import BatchTask, ProjectMeasurement
-from core.errors import InputError
-from core.fit.outputs import write_outputs
-from core.fit.pipeline import FitRun, run_fit
-from core.fit.result import STATUS_COMPLETE as FIT_COMPLETE
-from core.io.atomic import atomic_folder
-from core.measure.baseline import BaselineEstimate
-from core.measure.records import write_exports
-from core.model.template import load_template
-from core.project.evaluate import all_keys, frame_results
+from dolphinfit.core.batch.summary import elliptical_values, fit_interval_values, fit_values
+from dolphinfit.core.batch.task import BatchTask, ProjectMeasurement
+from dolphinfit.core.errors import InputError
+from dolphinfit.core.fit.outputs import write_outputs
+from dolphinfit.core.fit.pipeline import FitRun, run_fit
+from dolphinfit.core.fit.result import STATUS_COMPLETE as FIT_COMPLETE
+from dolphinfit.core.io.atomic import atomic_folder
+from dolphinfit.core.measure.baseline import BaselineEstimate
+from dolphinfit.core.measure.records import write_exports
+from dolphinfit.core.model.template import load_template
+from dolphinfit.core.project.evaluate import all_keys, frame_results
 
 ELLIPTICAL_STEM = "elliptical"  # STEM_measure.json, STEM_mmx.csv, STEM_wide.csv
 

@@ -14,14 +14,14 @@ from collections.abc import Sequence
 from dataclasses import replace
 from pathlib import Path
 
-from core.batch.cluster import batch_client, local_plan
-from core.batch.manifest import read_manifest
-from core.batch.record import STATUS_COMPLETE
-from core.batch.runner import run_batch
-from core.fit.config import FitConfig
-from core.project.fit_settings import FitSettings, fit_config
-from core.synth.clip import make_clip
-from core.synth.config import Effects, SynthConfig
+from dolphinfit.core.batch.cluster import batch_client, local_plan
+from dolphinfit.core.batch.manifest import read_manifest
+from dolphinfit.core.batch.record import STATUS_COMPLETE
+from dolphinfit.core.batch.runner import run_batch
+from dolphinfit.core.fit.config import FitConfig
+from dolphinfit.core.project.fit_settings import FitSettings, fit_config
+from dolphinfit.core.synth.clip import make_clip
+from dolphinfit.core.synth.config import Effects, SynthConfig
 
 # A short clip: 640×360 at 15 m (a 2.3 m animal is about 70 px long), 1.5 s at 8 fps, with
 # the effects the fit does not model switched off (throughput, not accuracy, is measured).

@@ -9,17 +9,17 @@ import time
 
 import numpy as np
 
-from core.bench.fit_bench import SPEED_CACHE, SPEED_CLIP
-from core.bench.mask_bench import target_clicks
-from core.fit.config import FitConfig
-from core.io.json_file import read_json
-from core.io.masks import read_masks
-from core.io.video import VideoReader, frames_at_fps, open_clip
-from core.iou import mask_iou
-from core.segment.backends import DEFAULT_BACKEND, make_segmenter
-from core.segment.segmenter import BoxSeed, PointSeed
-from core.synth.config import SynthConfig
-from core.synth.sample import cache_dir, ensure_clip
+from dolphinfit.core.bench.fit_bench import SPEED_CACHE, SPEED_CLIP
+from dolphinfit.core.bench.mask_bench import target_clicks
+from dolphinfit.core.fit.config import FitConfig
+from dolphinfit.core.io.json_file import read_json
+from dolphinfit.core.io.masks import read_masks
+from dolphinfit.core.io.video import VideoReader, frames_at_fps, open_clip
+from dolphinfit.core.iou import mask_iou
+from dolphinfit.core.segment.backends import DEFAULT_BACKEND, make_segmenter
+from dolphinfit.core.segment.segmenter import BoxSeed, PointSeed
+from dolphinfit.core.synth.config import SynthConfig
+from dolphinfit.core.synth.sample import cache_dir, ensure_clip
 
 AIMS_S = {"first_mask_s": 3.0, "fit_masks_s": 15.0}   # issue 28, two cores
 

@@ -20,21 +20,21 @@ from dataclasses import asdict, dataclass, replace
 
 import numpy as np
 
-from core.bench.hidden_heights import TruthSections, hidden_height_floor, truth_sections
-from core.bench.mask_bench import AUTO, CLICK, click_seed
-from core.bench.scenario import Scenario, ensure_scenario, synth_camera
-from core.bench.timing import run_with_peak_rss_mb
-from core.errors import InputError
-from core.fit.config import FitConfig, LossWeights
-from core.fit.interval import run_interval
-from core.fit.pipeline import run_fit
-from core.io.json_file import read_json
-from core.measure.uncertainty import ErrorModel
-from core.segment.backends import DEFAULT_BACKEND, NETWORK_COLOUR_EDGES
-from core.segment.segmenter import AutoSeed, Seed
-from core.synth.config import SynthConfig
-from core.synth.files import ClipFiles
-from core.synth.sample import cache_dir, ensure_clip
+from dolphinfit.core.bench.hidden_heights import TruthSections, hidden_height_floor, truth_sections
+from dolphinfit.core.bench.mask_bench import AUTO, CLICK, click_seed
+from dolphinfit.core.bench.scenario import Scenario, ensure_scenario, synth_camera
+from dolphinfit.core.bench.timing import run_with_peak_rss_mb
+from dolphinfit.core.errors import InputError
+from dolphinfit.core.fit.config import FitConfig, LossWeights
+from dolphinfit.core.fit.interval import run_interval
+from dolphinfit.core.fit.pipeline import run_fit
+from dolphinfit.core.io.json_file import read_json
+from dolphinfit.core.measure.uncertainty import ErrorModel
+from dolphinfit.core.segment.backends import DEFAULT_BACKEND, NETWORK_COLOUR_EDGES
+from dolphinfit.core.segment.segmenter import AutoSeed, Seed
+from dolphinfit.core.synth.config import SynthConfig
+from dolphinfit.core.synth.files import ClipFiles
+from dolphinfit.core.synth.sample import cache_dir, ensure_clip
 
 # The fit before its speed work: every face in the soft mask, every frame in every step, native
 # resolution throughout. Measured beside the defaults by both the suite and the speed run.

@@ -19,10 +19,10 @@ it apart, and judge a change on the tuning split first.
 
 from dataclasses import replace
 
-from core.bench.scenario import Scenario
-from core.measure.hw_ratios import DEFAULT_PRESET
-from core.synth.config import Effects, SynthConfig
-from core.synth.water import with_water
+from dolphinfit.core.bench.scenario import Scenario
+from dolphinfit.core.measure.hw_ratios import DEFAULT_PRESET
+from dolphinfit.core.synth.config import Effects, SynthConfig
+from dolphinfit.core.synth.water import with_water
 
 HELD_OUT_SUITE = "bench-held-out-v1"
 DELIVERY_MBPS = 8.0      # a 720p clip as delivered from a downscaled 5K original

@@ -15,14 +15,14 @@ from dataclasses import dataclass
 import numpy as np
 import torch
 
-from core.fit.config import FitConfig
-from core.fit.engine import fitted_template
-from core.measure.elliptical import TAIL_MEASURED, elliptical_volume
-from core.model.hw_from_model import hw_from_template, station_extents
-from core.model.sections import section_area_factor
-from core.model.template import load_template
-from core.synth.clip import synth_animal
-from core.synth.config import SynthConfig
+from dolphinfit.core.fit.config import FitConfig
+from dolphinfit.core.fit.engine import fitted_template
+from dolphinfit.core.measure.elliptical import TAIL_MEASURED, elliptical_volume
+from dolphinfit.core.model.hw_from_model import hw_from_template, station_extents
+from dolphinfit.core.model.sections import section_area_factor
+from dolphinfit.core.model.template import load_template
+from dolphinfit.core.synth.clip import synth_animal
+from dolphinfit.core.synth.config import SynthConfig
 
 
 @dataclass(frozen=True)

@@ -28,21 +28,21 @@ from pathlib import Path
 
 import numpy as np
 
-from core.errors import InputError
-from core.bench.scenario import synth_camera
-from core.fit.pipeline import sized_auto_seed
-from core.io.json_file import read_json
-from core.io.masks import MaskTrack, read_png_folder
-from core.io.telemetry import load_telemetry
-from core.io.video import Clip, VideoReader, open_clip
-from core.iou import mask_iou
-from core.limits import one_of
-from core.segment.backends import ALWAYS_AVAILABLE, COLOUR, make_segmenter
-from core.segment.evaluate import box_seed_from, outline_offset_px
-from core.segment.seed import dilate
-from core.segment.segmenter import AutoSeed, PointSeed, Seed
-from core.synth.config import SynthConfig
-from core.synth.files import ClipFiles, read_part_masks
+from dolphinfit.core.errors import InputError
+from dolphinfit.core.bench.scenario import synth_camera
+from dolphinfit.core.fit.pipeline import sized_auto_seed
+from dolphinfit.core.io.json_file import read_json
+from dolphinfit.core.io.masks import MaskTrack, read_png_folder
+from dolphinfit.core.io.telemetry import load_telemetry
+from dolphinfit.core.io.video import Clip, VideoReader, open_clip
+from dolphinfit.core.iou import mask_iou
+from dolphinfit.core.limits import one_of
+from dolphinfit.core.segment.backends import ALWAYS_AVAILABLE, COLOUR, make_segmenter
+from dolphinfit.core.segment.evaluate import box_seed_from, outline_offset_px
+from dolphinfit.core.segment.seed import dilate
+from dolphinfit.core.segment.segmenter import AutoSeed, PointSeed, Seed
+from dolphinfit.core.synth.config import SynthConfig
+from dolphinfit.core.synth.files import ClipFiles, read_part_masks
 
 PART_ZONE_PX = 4
 DEFAULT_STRIDE = 4    # the suite's clips are 10 fps and fitted at 2.5 fps

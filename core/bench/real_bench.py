@@ -32,20 +32,20 @@ from pathlib import Path
 import cv2
 import numpy as np
 
-from core.bench.real_fit import fit_minke
-from core.bench.real_overlay import overlay, write_overlay
-from core.bench.real_data import (
+from dolphinfit.core.bench.real_fit import fit_minke
+from dolphinfit.core.bench.real_overlay import overlay, write_overlay
+from dolphinfit.core.bench.real_data import (
     OUTLINE_PAIRS, HumanMeasurement, MedidorImage, MinkeImage, WhaleOutlines, load_medidor,
     load_minke, load_outlines,
 )
-from core.errors import InputError
-from core.measure.annotation import (
+from dolphinfit.core.errors import InputError
+from dolphinfit.core.measure.annotation import (
     MEDIDOR, Annotation, Stations, pixel_measurements, place_stations, suggest_edges,
 )
-from core.measure.mask_midline import annotation_from_mask, midline_from_mask
-from core.measure.stations import NUM_STATIONS, STATION_PCT
-from core.segment.backends import DEFAULT_BACKEND, make_segmenter
-from core.segment.segmenter import AutoSeed, PointSeed, Seed
+from dolphinfit.core.measure.mask_midline import annotation_from_mask, midline_from_mask
+from dolphinfit.core.measure.stations import NUM_STATIONS, STATION_PCT
+from dolphinfit.core.segment.backends import DEFAULT_BACKEND, make_segmenter
+from dolphinfit.core.segment.segmenter import AutoSeed, PointSeed, Seed
 
 SEEDS = ("click", "auto")
 OUTLINE_PAD_PX = 8       # water around a rasterised outline

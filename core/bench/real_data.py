@@ -19,12 +19,12 @@ from pathlib import Path
 
 import numpy as np
 
-from core.camera_presets import CameraPreset
-from core.errors import InputError
-from core.io.medidor import MedidorRow, read_medidor
-from core.measure.morphometrix import MorphoMetrixRecord, read_morphometrix
-from core.measure.annotation import Calibration
-from core.measure.stations import STATION_PCT
+from dolphinfit.core.camera_presets import CameraPreset
+from dolphinfit.core.errors import InputError
+from dolphinfit.core.io.medidor import MedidorRow, read_medidor
+from dolphinfit.core.measure.morphometrix import MorphoMetrixRecord, read_morphometrix
+from dolphinfit.core.measure.annotation import Calibration
+from dolphinfit.core.measure.stations import STATION_PCT
 
 REAL_DATA_DIR = Path(__file__).resolve().parents[2] / "tests" / "data" / "real"
 MINKE_HUMANS = ("demo-annotated.csv", "test-image.csv")
@@ -138,7 +138,7 @@ def load_minke(folder: Path | None = None) -> MinkeImage:
 
 def medidor_clicks(path: Path) -> np.ndarray:
     """(N, 2) every ``list(x = …, y = …)`` click of MedidoR's GUI test, in file order."""
-    from core.io.text_input import read_text
+    from dolphinfit.core.io.text_input import read_text
 
     return np.array([[float(m["x"]), float(m["y"])] for m in CLICK.finditer(read_text(path))])
 

@@ -8,17 +8,17 @@ import time
 
 import numpy as np
 
-from core.bench.real_data import MinkeImage
-from core.fit.config import FitConfig
-from core.fit.interval import run_interval
-from core.fit.pipeline import fit_clip
-from core.io.media import open_media
-from core.io.telemetry import constant_telemetry
-from core.measure.records import default_error_model
-from core.model.hw_from_model import station_extents
-from core.model.template import load_template
-from core.segment.backends import make_segmenter
-from core.segment.segmenter import PointSeed
+from dolphinfit.core.bench.real_data import MinkeImage
+from dolphinfit.core.fit.config import FitConfig
+from dolphinfit.core.fit.interval import run_interval
+from dolphinfit.core.fit.pipeline import fit_clip
+from dolphinfit.core.io.media import open_media
+from dolphinfit.core.io.telemetry import constant_telemetry
+from dolphinfit.core.measure.records import default_error_model
+from dolphinfit.core.model.hw_from_model import station_extents
+from dolphinfit.core.model.template import load_template
+from dolphinfit.core.segment.backends import make_segmenter
+from dolphinfit.core.segment.segmenter import PointSeed
 
 
 def fit_minke(minke: MinkeImage, backend: str, config: FitConfig = FitConfig()) -> dict:

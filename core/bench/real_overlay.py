@@ -6,8 +6,8 @@ from pathlib import Path
 import cv2
 import numpy as np
 
-from core.io.atomic import atomic_path
-from core.measure.annotation import Annotation, place_stations
+from dolphinfit.core.io.atomic import atomic_path
+from dolphinfit.core.measure.annotation import Annotation, place_stations
 
 WIDTH_PX = 1600      # the picture's width
 MASK_BGR = (255, 0, 255)

@@ -22,19 +22,19 @@ import cv2
 import numpy as np
 import torch
 
-from core.bench.timing import median_ms, median_phases_ms, peak_rss_mb_of
-from core.camera import NadirCamera
-from core.fit.losses import soft_iou_loss
-from core.intrinsics import CameraIntrinsics
-from core.model.model import DolphinModel
-from core.model.template import load_template
-from core.render.dense import dense_render
-from core.render.rasterize import cross2
-from core.render.render import Appearance, project_to_viewport, render
-from core.render.settings import RasterSettings, Viewport
-from core.render.shade import SGLight
-from core.synth.config import SynthConfig
-from core.synth.motion import swim
+from dolphinfit.core.bench.timing import median_ms, median_phases_ms, peak_rss_mb_of
+from dolphinfit.core.camera import NadirCamera
+from dolphinfit.core.fit.losses import soft_iou_loss
+from dolphinfit.core.intrinsics import CameraIntrinsics
+from dolphinfit.core.model.model import DolphinModel
+from dolphinfit.core.model.template import load_template
+from dolphinfit.core.render.dense import dense_render
+from dolphinfit.core.render.rasterize import cross2
+from dolphinfit.core.render.render import Appearance, project_to_viewport, render
+from dolphinfit.core.render.settings import RasterSettings, Viewport
+from dolphinfit.core.render.shade import SGLight
+from dolphinfit.core.synth.config import SynthConfig
+from dolphinfit.core.synth.motion import swim
 
 ALTITUDE_M = 20.0
 LENGTH_M = 2.5

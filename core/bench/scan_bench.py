@@ -18,23 +18,23 @@ from collections.abc import Callable
 
 import numpy as np
 
-from core.bench.scenario import Scenario, ensure_scenario, synth_camera
-from core.bench.fit_bench import SPEED_CACHE, SPEED_CLIP
-from core.io.frame_source import Clip
-from core.io.json_file import read_json
-from core.io.masks import MaskTrack, read_masks
-from core.io.telemetry import Telemetry, load_telemetry
-from core.io.video import VideoReader, open_clip
-from core.measure.annotation import pixel_measurements
-from core.measure.elliptical import TAIL_EXTRAPOLATED, elliptical_volume, fill_skipped
-from core.measure.hw_ratios import DEFAULT_PRESET, load_hw_preset
-from core.measure.mask_midline import annotation_from_mask
-from core.scan.clip_scan import ClipScan, ClipTelemetry
-from core.scan.scanner import Scanner
-from core.scan.frame_scores import ScanSettings
-from core.synth.config import SynthConfig
-from core.synth.files import ClipFiles
-from core.synth.sample import cache_dir, ensure_clip
+from dolphinfit.core.bench.scenario import Scenario, ensure_scenario, synth_camera
+from dolphinfit.core.bench.fit_bench import SPEED_CACHE, SPEED_CLIP
+from dolphinfit.core.io.frame_source import Clip
+from dolphinfit.core.io.json_file import read_json
+from dolphinfit.core.io.masks import MaskTrack, read_masks
+from dolphinfit.core.io.telemetry import Telemetry, load_telemetry
+from dolphinfit.core.io.video import VideoReader, open_clip
+from dolphinfit.core.measure.annotation import pixel_measurements
+from dolphinfit.core.measure.elliptical import TAIL_EXTRAPOLATED, elliptical_volume, fill_skipped
+from dolphinfit.core.measure.hw_ratios import DEFAULT_PRESET, load_hw_preset
+from dolphinfit.core.measure.mask_midline import annotation_from_mask
+from dolphinfit.core.scan.clip_scan import ClipScan, ClipTelemetry
+from dolphinfit.core.scan.scanner import Scanner
+from dolphinfit.core.scan.frame_scores import ScanSettings
+from dolphinfit.core.synth.config import SynthConfig
+from dolphinfit.core.synth.files import ClipFiles
+from dolphinfit.core.synth.sample import cache_dir, ensure_clip
 
 SAMPLE_FPS = 5.0        # the suite's clips are 3 s at 10 fps: every other frame
 BEST = 5

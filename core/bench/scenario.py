@@ -2,11 +2,11 @@
 
 from dataclasses import dataclass
 
-from core.fit.pipeline import CameraChoice
-from core.progress import ProgressCallback
-from core.synth.config import SynthConfig
-from core.synth.files import ClipFiles
-from core.synth.sample import cache_dir, ensure_clip
+from dolphinfit.core.fit.pipeline import CameraChoice
+from dolphinfit.core.progress import ProgressCallback
+from dolphinfit.core.synth.config import SynthConfig
+from dolphinfit.core.synth.files import ClipFiles
+from dolphinfit.core.synth.sample import cache_dir, ensure_clip
 
 SUITE_NAME = "bench-suite-v2"          # the tuning split with the template's shapes
 

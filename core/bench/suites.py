@@ -21,12 +21,12 @@ recorded configuration matches.
 
 from dataclasses import replace
 
-from core.bench.held_out import HELD_OUT
-from core.bench.scenario import Scenario
-from core.limits import one_of
-from core.measure.hw_ratios import DEFAULT_PRESET
-from core.synth.config import Effects, SynthConfig
-from core.synth.water import with_water
+from dolphinfit.core.bench.held_out import HELD_OUT
+from dolphinfit.core.bench.scenario import Scenario
+from dolphinfit.core.limits import one_of
+from dolphinfit.core.measure.hw_ratios import DEFAULT_PRESET
+from dolphinfit.core.synth.config import Effects, SynthConfig
+from dolphinfit.core.synth.water import with_water
 
 VARIED_SUITE_NAME = "bench-suite-v3-shapes"
 SPLITS = ("tuning", "held-out")    # held-out: core.bench.held_out, never tuned on

@@ -7,11 +7,11 @@ how it was made.
 
 from dataclasses import asdict, dataclass, field, fields
 
-from core.errors import InputError
-from core.io.json_file import dataclass_from_json
-from core.limits import FPS, check_fields, count, one_of, time_window
-from core.measure.hw_ratios import DEFAULT_PRESET, FROM_MODEL
-from core.render import SOFT_PRIMITIVES
+from dolphinfit.core.errors import InputError
+from dolphinfit.core.io.json_file import dataclass_from_json
+from dolphinfit.core.limits import FPS, check_fields, count, one_of, time_window
+from dolphinfit.core.measure.hw_ratios import DEFAULT_PRESET, FROM_MODEL
+from dolphinfit.core.render import SOFT_PRIMITIVES
 
 COLOUR_GEOMETRY = ("all_stages", "pose_stages", "none")
 COUNT_MINIMUMS = {"heading_trial_steps": 0, "steps_global": 0, "steps_body": 0,

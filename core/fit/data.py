@@ -16,18 +16,18 @@ import numpy as np
 import torch
 import torch.nn.functional as F
 
-from core.camera import NadirCamera
-from core.errors import InputError
-from core.fit.config import FitConfig
-from core.fit.reporter import PREPARE_STAGE
-from core.intrinsics import CameraIntrinsics
-from core.io.masks import MaskTrack
-from core.io.report import list_some
-from core.io.telemetry import Telemetry
-from core.io.video import Clip, crop_roi, frames_at_fps
-from core.progress import Progress, ProgressCallback, check_cancel
-from core.render.settings import Viewport
-from core.segment.regions import touches_border
+from dolphinfit.core.camera import NadirCamera
+from dolphinfit.core.errors import InputError
+from dolphinfit.core.fit.config import FitConfig
+from dolphinfit.core.fit.reporter import PREPARE_STAGE
+from dolphinfit.core.intrinsics import CameraIntrinsics
+from dolphinfit.core.io.masks import MaskTrack
+from dolphinfit.core.io.report import list_some
+from dolphinfit.core.io.telemetry import Telemetry
+from dolphinfit.core.io.video import Clip, crop_roi, frames_at_fps
+from dolphinfit.core.progress import Progress, ProgressCallback, check_cancel
+from dolphinfit.core.render.settings import Viewport
+from dolphinfit.core.segment.regions import touches_border
 
 ROI_MULTIPLE_PX = 8
 # Narrower than this the volume is unreliable: a volume moves by about 4 δ / width for an

@@ -16,25 +16,25 @@ from concurrent.futures import Executor
 import numpy as np
 import torch
 
-from core.fit.config import FitConfig
-from core.fit.data import FitData
-from core.fit.init import initial_state, silhouette_centroid_offset
-from core.fit.objective import FitProblem
-from core.fit.reporter import PREPARE_STAGE, RESULT_STAGE, FitReporter
-from core.fit.result import STATUS_CANCELLED, STATUS_COMPLETE, FitResult
-from core.fit.scene import SceneParams, initial_params
-from core.fit.schedule import (
+from dolphinfit.core.fit.config import FitConfig
+from dolphinfit.core.fit.data import FitData
+from dolphinfit.core.fit.init import initial_state, silhouette_centroid_offset
+from dolphinfit.core.fit.objective import FitProblem
+from dolphinfit.core.fit.reporter import PREPARE_STAGE, RESULT_STAGE, FitReporter
+from dolphinfit.core.fit.result import STATUS_CANCELLED, STATUS_COMPLETE, FitResult
+from dolphinfit.core.fit.scene import SceneParams, initial_params
+from dolphinfit.core.fit.schedule import (
     STAGES, Stop, choose_heading, coarse_problem, debiased_targets, run_in_parts, shape_parts,
     stop_message,
 )
-from core.measure.condition import body_condition
-from core.model.hw_spec import resolve_hw
-from core.measure.mesh import body_length, mesh_volume
-from core.model.model import DolphinModel
-from core.model.sections import NUM_TABLE_STATIONS, reshape_sections
-from core.model.template import Template, load_template
-from core.progress import Cancelled, ProgressCallback
-from core.runtime import single_thread_workers
+from dolphinfit.core.measure.condition import body_condition
+from dolphinfit.core.model.hw_spec import resolve_hw
+from dolphinfit.core.measure.mesh import body_length, mesh_volume
+from dolphinfit.core.model.model import DolphinModel
+from dolphinfit.core.model.sections import NUM_TABLE_STATIONS, reshape_sections
+from dolphinfit.core.model.template import Template, load_template
+from dolphinfit.core.progress import Cancelled, ProgressCallback
+from dolphinfit.core.runtime import single_thread_workers
 
 # Mean fit IoU below which a fit is flagged: on the widened bench suite good masks gave
 # 0.76–0.94 per clip, and masks of a seagrass patch or of glitter 0.56 (0.61 and 0.65 with

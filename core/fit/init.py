@@ -13,9 +13,9 @@ from dataclasses import dataclass
 import numpy as np
 import torch
 
-from core.fit.data import FitData
-from core.measure.mesh import body_length
-from core.model.model import DolphinModel
+from dolphinfit.core.fit.data import FitData
+from dolphinfit.core.measure.mesh import body_length
+from dolphinfit.core.model.model import DolphinModel
 
 # Bending, pitch and dives only ever shorten the silhouette: the length comes from the upper
 # end of the per-frame extents, not their median.

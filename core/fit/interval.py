@@ -4,17 +4,17 @@ the HW table it assumed."""
 
 import numpy as np
 
-from core.fit.pipeline import FitRun
-from core.fit.result import FitResult
-from core.measure.condition import MassModel
-from core.measure.fit_uncertainty import (
+from dolphinfit.core.fit.pipeline import FitRun
+from dolphinfit.core.fit.result import FitResult
+from dolphinfit.core.measure.condition import MassModel
+from dolphinfit.core.measure.fit_uncertainty import (
     DEFAULT_FIT_DRAWS, FitInterval, fit_interval, outline_sd_px,
 )
-from core.model.hw_from_model import station_extents
-from core.measure.hw_ratios import HWRatios, load_hw_preset
-from core.model.hw_spec import resolve_hw
-from core.measure.uncertainty import ErrorModel
-from core.model.template import load_template
+from dolphinfit.core.model.hw_from_model import station_extents
+from dolphinfit.core.measure.hw_ratios import HWRatios, load_hw_preset
+from dolphinfit.core.model.hw_spec import resolve_hw
+from dolphinfit.core.measure.uncertainty import ErrorModel
+from dolphinfit.core.model.template import load_template
 
 INTERVAL_SEED = 0  # the draws are seeded: a fit reports the same interval every time
 

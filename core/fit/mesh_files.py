@@ -10,11 +10,11 @@ from pathlib import Path
 
 import numpy as np
 
-from core.fit.result import FitResult
-from core.io.atomic import atomic_folder
-from core.io.mesh_export import export_mesh
-from core.model.template import Template
-from core.progress import Progress, ProgressCallback, check_cancel
+from dolphinfit.core.fit.result import FitResult
+from dolphinfit.core.io.atomic import atomic_folder
+from dolphinfit.core.io.mesh_export import export_mesh
+from dolphinfit.core.model.template import Template
+from dolphinfit.core.progress import Progress, ProgressCallback, check_cancel
 
 POSED_FOLDER = "posed"
 

@@ -11,20 +11,20 @@ from functools import reduce
 import numpy as np
 import torch
 
-from core.fit import losses
-from core.fit.config import FitConfig
-from core.fit.data import FitData
-from core.fit.reporter import FitReporter
-from core.fit.scene import SceneParams
-from core.iou import mask_iou
-from core.model.lbs import axis_angle_to_matrix
-from core.model.model import DolphinModel
-from core.model.template import Template
-from core.progress import Cancelled, check_cancel
-from core.render.contour import mesh_edges
-from core.render.pyramid import pyramid_loss, silhouette_pyramid
-from core.render.render import Appearance, RenderOutput, render
-from core.render.settings import RasterSettings, Viewport
+from dolphinfit.core.fit import losses
+from dolphinfit.core.fit.config import FitConfig
+from dolphinfit.core.fit.data import FitData
+from dolphinfit.core.fit.reporter import FitReporter
+from dolphinfit.core.fit.scene import SceneParams
+from dolphinfit.core.iou import mask_iou
+from dolphinfit.core.model.lbs import axis_angle_to_matrix
+from dolphinfit.core.model.model import DolphinModel
+from dolphinfit.core.model.template import Template
+from dolphinfit.core.progress import Cancelled, check_cancel
+from dolphinfit.core.render.contour import mesh_edges
+from dolphinfit.core.render.pyramid import pyramid_loss, silhouette_pyramid
+from dolphinfit.core.render.render import Appearance, RenderOutput, render
+from dolphinfit.core.render.settings import RasterSettings, Viewport
 
 V_SURF_M_S = 6.6      # the paper's upward nudge while pointing up
 V_DIVE_M_S = 2.2      # the paper's downward nudge while pointing down

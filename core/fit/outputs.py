@@ -12,19 +12,19 @@ import cv2
 import numpy as np
 import torch
 
-from core.errors import InputError
-from core.fit.data import FitData
-from core.fit.mesh_files import POSED_FOLDER, export_fit_meshes
-from core.fit.result import FitResult
-from core.fit.result_io import RESULT_JSON, RESULT_NPZ, write_fit_result
-from core.io.atomic import atomic_folder
-from core.io.output_paths import check_output_folder
-from core.measure.receipt import write_png
-from core.io.report import list_some
-from core.model.template import Template
-from core.render.render import Appearance, render
-from core.render.settings import Viewport
-from core.render.shade import SGLight
+from dolphinfit.core.errors import InputError
+from dolphinfit.core.fit.data import FitData
+from dolphinfit.core.fit.mesh_files import POSED_FOLDER, export_fit_meshes
+from dolphinfit.core.fit.result import FitResult
+from dolphinfit.core.fit.result_io import RESULT_JSON, RESULT_NPZ, write_fit_result
+from dolphinfit.core.io.atomic import atomic_folder
+from dolphinfit.core.io.output_paths import check_output_folder
+from dolphinfit.core.measure.receipt import write_png
+from dolphinfit.core.io.report import list_some
+from dolphinfit.core.model.template import Template
+from dolphinfit.core.render.render import Appearance, render
+from dolphinfit.core.render.settings import Viewport
+from dolphinfit.core.render.shade import SGLight
 
 NUM_OVERLAYS = 4
 OVERLAY_FOLDER = "overlays"

@@ -14,25 +14,25 @@ from pathlib import Path
 
 import numpy as np
 
-from core.camera_presets import DEFAULT_PRESET, get_preset
-from core.errors import InputError
-from core.fit.config import FitConfig
-from core.fit.data import FitData, prepare_data
-from core.fit.engine import fit
-from core.fit.result import FitResult
-from core.intrinsics import CameraIntrinsics
-from core.io.frame_source import FrameSource
-from core.io.masks import MaskTrack, read_masks
-from core.io.telemetry import Telemetry, load_telemetry
-from core.io.video import Clip, VideoReader, frames_at_fps, open_clip
-from core.measure.altitude_calibration import AltitudeCalibration, calibrated_telemetry
-from core.measure.edge_blur import edge_blur_px
-from core.progress import ProgressCallback
-from core.scan.clip_scan import scan_telemetry
-from core.scan.fit_seed import scan_pick
-from core.segment.auto_seed import DOLPHIN_LENGTH_M, expected_length_px
-from core.segment.backends import DEFAULT_BACKEND, make_segmenter
-from core.segment.segmenter import AutoSeed, Seed
+from dolphinfit.core.camera_presets import DEFAULT_PRESET, get_preset
+from dolphinfit.core.errors import InputError
+from dolphinfit.core.fit.config import FitConfig
+from dolphinfit.core.fit.data import FitData, prepare_data
+from dolphinfit.core.fit.engine import fit
+from dolphinfit.core.fit.result import FitResult
+from dolphinfit.core.intrinsics import CameraIntrinsics
+from dolphinfit.core.io.frame_source import FrameSource
+from dolphinfit.core.io.masks import MaskTrack, read_masks
+from dolphinfit.core.io.telemetry import Telemetry, load_telemetry
+from dolphinfit.core.io.video import Clip, VideoReader, frames_at_fps, open_clip
+from dolphinfit.core.measure.altitude_calibration import AltitudeCalibration, calibrated_telemetry
+from dolphinfit.core.measure.edge_blur import edge_blur_px
+from dolphinfit.core.progress import ProgressCallback
+from dolphinfit.core.scan.clip_scan import scan_telemetry
+from dolphinfit.core.scan.fit_seed import scan_pick
+from dolphinfit.core.segment.auto_seed import DOLPHIN_LENGTH_M, expected_length_px
+from dolphinfit.core.segment.backends import DEFAULT_BACKEND, make_segmenter
+from dolphinfit.core.segment.segmenter import AutoSeed, Seed
 
 @dataclass(frozen=True)
 class CameraChoice:

@@ -14,7 +14,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from core.progress import Progress, ProgressCallback
+from dolphinfit.core.progress import Progress, ProgressCallback
 
 PREPARE_STAGE = "prepare"
 HEADING_STAGE = "heading"

@@ -4,7 +4,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from core.fit.config import FitConfig
+from dolphinfit.core.fit.config import FitConfig
 
 RESULT_SCHEMA_VERSION = 2
 STATUS_COMPLETE = "complete"

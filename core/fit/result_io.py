@@ -10,11 +10,11 @@ from pathlib import Path
 
 import numpy as np
 
-from core.errors import InputError
-from core.fit.config import FitConfig
-from core.fit.result import RESULT_SCHEMA_VERSION, STATUSES, FitResult
-from core.io.atomic import atomic_path
-from core.io.json_file import check_schema_version, read_json, write_json
+from dolphinfit.core.errors import InputError
+from dolphinfit.core.fit.config import FitConfig
+from dolphinfit.core.fit.result import RESULT_SCHEMA_VERSION, STATUSES, FitResult
+from dolphinfit.core.io.atomic import atomic_path
+from dolphinfit.core.io.json_file import check_schema_version, read_json, write_json
 
 RESULT_JSON = "result.json"
 RESULT_NPZ = "result.npz"

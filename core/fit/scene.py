@@ -6,13 +6,13 @@ from dataclasses import dataclass, fields
 import numpy as np
 import torch
 
-from core.fit.config import FitConfig
-from core.fit.data import FitData
-from core.fit.init import root_positions
-from core.model.model import DolphinModel
-from core.model.profile_field import NUM_KNOTS
-from core.model.template import Template
-from core.render.shade import SGLight
+from dolphinfit.core.fit.config import FitConfig
+from dolphinfit.core.fit.data import FitData
+from dolphinfit.core.fit.init import root_positions
+from dolphinfit.core.model.model import DolphinModel
+from dolphinfit.core.model.profile_field import NUM_KNOTS
+from dolphinfit.core.model.template import Template
+from dolphinfit.core.render.shade import SGLight
 
 INITIAL_F_WATER = 0.3
 

@@ -9,13 +9,13 @@ from collections.abc import Callable
 
 import torch
 
-from core.fit.data import downscaled
-from core.fit.objective import FitProblem, evenly_spaced
-from core.fit.reporter import HEADING_STAGE, FitPreview, FitReporter
-from core.fit.result import STATUS_CANCELLED, STATUS_DIVERGED
-from core.fit.scene import SceneParams, stage_groups
-from core.fit.target import edge_profile, soft_targets
-from core.progress import Cancelled
+from dolphinfit.core.fit.data import downscaled
+from dolphinfit.core.fit.objective import FitProblem, evenly_spaced
+from dolphinfit.core.fit.reporter import HEADING_STAGE, FitPreview, FitReporter
+from dolphinfit.core.fit.result import STATUS_CANCELLED, STATUS_DIVERGED
+from dolphinfit.core.fit.scene import SceneParams, stage_groups
+from dolphinfit.core.fit.target import edge_profile, soft_targets
+from dolphinfit.core.progress import Cancelled
 
 STAGES = ("global", "body", "shape")   # what each optimises: see scene.stage_groups
 STAGE_WORDS = {HEADING_STAGE: "heading", "global": "global pose", "body": "body pose",

@@ -13,10 +13,10 @@ from pathlib import Path
 
 import numpy as np
 
-from core.errors import InputError
-from core.io.altitude_samples import AltitudeSamples, AltitudeSource
-from core.io.atomic import atomic_path
-from core.io.text_input import cell_number, csv_rows
+from dolphinfit.core.errors import InputError
+from dolphinfit.core.io.altitude_samples import AltitudeSamples, AltitudeSource
+from dolphinfit.core.io.atomic import atomic_path
+from dolphinfit.core.io.text_input import cell_number, csv_rows
 
 KEY_COLUMNS = ("frame", "time_s")  # in order of preference
 ALTITUDE_COLUMN = "altitude_m"

@@ -16,10 +16,10 @@ from pathlib import Path
 
 import numpy as np
 
-from core.errors import InputError
-from core.io.altitude_samples import AltitudeSamples, AltitudeSource
-from core.io.report import list_some
-from core.io.text_input import cell_number, read_text
+from dolphinfit.core.errors import InputError
+from dolphinfit.core.io.altitude_samples import AltitudeSamples, AltitudeSource
+from dolphinfit.core.io.report import list_some
+from dolphinfit.core.io.text_input import cell_number, read_text
 
 RANGE_COLUMN = "Camera Range (m)"
 VIDEO_TIME_COLUMN = "Video Time (s)"

@@ -11,8 +11,8 @@ from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from pathlib import Path
 
-from core.errors import InputError
-from core.io.output_paths import check_output_file, check_output_folder
+from dolphinfit.core.errors import InputError
+from dolphinfit.core.io.output_paths import check_output_file, check_output_folder
 
 FILE_MODE = 0o644  # mkstemp creates 0600; written files should read like any other
 FOLDER_MODE = 0o755  # mkdtemp creates 0700

@@ -20,7 +20,7 @@ from pathlib import Path
 
 import numpy as np
 
-from core.errors import InputError
+from dolphinfit.core.errors import InputError
 
 ALTIMETERS = ("barometer", "laser")
 # role → the column names that hold it, in the order they are looked for

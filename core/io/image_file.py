@@ -12,7 +12,7 @@ from pathlib import Path
 import cv2
 import numpy as np
 
-from core.errors import InputError
+from dolphinfit.core.errors import InputError
 
 DNG_SUFFIX = ".dng"
 IMAGE_SUFFIXES = (".jpg", ".jpeg", ".png", ".tif", ".tiff", ".bmp", DNG_SUFFIX)

@@ -6,8 +6,8 @@ from pathlib import Path
 from types import UnionType
 from typing import Any, TypeVar, get_args, get_origin
 
-from core.errors import InputError
-from core.io.atomic import atomic_path
+from dolphinfit.core.errors import InputError
+from dolphinfit.core.io.atomic import atomic_path
 
 T = TypeVar("T")
 _TYPE_NAMES = {float: "a number", int: "a whole number", bool: "true or false", str: "text"}

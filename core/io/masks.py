@@ -25,11 +25,11 @@ from pathlib import Path
 import cv2
 import numpy as np
 
-from core.errors import InputError
-from core.io.atomic import atomic_folder, atomic_path
-from core.io.output_paths import check_output_file, check_output_folder
-from core.io.report import format_runs, list_some
-from core.io.video import Clip, VideoReader
+from dolphinfit.core.errors import InputError
+from dolphinfit.core.io.atomic import atomic_folder, atomic_path
+from dolphinfit.core.io.output_paths import check_output_file, check_output_folder
+from dolphinfit.core.io.report import format_runs, list_some
+from dolphinfit.core.io.video import Clip, VideoReader
 
 PNG_NAME = "{:06d}.png"  # DESIGN.md §8
 PNG_PATTERN = re.compile(r"^(\d+)\.png$", re.IGNORECASE)

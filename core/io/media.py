@@ -18,10 +18,10 @@ from pathlib import Path
 
 import numpy as np
 
-from core.errors import InputError
-from core.io.frame_source import DEFAULT_CACHE_BYTES, FrameCache, FrameSource
-from core.io.image_file import IMAGE_SUFFIXES, read_image
-from core.io.video import Clip, VideoReader
+from dolphinfit.core.errors import InputError
+from dolphinfit.core.io.frame_source import DEFAULT_CACHE_BYTES, FrameCache, FrameSource
+from dolphinfit.core.io.image_file import IMAGE_SUFFIXES, read_image
+from dolphinfit.core.io.video import Clip, VideoReader
 
 VIDEO_SUFFIXES = (".mp4", ".mov", ".avi", ".mkv", ".m4v", ".mts")
 MEDIA_SUFFIXES = VIDEO_SUFFIXES + IMAGE_SUFFIXES  # for file dialogs; other files open as video

@@ -14,7 +14,7 @@ from pathlib import Path
 
 import numpy as np
 
-from core.errors import InputError
+from dolphinfit.core.errors import InputError
 
 REQUIRED = ("ID", "imid", "BL", "C_Alt", "sw", "iw", "flen", "cGSD")
 WIDTH_COLUMN = re.compile(r"^WD_(?P<pct>\d+(?:\.\d*)?)$")

@@ -12,8 +12,8 @@ import numpy as np
 import trimesh
 from PIL import Image
 
-from core.errors import InputError
-from core.io.atomic import atomic_path
+from dolphinfit.core.errors import InputError
+from dolphinfit.core.io.atomic import atomic_path
 
 MESH_SUFFIXES = (".ply", ".obj", ".glb")
 

@@ -3,7 +3,7 @@ folder, a folder must not be a file, and neither may lie under a file."""
 
 from pathlib import Path
 
-from core.errors import InputError
+from dolphinfit.core.errors import InputError
 
 
 def _check_parents(path: Path, where: str) -> None:

@@ -36,10 +36,10 @@ from pathlib import Path
 
 import numpy as np
 
-from core.errors import InputError
-from core.io.altitude_samples import AltitudeSamples, AltitudeSource
-from core.io.report import list_some
-from core.io.text_input import read_text
+from dolphinfit.core.errors import InputError
+from dolphinfit.core.io.altitude_samples import AltitudeSamples, AltitudeSource
+from dolphinfit.core.io.report import list_some
+from dolphinfit.core.io.text_input import read_text
 
 
 @dataclass(frozen=True)

@@ -24,15 +24,15 @@ from pathlib import Path
 
 import numpy as np
 
-from core.errors import InputError
-from core.io.altitude_csv import read_altitude_csv
-from core.io.altitude_samples import AltitudeSamples, AltitudeSource
-from core.io.astro_log import is_astro_log, read_astro_log
-from core.io.laser_log import is_laser_log, read_laser_log
-from core.io.report import format_runs, list_some
-from core.io.srt import read_srt
-from core.io.video import Clip
-from core.limits import ALTITUDE_M, LAUNCH_HEIGHT_M, in_range, number
+from dolphinfit.core.errors import InputError
+from dolphinfit.core.io.altitude_csv import read_altitude_csv
+from dolphinfit.core.io.altitude_samples import AltitudeSamples, AltitudeSource
+from dolphinfit.core.io.astro_log import is_astro_log, read_astro_log
+from dolphinfit.core.io.laser_log import is_laser_log, read_laser_log
+from dolphinfit.core.io.report import format_runs, list_some
+from dolphinfit.core.io.srt import read_srt
+from dolphinfit.core.io.video import Clip
+from dolphinfit.core.limits import ALTITUDE_M, LAUNCH_HEIGHT_M, in_range, number
 
 SAMPLE_TIME_TOLERANCE_S = 0.0005  # half the 1 ms resolution of SRT timing lines
 # Longest stretch without a valid sample that is bridged by interpolation: five rows of a

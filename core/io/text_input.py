@@ -8,7 +8,7 @@ from pathlib import Path
 
 import numpy as np
 
-from core.errors import InputError
+from dolphinfit.core.errors import InputError
 
 # Cells meaning "no value": empty, NaN (spreadsheets, the LidarBoX logger) and INVALID (the
 # LidarBoX logger before its GPS fix, reference/ecosystem.md §8). Compared in lower case.

@@ -22,8 +22,8 @@ from pathlib import Path
 import cv2
 import numpy as np
 
-from core.errors import InputError
-from core.io.frame_source import DEFAULT_CACHE_BYTES, Clip, FrameCache, FrameSource
+from dolphinfit.core.errors import InputError
+from dolphinfit.core.io.frame_source import DEFAULT_CACHE_BYTES, Clip, FrameCache, FrameSource
 
 # FFmpeg's interrupt callback aborts opening or reading after this long, so a bogus or
 # unreachable file cannot hang (the timeouts are capture parameters of OpenCV's FFmpeg back-end).

@@ -25,11 +25,13 @@ from pathlib import Path
 
 import numpy as np
 
-from core.errors import InputError
-from core.io.calibration_table import CalibrationTable
-from core.io.json_file import read_tagged_dataclass, write_json
-from core.io.telemetry import Telemetry
-from core.limits import BODY_LENGTH_M, FOCAL_MM, IMAGE_SIZE_PX, SENSOR_WIDTH_MM, in_range
+from dolphinfit.core.errors import InputError
+from dolphinfit.core.io.calibration_table import CalibrationTable
+from dolphinfit.core.io.json_file import read_tagged_dataclass, write_json
+from dolphinfit.core.io.telemetry import Telemetry
+from dolphinfit.core.limits import (
+    BODY_LENGTH_M, FOCAL_MM, IMAGE_SIZE_PX, SENSOR_WIDTH_MM, in_range,
+)
 
 FORMAT = "dolphinfit-altitude-calibration"
 VERSION = 1

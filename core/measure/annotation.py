@@ -33,8 +33,8 @@ from scipy.integrate import cumulative_simpson
 from scipy.interpolate import CubicSpline
 from scipy.ndimage import map_coordinates
 
-from core.camera_presets import CameraPreset
-from core.measure.stations import NUM_STATIONS, STATION_FRACTIONS
+from dolphinfit.core.camera_presets import CameraPreset
+from dolphinfit.core.measure.stations import NUM_STATIONS, STATION_FRACTIONS
 
 SIDES = ("A", "B")
 ALTITUDE_SOURCES = ("laser", "barometer", "manual")  # recorded with the result (DESIGN §8)

@@ -32,14 +32,14 @@ from typing import Any
 
 import numpy as np
 
-from core.camera_presets import CameraPreset, get_preset
-from core.errors import InputError
-from core.io.json_file import check_schema_version, json_field, read_json, write_json
-from core.measure.annotation import (
+from dolphinfit.core.camera_presets import CameraPreset, get_preset
+from dolphinfit.core.errors import InputError
+from dolphinfit.core.io.json_file import check_schema_version, json_field, read_json, write_json
+from dolphinfit.core.measure.annotation import (
     ALTITUDE_SOURCES, SIDES, Annotation, Calibration,
 )
-from core.limits import ALTITUDE_M, FOCAL_MM, IMAGE_SIZE_PX, SENSOR_WIDTH_MM, in_range
-from core.measure.stations import NUM_STATIONS, STATION_PCT
+from dolphinfit.core.limits import ALTITUDE_M, FOCAL_MM, IMAGE_SIZE_PX, SENSOR_WIDTH_MM, in_range
+from dolphinfit.core.measure.stations import NUM_STATIONS, STATION_PCT
 
 SCHEMA_VERSION = 1
 SIDE_KEYS = ("side_a_px", "side_b_px")

@@ -12,18 +12,18 @@ from typing import Any
 
 import numpy as np
 
-from core.measure.annotation import PixelMeasurements
-from core.measure.condition import MassModel
-from core.measure.elliptical import (
+from dolphinfit.core.measure.annotation import PixelMeasurements
+from dolphinfit.core.measure.condition import MassModel
+from dolphinfit.core.measure.elliptical import (
     BAI_RANGE, TAIL_EXTRAPOLATED, EllipticalResult, apply_tail, fill_skipped,
     measure_elliptical,
 )
-from core.measure.hw_ratios import HWRatios
-from core.measure.stations import STATION_PCT
-from core.measure.uncertainty import (
+from dolphinfit.core.measure.hw_ratios import HWRatios
+from dolphinfit.core.measure.stations import STATION_PCT
+from dolphinfit.core.measure.uncertainty import (
     ERROR_SOURCES, ErrorModel, MonteCarloResult, monte_carlo, summary_json, uncertainty_budget,
 )
-from core.progress import ProgressCallback, part_of
+from dolphinfit.core.progress import ProgressCallback, part_of
 
 # Scalar outputs summarised in the JSON's "uncertainty" (MonteCarloResult field names)
 SUMMARISED = ("length_m", "volume_m3", "volume_circular_m3", "bai", "bai_parabola", "bci",

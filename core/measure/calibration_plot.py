@@ -8,7 +8,7 @@ from pathlib import Path
 
 import numpy as np
 
-from core.measure.altitude_calibration import AltitudeCalibration
+from dolphinfit.core.measure.altitude_calibration import AltitudeCalibration
 
 
 def draw_altitude_calibration(axes, shots: Sequence, calibration: AltitudeCalibration) -> None:
@@ -41,7 +41,7 @@ def save_altitude_calibration_plot(shots: Sequence, calibration: AltitudeCalibra
     ``path``."""
     from matplotlib.figure import Figure
 
-    from core.io.atomic import atomic_path
+    from dolphinfit.core.io.atomic import atomic_path
 
     figure = Figure(figsize=(7, 5), dpi=110, layout="tight")
     draw_altitude_calibration(figure.add_subplot(), shots, calibration)

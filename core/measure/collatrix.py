@@ -30,8 +30,8 @@ import csv
 from collections.abc import Mapping, Sequence
 from pathlib import Path, PureWindowsPath
 
-from core.io.atomic import atomic_path
-from core.measure.morphometrix import (
+from dolphinfit.core.io.atomic import atomic_path
+from dolphinfit.core.measure.morphometrix import (
     DEGREES, LENGTH_NAME, SQUARE_METERS, SQUARE_PIXELS, MorphoMetrixRecord, number_text,
     width_name,
 )

@@ -17,8 +17,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from core.errors import InputError
-from core.limits import BCI, DENSITY_KG_M3, check_fields, in_range
+from dolphinfit.core.errors import InputError
+from dolphinfit.core.limits import BCI, DENSITY_KG_M3, check_fields, in_range
 
 # The paper's mass-model figure gives four decimals (its text rounds to −4.02 and 2.59).
 BV_EXP_INTERCEPT = -4.0206  # a, ln m³: ln BV_exp at BL = 1 m (Baieri et al., mass-model figure)

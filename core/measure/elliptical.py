@@ -17,8 +17,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from core.measure.condition import BodyCondition, MassModel, body_condition
-from core.measure.stations import STATION_FRACTIONS
+from dolphinfit.core.measure.condition import BodyCondition, MassModel, body_condition
+from dolphinfit.core.measure.stations import STATION_FRACTIONS
 
 SEGMENT_FRACTION = 0.05  # Δx / BL: 20 segments (DESIGN §7)
 TAIL_MEASURED = "measured"

@@ -13,7 +13,7 @@ quads between rings of different aspect ratio are twisted, but their twists canc
 
 import numpy as np
 
-from core.measure.stations import NUM_STATIONS, STATION_FRACTIONS
+from dolphinfit.core.measure.stations import NUM_STATIONS, STATION_FRACTIONS
 
 MIN_RING_POINTS = 3
 

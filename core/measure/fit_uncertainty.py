@@ -28,9 +28,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from core.measure.condition import MassModel, body_condition
-from core.measure.hw_ratios import HWRatios
-from core.measure.uncertainty import ErrorModel, Summary, summarize, summary_json
+from dolphinfit.core.measure.condition import MassModel, body_condition
+from dolphinfit.core.measure.hw_ratios import HWRatios
+from dolphinfit.core.measure.uncertainty import ErrorModel, Summary, summarize, summary_json
 
 # The outline bias of the product's masks, one SD, as a share of the frame's width: the root
 # mean square of the per-clip outline offsets of the default back-end on the bench suite

@@ -19,12 +19,12 @@ from pathlib import Path
 
 import numpy as np
 
-from core.errors import InputError
-from core.io.atomic import atomic_path
-from core.io.text_input import cell_number, read_text
-from core.measure.elliptical import TAIL_IDX, TAIL_SOURCE_IDX
-from core.measure.stations import STATION_PCT
-from core.resources import RESOURCES_DIR
+from dolphinfit.core.errors import InputError
+from dolphinfit.core.io.atomic import atomic_path
+from dolphinfit.core.io.text_input import cell_number, read_text
+from dolphinfit.core.measure.elliptical import TAIL_IDX, TAIL_SOURCE_IDX
+from dolphinfit.core.measure.stations import STATION_PCT
+from dolphinfit.core.resources import RESOURCES_DIR
 
 PRESETS_DIR = RESOURCES_DIR / "hw_ratios"
 DEFAULT_PRESET = "tursiops-provisional"

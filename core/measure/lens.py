@@ -24,11 +24,11 @@ from pathlib import Path
 import cv2
 import numpy as np
 
-from core.errors import InputError
-from core.intrinsics import CameraIntrinsics
-from core.io.json_file import read_tagged_dataclass, write_json
-from core.measure.annotation import Annotation
-from core.measure.annotation_json import AnnotationFile
+from dolphinfit.core.errors import InputError
+from dolphinfit.core.intrinsics import CameraIntrinsics
+from dolphinfit.core.io.json_file import read_tagged_dataclass, write_json
+from dolphinfit.core.measure.annotation import Annotation
+from dolphinfit.core.measure.annotation_json import AnnotationFile
 
 FORMAT = "dolphinfit-lens"
 VERSION = 1

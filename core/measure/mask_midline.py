@@ -32,10 +32,10 @@ import cv2
 import numpy as np
 from scipy.ndimage import map_coordinates, uniform_filter1d
 
-from core.measure.annotation import (
+from dolphinfit.core.measure.annotation import (
     MASK_LEVEL, MASK_STEP_PX, Annotation, Stations, place_stations, suggest_edges,
 )
-from core.measure.stations import STATION_FRACTIONS
+from dolphinfit.core.measure.stations import STATION_FRACTIONS
 
 WAIST_ZONE = (0.1, 0.3)   # shares of the body from an end where the tail stock is narrowest
 SLICES = 41           # midline points while it is found

@@ -26,12 +26,14 @@ from pathlib import Path
 
 import numpy as np
 
-from core.errors import InputError
-from core.io.atomic import atomic_path
-from core.io.text_input import MISSING_CELLS, cell_number, csv_rows
-from core.limits import ALTITUDE_M, FOCAL_MM, PIXEL_DIMENSION_MM, body_measurements, in_range
-from core.measure.annotation import PixelMeasurements
-from core.measure.stations import STATION_PCT
+from dolphinfit.core.errors import InputError
+from dolphinfit.core.io.atomic import atomic_path
+from dolphinfit.core.io.text_input import MISSING_CELLS, cell_number, csv_rows
+from dolphinfit.core.limits import (
+    ALTITUDE_M, FOCAL_MM, PIXEL_DIMENSION_MM, body_measurements, in_range,
+)
+from dolphinfit.core.measure.annotation import PixelMeasurements
+from dolphinfit.core.measure.stations import STATION_PCT
 
 LENGTH_NAME = "TL"  # MorphoMetriX / CollatriX name of total length (rostrum tip to fluke notch)
 V2_HEADER = ["Object", "Value", "Value_unit"]

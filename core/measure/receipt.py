@@ -10,8 +10,10 @@ from pathlib import Path
 import cv2
 import numpy as np
 
-from core.io.atomic import atomic_path
-from core.measure.annotation import SIDES, Annotation, edge_offsets, midline_spline, place_stations
+from dolphinfit.core.io.atomic import atomic_path
+from dolphinfit.core.measure.annotation import (
+    SIDES, Annotation, edge_offsets, midline_spline, place_stations,
+)
 
 # Colours (RGB)
 MIDLINE_RGB = (255, 215, 0)

@@ -16,24 +16,26 @@ from pathlib import Path
 
 import numpy as np
 
-from core.errors import InputError
-from core.measure.annotation_json import AnnotationFile
-from core.measure.collatrix import collatrix_row, wide_row, write_wide_csv
-from core.io.json_file import read_json, write_json
-from core.io.masks import read_masks
-from core.measure.morphometrix import (
+from dolphinfit.core.errors import InputError
+from dolphinfit.core.measure.annotation_json import AnnotationFile
+from dolphinfit.core.measure.collatrix import collatrix_row, wide_row, write_wide_csv
+from dolphinfit.core.io.json_file import read_json, write_json
+from dolphinfit.core.io.masks import read_masks
+from dolphinfit.core.measure.morphometrix import (
     LENGTH_NAME, MorphoMetrixRecord, read_morphometrix, record_from_pixels,
     write_morphometrix_v2,
 )
-from core.measure.morphometrix import pixel_measurements as record_pixels
-from core.measure.altitude_calibration import AltitudeCalibration
-from core.measure.annotation import PixelMeasurements, pixel_measurements, place_stations
-from core.measure.baseline import SUMMARISED, BaselineEstimate
-from core.measure.condition import MassModel
-from core.measure.elliptical import TAIL_EXTRAPOLATED, TAIL_MEASURED, fill_skipped
-from core.measure.mask_midline import suggested_edges
-from core.measure.stations import STATION_PCT
-from core.measure.uncertainty import ErrorModel
+from dolphinfit.core.measure.morphometrix import pixel_measurements as record_pixels
+from dolphinfit.core.measure.altitude_calibration import AltitudeCalibration
+from dolphinfit.core.measure.annotation import (
+    PixelMeasurements, pixel_measurements, place_stations,
+)
+from dolphinfit.core.measure.baseline import SUMMARISED, BaselineEstimate
+from dolphinfit.core.measure.condition import MassModel
+from dolphinfit.core.measure.elliptical import TAIL_EXTRAPOLATED, TAIL_MEASURED, fill_skipped
+from dolphinfit.core.measure.mask_midline import suggested_edges
+from dolphinfit.core.measure.stations import STATION_PCT
+from dolphinfit.core.measure.uncertainty import ErrorModel
 
 RESULT_SCHEMA_VERSION = 1
 MMX_ALTITUDE_SOURCE = "manual"  # MorphoMetriX altitudes are typed in; the source is unknown

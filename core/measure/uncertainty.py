@@ -32,12 +32,12 @@ from typing import Any, Self
 
 import numpy as np
 
-from core.measure.annotation import PixelMeasurements
-from core.measure.condition import MassModel
-from core.measure.elliptical import BAI_RANGE, EllipticalResult, measure_elliptical
-from core.measure.hw_ratios import HWRatios
-from core.measure.stations import STATION_FRACTIONS
-from core.progress import Progress, ProgressCallback, check_cancel, part_of
+from dolphinfit.core.measure.annotation import PixelMeasurements
+from dolphinfit.core.measure.condition import MassModel
+from dolphinfit.core.measure.elliptical import BAI_RANGE, EllipticalResult, measure_elliptical
+from dolphinfit.core.measure.hw_ratios import HWRatios
+from dolphinfit.core.measure.stations import STATION_FRACTIONS
+from dolphinfit.core.progress import Progress, ProgressCallback, check_cancel, part_of
 
 # Altitude error, relative SD by source. Provisional defaults; calibrate per drone and flight
 # where possible (Bierlich et al. 2021a, Xcertainty).

@@ -11,9 +11,9 @@ altimeter. Dates are not kept by dolphinfit and are left empty.
 
 import math
 
-from core.measure.morphometrix import number_text
-from core.measure.records import MeasureInput
-from core.measure.stations import STATION_PCT
+from dolphinfit.core.measure.morphometrix import number_text
+from dolphinfit.core.measure.records import MeasureInput
+from dolphinfit.core.measure.stations import STATION_PCT
 
 MEASUREMENT_COLUMNS = (
     "whale_ID", "image", "year", "DOY", "uas", "Focal_Length", "Focal_Length_adj", "Sw", "Iw",

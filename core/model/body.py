@@ -12,7 +12,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from core.model.profile import centre_lift_fraction, height_fraction, width_fraction
+from dolphinfit.core.model.profile import centre_lift_fraction, height_fraction, width_fraction
 
 # Angular layout of one side (0 < φ ≤ 180°): anchors with the number of evenly spaced fill
 # vertices inserted after each. The other side mirrors it (φ → 360° − φ).

@@ -9,19 +9,19 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from core.measure.stations import STATION_FRACTIONS
-from core.model.body import (
+from dolphinfit.core.measure.stations import STATION_FRACTIONS
+from dolphinfit.core.model.body import (
     RING_SIZE, VENTRAL, BodyTube, body_faces, build_body, mirrored_quad, ring_angles_deg,
 )
-from core.model.fins import (
+from dolphinfit.core.model.fins import (
     DORSAL_FIN, FLIPPER, FLUKE, FinSpec, fin_frame, layer_positions, strip_faces,
 )
-from core.model.profile import ring_fractions, station_rows
-from core.model.skeleton import (
+from dolphinfit.core.model.profile import ring_fractions, station_rows
+from dolphinfit.core.model.skeleton import (
     JOINTS, ROOT_T, fin_weights, group_names, joint_index, spine_weights,
 )
-from core.model.template import Template
-from core.model.texture import body_uv, build_albedo, fin_uv
+from dolphinfit.core.model.template import Template
+from dolphinfit.core.model.texture import body_uv, build_albedo, fin_uv
 
 TEMPLATE_LENGTH_M = 2.6  # rostrum tip to fluke notch: the paper's average T. aduncus length
 

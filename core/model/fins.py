@@ -16,7 +16,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from core.model.body import FLIPPER_PAIR, LATERAL_PAIR, Attachment
+from dolphinfit.core.model.body import FLIPPER_PAIR, LATERAL_PAIR, Attachment
 
 
 @dataclass(frozen=True)

@@ -7,9 +7,9 @@ preset and CSV tables, and so the app's elliptical measurements, never load.
 import numpy as np
 import torch
 
-from core.measure.hw_ratios import FROM_MODEL, HWRatios
-from core.measure.mesh import station_profile
-from core.model.template import Template, load_template
+from dolphinfit.core.measure.hw_ratios import FROM_MODEL, HWRatios
+from dolphinfit.core.measure.mesh import station_profile
+from dolphinfit.core.model.template import Template, load_template
 
 
 def station_extents(verts: np.ndarray, rings: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

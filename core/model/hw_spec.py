@@ -4,14 +4,14 @@ which preset and CSV tables never load."""
 
 from pathlib import Path
 
-from core.errors import InputError
-from core.measure.hw_ratios import FROM_MODEL, HWRatios, load_hw_preset, read_hw_csv
+from dolphinfit.core.errors import InputError
+from dolphinfit.core.measure.hw_ratios import FROM_MODEL, HWRatios, load_hw_preset, read_hw_csv
 
 
 def resolve_hw(spec: str) -> HWRatios:
     """``--hw`` value → table: "model" (the template), a CSV path, or a preset name."""
     if spec == FROM_MODEL:
-        from core.model.hw_from_model import hw_from_template
+        from dolphinfit.core.model.hw_from_model import hw_from_template
         return hw_from_template()
     path = Path(spec)
     if path.suffix.lower() == ".csv" or path.exists():

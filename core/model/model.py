@@ -9,10 +9,10 @@ from dataclasses import dataclass
 import torch
 from torch import nn
 
-from core.model import lbs
-from core.model.profile_field import ProfileField
-from core.model.skeleton import fin_group_names
-from core.model.template import Template, load_template
+from dolphinfit.core.model import lbs
+from dolphinfit.core.model.profile_field import ProfileField
+from dolphinfit.core.model.skeleton import fin_group_names
+from dolphinfit.core.model.template import Template, load_template
 
 NUM_SHAPE_PARAMS = 4  # log uniform scale + log scales along the part's x, y, z axes
 

@@ -13,7 +13,7 @@ band the paper's data allow (§3.1: BV_exp / BL³ = 0.0122 at 2.6 m).
 import numpy as np
 from scipy.interpolate import PchipInterpolator
 
-from core.measure.stations import STATION_FRACTIONS
+from dolphinfit.core.measure.stations import STATION_FRACTIONS
 
 # Width / BL at t (morphometrics.md §4 table, with a rounded rostrum tip and a tail cone
 # towards the notch added here).

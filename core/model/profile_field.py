@@ -22,8 +22,8 @@ import numpy as np
 import torch
 from scipy.interpolate import BSpline
 
-from core.model.profile import centre_lift_fraction, height_fraction, width_fraction
-from core.model.template import Template
+from dolphinfit.core.model.profile import centre_lift_fraction, height_fraction, width_fraction
+from dolphinfit.core.model.template import Template
 
 NUM_KNOTS = 10
 DEGREE = 3

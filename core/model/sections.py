@@ -22,11 +22,11 @@ import numpy as np
 import torch
 from scipy.interpolate import PchipInterpolator
 
-from core.measure.elliptical import TAIL_IDX
-from core.measure.stations import STATION_FRACTIONS
-from core.model.profile import height_fraction, width_fraction
-from core.model.profile_field import body_sections, fin_index, follow_bases
-from core.model.template import Template
+from dolphinfit.core.measure.elliptical import TAIL_IDX
+from dolphinfit.core.measure.stations import STATION_FRACTIONS
+from dolphinfit.core.model.profile import height_fraction, width_fraction
+from dolphinfit.core.model.profile_field import body_sections, fin_index, follow_bases
+from dolphinfit.core.model.template import Template
 
 NUM_TABLE_STATIONS = TAIL_IDX[0]   # 5–85 %: HW tables have no data at the flukes' 90, 95 %
 TAIL_BLEND_T = 0.92   # behind the 85 % station the heights relax to the template's by here

@@ -10,8 +10,8 @@ import numpy as np
 import torch
 import trimesh
 
-from core.measure.mesh import body_length, mesh_volume, station_profile
-from core.model.template import Template
+from dolphinfit.core.measure.mesh import body_length, mesh_volume, station_profile
+from dolphinfit.core.model.template import Template
 
 
 @dataclass(frozen=True)

@@ -16,9 +16,9 @@ from pathlib import Path
 
 import numpy as np
 
-from core.errors import InputError
-from core.io.atomic import atomic_path
-from core.resources import RESOURCES_DIR
+from dolphinfit.core.errors import InputError
+from dolphinfit.core.io.atomic import atomic_path
+from dolphinfit.core.resources import RESOURCES_DIR
 
 FORMAT_VERSION = 1
 TEMPLATE_PATH = RESOURCES_DIR / "model" / f"dolphin_template_v{FORMAT_VERSION}.npz"

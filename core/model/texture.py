@@ -14,7 +14,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from core.model.skeleton import smoothstep
+from dolphinfit.core.model.skeleton import smoothstep
 
 ALBEDO_SIZE = 512  # texels per side (the paper's grayscale albedo; DESIGN.md §4)
 

@@ -11,18 +11,18 @@ from pathlib import Path
 
 import numpy as np
 
-from core.errors import InputError
-from core.io.image_file import read_image
-from core.io.media import open_media
-from core.io.calibration_table import CalibrationShot, CalibrationTable
-from core.io.telemetry import Telemetry, load_telemetry
-from core.measure.altitude_calibration import (
+from dolphinfit.core.errors import InputError
+from dolphinfit.core.io.image_file import read_image
+from dolphinfit.core.io.media import open_media
+from dolphinfit.core.io.calibration_table import CalibrationShot, CalibrationTable
+from dolphinfit.core.io.telemetry import Telemetry, load_telemetry
+from dolphinfit.core.measure.altitude_calibration import (
     AltitudeCalibration,
     CalibrationCamera,
     calibrated_telemetry,
     fit_altitude_calibration,
 )
-from core.project.model import AltitudeCalibrationSet, ObjectShot, Project
+from dolphinfit.core.project.model import AltitudeCalibrationSet, ObjectShot, Project
 
 UNKNOWN_ALTITUDE_M = 20.0   # a shot's altitude until the user types the recorded one
 

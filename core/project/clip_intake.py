@@ -16,16 +16,16 @@ from pathlib import Path
 
 import numpy as np
 
-from core.camera_presets import CameraPreset, load_presets
-from core.errors import InputError
-from core.io.media import open_media
-from core.io.srt import SrtFamily, parse_srt, srt_altitude
-from core.io.telemetry import find_srt_sidecar
-from core.measure.annotation import ALTITUDE_SOURCE_OF_KIND
-from core.progress import Progress, ProgressCallback, check_cancel
-from core.project.model import AltitudeSpec, ClipEntry
-from core.project.new_project import default_camera
-from core.project.project_file import relative_media_path
+from dolphinfit.core.camera_presets import CameraPreset, load_presets
+from dolphinfit.core.errors import InputError
+from dolphinfit.core.io.media import open_media
+from dolphinfit.core.io.srt import SrtFamily, parse_srt, srt_altitude
+from dolphinfit.core.io.telemetry import find_srt_sidecar
+from dolphinfit.core.measure.annotation import ALTITUDE_SOURCE_OF_KIND
+from dolphinfit.core.progress import Progress, ProgressCallback, check_cancel
+from dolphinfit.core.project.model import AltitudeSpec, ClipEntry
+from dolphinfit.core.project.new_project import default_camera
+from dolphinfit.core.project.project_file import relative_media_path
 
 MIN_DURATION_S = 1.0
 

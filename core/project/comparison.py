@@ -12,16 +12,16 @@ import threading
 from dataclasses import dataclass
 from pathlib import Path
 
-from core.errors import InputError
-from core.fit.result import FitResult
-from core.fit.result_io import read_fit_result
-from core.measure.collatrix import write_wide_csv
-from core.measure.baseline import BaselineEstimate
-from core.measure.fit_uncertainty import FitInterval, outline_sd_px
-from core.measure.uncertainty import Summary
-from core.progress import ProgressCallback, check_cancel
-from core.project.evaluate import frame_results
-from core.project.model import MeasurementKey, Project
+from dolphinfit.core.errors import InputError
+from dolphinfit.core.fit.result import FitResult
+from dolphinfit.core.fit.result_io import read_fit_result
+from dolphinfit.core.measure.collatrix import write_wide_csv
+from dolphinfit.core.measure.baseline import BaselineEstimate
+from dolphinfit.core.measure.fit_uncertainty import FitInterval, outline_sd_px
+from dolphinfit.core.measure.uncertainty import Summary
+from dolphinfit.core.progress import ProgressCallback, check_cancel
+from dolphinfit.core.project.evaluate import frame_results
+from dolphinfit.core.project.model import MeasurementKey, Project
 
 QUANTITIES = (  # result key, label, unit
     ("length_m", "Length", "m"), ("volume_m3", "Volume", "m³"), ("bci", "BCI", ""),
@@ -51,7 +51,7 @@ def fit_interval_of(estimate: BaselineEstimate, fit: FitResult,
     """The fit's Monte Carlo beside the estimate's (module doc), its outline SD that of a frame
     ``frame_width_px`` wide and the fit's edge blur; None when the estimate has none or the fit has no positive
     volume and length. Loads torch: worker only."""
-    from core.fit.interval import result_interval
+    from dolphinfit.core.fit.interval import result_interval
 
     if estimate.interval is None or not (fit.volume_m3 > 0 and fit.length_m > 0):
         return None

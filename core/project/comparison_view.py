@@ -6,10 +6,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from core.fit.result import FitResult
-from core.measure.baseline import BaselineEstimate
-from core.measure.elliptical_solid import elliptical_solid
-from core.project.comparison import ComparisonRow, compare
+from dolphinfit.core.fit.result import FitResult
+from dolphinfit.core.measure.baseline import BaselineEstimate
+from dolphinfit.core.measure.elliptical_solid import elliptical_solid
+from dolphinfit.core.project.comparison import ComparisonRow, compare
 
 
 @dataclass(frozen=True, eq=False)
@@ -30,8 +30,8 @@ def comparison_view(estimate: BaselineEstimate, fit: FitResult,
                     frame_width_px: int) -> ComparisonView:
     """Both methods of one animal in a clip ``frame_width_px`` wide (loads torch for the
     fitted profile: worker only)."""
-    from core.model.hw_from_model import station_extents
-    from core.model.template import load_template
+    from dolphinfit.core.model.hw_from_model import station_extents
+    from dolphinfit.core.model.template import load_template
 
     fitted_widths, fitted_heights = station_extents(fit.rest_verts,
                                                     load_template().station_rings)

@@ -9,8 +9,8 @@ from dataclasses import replace
 
 import numpy as np
 
-from core.measure.annotation import SIDES, Stations, edge_offsets, place_stations
-from core.project.model import Measurement
+from dolphinfit.core.measure.annotation import SIDES, Stations, edge_offsets, place_stations
+from dolphinfit.core.project.model import Measurement
 
 
 def _with_midline(m: Measurement, midline: np.ndarray) -> Measurement:

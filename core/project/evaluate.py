@@ -6,13 +6,13 @@ import threading
 from collections.abc import Sequence
 from pathlib import Path
 
-from core.errors import InputError
-from core.io.media import open_media
-from core.model.hw_spec import resolve_hw
-from core.progress import Progress, ProgressCallback, check_cancel
-from core.project.model import MeasurementKey, Project, get_measurement
-from core.project.project_file import media_path
-from core.project.results import (
+from dolphinfit.core.errors import InputError
+from dolphinfit.core.io.media import open_media
+from dolphinfit.core.model.hw_spec import resolve_hw
+from dolphinfit.core.progress import Progress, ProgressCallback, check_cancel
+from dolphinfit.core.project.model import MeasurementKey, Project, get_measurement
+from dolphinfit.core.project.project_file import media_path
+from dolphinfit.core.project.results import (
     FrameResult, clip_telemetry, frame_altitude, measure_frame, project_hw_spec,
 )
 

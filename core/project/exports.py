@@ -31,19 +31,19 @@ from typing import Self
 
 import numpy as np
 
-from core.errors import InputError
-from core.measure.collatrix import write_wide_csv
-from core.io.frame_source import FrameSource
-from core.io.json_file import write_json
-from core.io.media import open_media
-from core.measure.morphometrix import write_morphometrix_v2
-from core.measure.receipt import draw_receipt, write_png
-from core.measure.records import collatrix_csv_row, wide_csv_row
-from core.progress import Progress, ProgressCallback, check_cancel
-from core.project.model import Project, get_measurement
-from core.project.project_file import media_path
-from core.project.results import FrameResult, Spread, animal_summary
-from core.project.xcertainty import calibration_rows, measurement_row
+from dolphinfit.core.errors import InputError
+from dolphinfit.core.measure.collatrix import write_wide_csv
+from dolphinfit.core.io.frame_source import FrameSource
+from dolphinfit.core.io.json_file import write_json
+from dolphinfit.core.io.media import open_media
+from dolphinfit.core.measure.morphometrix import write_morphometrix_v2
+from dolphinfit.core.measure.receipt import draw_receipt, write_png
+from dolphinfit.core.measure.records import collatrix_csv_row, wide_csv_row
+from dolphinfit.core.progress import Progress, ProgressCallback, check_cancel
+from dolphinfit.core.project.model import Project, get_measurement
+from dolphinfit.core.project.project_file import media_path
+from dolphinfit.core.project.results import FrameResult, Spread, animal_summary
+from dolphinfit.core.project.xcertainty import calibration_rows, measurement_row
 
 EXPORTS_SCHEMA_VERSION = 1
 UNSAFE_NAME_CHARS = re.compile(r"[^A-Za-z0-9._-]+")

@@ -10,8 +10,8 @@ are drawn where a straight line of sight would put them.
 import cv2
 import numpy as np
 
-from core.intrinsics import CameraIntrinsics
-from core.project.mask_store import outlines
+from dolphinfit.core.intrinsics import CameraIntrinsics
+from dolphinfit.core.project.mask_store import outlines
 
 MARGIN_PX = 2
 

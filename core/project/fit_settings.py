@@ -9,7 +9,7 @@ from dataclasses import dataclass, replace
 from datetime import datetime
 from pathlib import Path
 
-from core.fit.config import FitConfig
+from dolphinfit.core.fit.config import FitConfig
 
 # Preset → multiplier of every stage's steps. "standard" is the engine's defaults (measured by
 # `dolphinfit bench fit`); "quick" is for a first look, "thorough" for the final figures.

@@ -13,10 +13,10 @@ from pathlib import Path
 import cv2
 import numpy as np
 
-from core.io.masks import NPZ_SUFFIX, MaskTrack, check_against_clip, read_npz, write_npz
-from core.io.video import Clip
-from core.project.fit_settings import clip_key
-from core.segment.regions import touches_border
+from dolphinfit.core.io.masks import NPZ_SUFFIX, MaskTrack, check_against_clip, read_npz, write_npz
+from dolphinfit.core.io.video import Clip
+from dolphinfit.core.project.fit_settings import clip_key
+from dolphinfit.core.segment.regions import touches_border
 
 MASKS_SUFFIX = ".masks"  # beside PROJECT.dolphinfit: PROJECT.masks/<clip stem>.npz
 

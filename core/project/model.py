@@ -14,13 +14,13 @@ from pathlib import Path
 
 import numpy as np
 
-from core.camera_presets import CameraPreset
-from core.measure.annotation import ALTITUDE_SOURCES, SIDES, Annotation, place_stations
-from core.measure.elliptical import TAIL_EXTRAPOLATED, TAIL_OPTIONS
-from core.measure.hw_ratios import DEFAULT_PRESET
-from core.measure.lens import LensModel
-from core.measure.stations import NUM_STATIONS
-from core.project.fit_settings import FitSettings
+from dolphinfit.core.camera_presets import CameraPreset
+from dolphinfit.core.measure.annotation import ALTITUDE_SOURCES, SIDES, Annotation, place_stations
+from dolphinfit.core.measure.elliptical import TAIL_EXTRAPOLATED, TAIL_OPTIONS
+from dolphinfit.core.measure.hw_ratios import DEFAULT_PRESET
+from dolphinfit.core.measure.lens import LensModel
+from dolphinfit.core.measure.stations import NUM_STATIONS
+from dolphinfit.core.project.fit_settings import FitSettings
 
 MEDIA_KINDS = ("video", "image", "frames")
 

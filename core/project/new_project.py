@@ -7,10 +7,10 @@ click; an existing project of that name is opened instead.
 
 from pathlib import Path
 
-from core.camera_presets import DEFAULT_PRESET, CameraPreset, get_preset
-from core.io.media import FrameSource
-from core.project.model import ClipEntry, Project, add_clip
-from core.project.project_file import PROJECT_SUFFIX, relative_media_path
+from dolphinfit.core.camera_presets import DEFAULT_PRESET, CameraPreset, get_preset
+from dolphinfit.core.io.media import FrameSource
+from dolphinfit.core.project.model import ClipEntry, Project, add_clip
+from dolphinfit.core.project.project_file import PROJECT_SUFFIX, relative_media_path
 
 
 def project_path_for(media: Path) -> Path:

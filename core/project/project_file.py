@@ -44,15 +44,15 @@ from typing import Any
 
 import numpy as np
 
-from core.camera_presets import CameraPreset
-from core.errors import InputError
-from core.io.json_file import (
+from dolphinfit.core.camera_presets import CameraPreset
+from dolphinfit.core.errors import InputError
+from dolphinfit.core.io.json_file import (
     check_schema_version, dataclass_from_json, json_field, read_json, write_json,
 )
-from core.measure.lens import LensModel, checked_lens
-from core.measure.stations import NUM_STATIONS, STATION_PCT
-from core.project.fit_settings import FitSettings
-from core.project.model import (
+from dolphinfit.core.measure.lens import LensModel, checked_lens
+from dolphinfit.core.measure.stations import NUM_STATIONS, STATION_PCT
+from dolphinfit.core.project.fit_settings import FitSettings
+from dolphinfit.core.project.model import (
     AltitudeCalibrationSet, AltitudeSpec, Animal, ClipEntry, Measurement, ObjectShot, Project,
 )
 

@@ -2,9 +2,9 @@
 
 from pathlib import Path
 
-from core.camera_presets import config_dir
-from core.errors import InputError
-from core.io.json_file import read_json, write_json
+from dolphinfit.core.camera_presets import config_dir
+from dolphinfit.core.errors import InputError
+from dolphinfit.core.io.json_file import read_json, write_json
 
 RECENT_FILE = "recent.json"
 MAX_RECENT = 10

@@ -11,23 +11,23 @@ from pathlib import Path
 
 import numpy as np
 
-from core.errors import InputError
-from core.measure.annotation_json import AnnotationFile
-from core.io.telemetry import Telemetry, load_telemetry
-from core.io.video import Clip
-from core.measure.annotation import Calibration
-from core.measure.baseline import BaselineEstimate, BaselineSettings, estimate_baseline
-from core.fit.config import FitConfig, fit_hw_table
-from core.measure.hw_ratios import HWRatios
-from core.measure.lens import through_lens
-from core.measure.records import (
+from dolphinfit.core.errors import InputError
+from dolphinfit.core.measure.annotation_json import AnnotationFile
+from dolphinfit.core.io.telemetry import Telemetry, load_telemetry
+from dolphinfit.core.io.video import Clip
+from dolphinfit.core.measure.annotation import Calibration
+from dolphinfit.core.measure.baseline import BaselineEstimate, BaselineSettings, estimate_baseline
+from dolphinfit.core.fit.config import FitConfig, fit_hw_table
+from dolphinfit.core.measure.hw_ratios import HWRatios
+from dolphinfit.core.measure.lens import through_lens
+from dolphinfit.core.measure.records import (
     MeasureInput, default_error_model, measured_image_from_annotation, result_record,
     with_altitude_calibration,
 )
-from core.measure.uncertainty import ErrorModel, Summary, length_summary
-from core.project.calibrations import clip_calibration
-from core.project.fit_settings import FitSettings, fit_config
-from core.project.model import ClipEntry, MeasurementKey, Project, get_measurement
+from dolphinfit.core.measure.uncertainty import ErrorModel, Summary, length_summary
+from dolphinfit.core.project.calibrations import clip_calibration
+from dolphinfit.core.project.fit_settings import FitSettings, fit_config
+from dolphinfit.core.project.model import ClipEntry, MeasurementKey, Project, get_measurement
 
 # Per-animal summary: these result keys, over the animal's measured frames
 SUMMARY_KEYS = ("length_m", "volume_m3", "bci", "density_kg_m3", "mass_kg")

@@ -4,11 +4,11 @@ suggestions) and one animal to measure."""
 
 from pathlib import Path
 
-from core.camera_presets import CameraPreset
-from core.progress import ProgressCallback
-from core.project.model import AltitudeSpec, Animal, ClipEntry, Project
-from core.project.project_file import PROJECT_SUFFIX, relative_media_path, write_project
-from core.synth.sample import SAMPLE_CONFIG, SAMPLE_NAME, ensure_sample
+from dolphinfit.core.camera_presets import CameraPreset
+from dolphinfit.core.progress import ProgressCallback
+from dolphinfit.core.project.model import AltitudeSpec, Animal, ClipEntry, Project
+from dolphinfit.core.project.project_file import PROJECT_SUFFIX, relative_media_path, write_project
+from dolphinfit.core.synth.sample import SAMPLE_CONFIG, SAMPLE_NAME, ensure_sample
 
 
 def sample_project(video: Path, srt: Path, masks: Path, project_dir: Path) -> Project:

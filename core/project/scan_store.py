@@ -12,19 +12,19 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from core.io.media import open_media
-from core.progress import ProgressCallback
-from core.project.fit_settings import clip_key
-from core.project.calibrations import calibrated_clip_telemetry
-from core.project.model import Animal, ClipEntry, Project
-from core.project.project_file import media_path
-from core.project.results import clip_telemetry
-from core.scan.clip_scan import ClipScan, scan_telemetry
-from core.scan.frame_scores import FrameScore, ScanSettings
-from core.scan.scan_files import write_scan_csv, write_scan_json
+from dolphinfit.core.io.media import open_media
+from dolphinfit.core.progress import ProgressCallback
+from dolphinfit.core.project.fit_settings import clip_key
+from dolphinfit.core.project.calibrations import calibrated_clip_telemetry
+from dolphinfit.core.project.model import Animal, ClipEntry, Project
+from dolphinfit.core.project.project_file import media_path
+from dolphinfit.core.project.results import clip_telemetry
+from dolphinfit.core.scan.clip_scan import ClipScan, scan_telemetry
+from dolphinfit.core.scan.frame_scores import FrameScore, ScanSettings
+from dolphinfit.core.scan.scan_files import write_scan_csv, write_scan_json
 
 if TYPE_CHECKING:  # the scanner loads torch: the app reads and shows scans without it
-    from core.scan.scanner import Scanner
+    from dolphinfit.core.scan.scanner import Scanner
 
 SCANS_SUFFIX = ".scans"  # beside PROJECT.dolphinfit: PROJECT.scans/<clip key>_scan.json
 

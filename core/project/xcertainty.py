@@ -3,11 +3,11 @@ what goes in them: core.measure.xcertainty). ``uas`` and ``CO.ID`` name the clip
 calibration where it has one (its shots are the training objects of that drone), else the
 camera."""
 
-from core.measure.xcertainty import (
+from dolphinfit.core.measure.xcertainty import (
     CALIBRATION_COLUMNS, altitude_cells, observation_row, table_cell,
 )
-from core.project.model import ClipEntry, Project
-from core.project.results import FrameResult
+from dolphinfit.core.project.model import ClipEntry, Project
+from dolphinfit.core.project.results import FrameResult
 
 
 def _drone(clip: ClipEntry) -> str:

@@ -11,7 +11,7 @@ from dataclasses import dataclass
 
 import torch
 
-from core.render.rasterize import face_corners
+from dolphinfit.core.render.rasterize import face_corners
 
 
 @dataclass(frozen=True, eq=False)

@@ -13,10 +13,12 @@ formula and the pointwise shading functions are shared.
 
 import torch
 
-from core.render.rasterize import cross2, edge_weights
-from core.render.render import Appearance
-from core.render.settings import RasterSettings
-from core.render.shade import sample_texture, sg_irradiance, vertex_normals, water_filter
+from dolphinfit.core.render.rasterize import cross2, edge_weights
+from dolphinfit.core.render.render import Appearance
+from dolphinfit.core.render.settings import RasterSettings
+from dolphinfit.core.render.shade import (
+    sample_texture, sg_irradiance, vertex_normals, water_filter,
+)
 
 
 def pixel_grid(height: int, width: int, dtype: torch.dtype) -> torch.Tensor:

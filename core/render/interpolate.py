@@ -7,7 +7,7 @@ vertex positions through d(weights)/d(2-D vertex); depth gets none.
 
 import torch
 
-from core.render.rasterize import Fragments, edge_weights, gather_corners
+from dolphinfit.core.render.rasterize import Fragments, edge_weights, gather_corners
 
 
 def barycentrics(xy_px: torch.Tensor, faces: torch.Tensor, frags: Fragments) -> torch.Tensor:

@@ -10,7 +10,7 @@ from dataclasses import dataclass
 
 import torch
 
-from core.render.pairs import box_pair_chunks
+from dolphinfit.core.render.pairs import box_pair_chunks
 
 BARY_EPS = 1e-8  # signed epsilon in barycentric denominators (Kaolin's rule; rendering.md §2)
 

@@ -5,17 +5,17 @@ from functools import cached_property
 
 import torch
 
-from core.camera import NadirCamera
-from core.render.contour import MeshEdges
-from core.render.interpolate import (
+from dolphinfit.core.camera import NadirCamera
+from dolphinfit.core.render.contour import MeshEdges
+from dolphinfit.core.render.interpolate import (
     barycentrics, interpolate_corner_values, interpolate_vertex_values,
 )
-from core.render.rasterize import Fragments, rasterize
-from core.render.settings import RasterSettings, Viewport
-from core.render.shade import (
+from dolphinfit.core.render.rasterize import Fragments, rasterize
+from dolphinfit.core.render.settings import RasterSettings, Viewport
+from dolphinfit.core.render.shade import (
     SGLight, sample_texture, sg_irradiance, vertex_normals, water_filter,
 )
-from core.render.soft_mask import soft_mask
+from dolphinfit.core.render.soft_mask import soft_mask
 
 
 @dataclass(frozen=True, eq=False)

@@ -16,8 +16,8 @@ from dataclasses import dataclass
 
 import torch
 
-from core.intrinsics import CameraIntrinsics
-from core.render import SOFT_PRIMITIVES
+from dolphinfit.core.intrinsics import CameraIntrinsics
+from dolphinfit.core.render import SOFT_PRIMITIVES
 
 # The paper's DIB-R settings (arXiv 2504.15782, appendix; reference/rendering.md §3.2).
 PAPER_SIGMA_INV = 1e5

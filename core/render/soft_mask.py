@@ -21,10 +21,10 @@ over the uncovered map gives each (primitive, box row) segment its run directly.
 
 import torch
 
-from core.render.contour import MeshEdges, contour_edges, mesh_edges
-from core.render.pairs import ragged_chunks
-from core.render.rasterize import Fragments, face_boxes, face_corners, gather_corners
-from core.render.settings import RasterSettings
+from dolphinfit.core.render.contour import MeshEdges, contour_edges, mesh_edges
+from dolphinfit.core.render.pairs import ragged_chunks
+from dolphinfit.core.render.rasterize import Fragments, face_boxes, face_corners, gather_corners
+from dolphinfit.core.render.settings import RasterSettings
 
 MAX_PROBABILITY = 1.0 - 1e-6   # clamp before log1p(−p) (rendering.md §11.8)
 _TRIANGLE_EDGES = ([0, 1, 2], [1, 2, 0])   # boundary edge k runs from corner k to k + 1

@@ -7,10 +7,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from core.io.frame_source import Clip
-from core.io.srt import gimbal_pitch_at, parse_srt
-from core.io.telemetry import Telemetry
-from core.scan.frame_scores import FrameScore, ScanSettings, best_frames
+from dolphinfit.core.io.frame_source import Clip
+from dolphinfit.core.io.srt import gimbal_pitch_at, parse_srt
+from dolphinfit.core.io.telemetry import Telemetry
+from dolphinfit.core.scan.frame_scores import FrameScore, ScanSettings, best_frames
 
 
 @dataclass(frozen=True)

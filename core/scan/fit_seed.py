@@ -17,13 +17,13 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from core.io.frame_source import FrameSource
-from core.io.video import frames_at_fps
-from core.progress import ProgressCallback
-from core.scan.clip_scan import ClipScan, ClipTelemetry
-from core.scan.frame_scores import FrameScore, ScanSettings
-from core.scan.scanner import Scanner
-from core.segment.segmenter import PointSeed
+from dolphinfit.core.io.frame_source import FrameSource
+from dolphinfit.core.io.video import frames_at_fps
+from dolphinfit.core.progress import ProgressCallback
+from dolphinfit.core.scan.clip_scan import ClipScan, ClipTelemetry
+from dolphinfit.core.scan.frame_scores import FrameScore, ScanSettings
+from dolphinfit.core.scan.scanner import Scanner
+from dolphinfit.core.segment.segmenter import PointSeed
 
 SEED_SAMPLE_FPS = 1.0   # the scan's samples per second of the fit's window
 

@@ -26,7 +26,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from core.scan.sighting import Sighting
+from dolphinfit.core.scan.sighting import Sighting
 
 REFERENCE_PERCENTILE = 90
 EDGE_MARGIN_PX = 5

@@ -6,11 +6,11 @@ import csv
 from dataclasses import asdict, fields
 from pathlib import Path
 
-from core.io.atomic import atomic_path
-from core.io.json_file import read_tagged_dataclass, write_json
-from core.measure.morphometrix import number_text
-from core.scan.clip_scan import ClipScan
-from core.scan.frame_scores import FrameScore
+from dolphinfit.core.io.atomic import atomic_path
+from dolphinfit.core.io.json_file import read_tagged_dataclass, write_json
+from dolphinfit.core.measure.morphometrix import number_text
+from dolphinfit.core.scan.clip_scan import ClipScan
+from dolphinfit.core.scan.frame_scores import FrameScore
 
 SCAN_FORMAT = "dolphinfit-scan"
 SCAN_VERSION = 1

@@ -26,19 +26,19 @@ from dataclasses import replace
 
 import numpy as np
 
-from core.io.frame_source import FrameSource
-from core.io.video import frames_at_fps
-from core.progress import Progress, ProgressCallback, check_cancel
-from core.scan.clip_scan import ClipScan, ClipTelemetry
-from core.scan.frame_scores import ScanSettings, track_scores
-from core.scan.sighting import sighting
-from core.scan.tracks import Track, Tracker
-from core.segment.auto_seed import (
+from dolphinfit.core.io.frame_source import FrameSource
+from dolphinfit.core.io.video import frames_at_fps
+from dolphinfit.core.progress import Progress, ProgressCallback, check_cancel
+from dolphinfit.core.scan.clip_scan import ClipScan, ClipTelemetry
+from dolphinfit.core.scan.frame_scores import ScanSettings, track_scores
+from dolphinfit.core.scan.sighting import sighting
+from dolphinfit.core.scan.tracks import Track, Tracker
+from dolphinfit.core.segment.auto_seed import (
     DOLPHIN_LENGTH_M, MIN_TILE_PX, expected_length_px, colour_candidates, find_animals, same_animal, window_candidates,
 )
-from core.segment.net_settings import NetSettings
-from core.segment.salient import SalientNet
-from core.segment.windows import square_window
+from dolphinfit.core.segment.net_settings import NetSettings
+from dolphinfit.core.segment.salient import SalientNet
+from dolphinfit.core.segment.windows import square_window
 
 WINDOW_LENGTHS = 3.0   # the look around a followed animal is this many of its length across
 MIN_SIGHTINGS = 2      # samples an animal must be seen in (module doc)

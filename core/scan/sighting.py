@@ -25,8 +25,8 @@ from dataclasses import dataclass
 import cv2
 import numpy as np
 
-from core.measure.mask_midline import arc_lengths, midline_from_mask
-from core.segment.seed import dilate
+from dolphinfit.core.measure.mask_midline import arc_lengths, midline_from_mask
+from dolphinfit.core.segment.seed import dilate
 
 MIDLINE_POINTS = 9        # points of the midline the length and straightness are read from
 OUTLINE_BAND_PX = 2       # the sharpness takes in this much of the water beyond the outline

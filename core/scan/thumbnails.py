@@ -5,8 +5,8 @@ from collections.abc import Sequence
 import cv2
 import numpy as np
 
-from core.io.frame_source import FrameSource
-from core.scan.frame_scores import FrameScore
+from dolphinfit.core.io.frame_source import FrameSource
+from dolphinfit.core.scan.frame_scores import FrameScore
 
 CROP_LENGTHS = 1.3   # the crop's side, in the animal's length: the whole animal and some water
 

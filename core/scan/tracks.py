@@ -13,7 +13,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from core.scan.sighting import Sighting
+from dolphinfit.core.scan.sighting import Sighting
 
 MAX_SPEED_M_S = 8.0      # a dolphin's burst speed; cruising is 1–3 m/s
 ASSUMED_LENGTH_M = 2.5   # the animal's length where the camera or altitude is unknown

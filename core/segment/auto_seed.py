@@ -23,11 +23,11 @@ from dataclasses import dataclass
 import cv2
 import numpy as np
 
-from core.segment.seed import (
+from dolphinfit.core.segment.seed import (
     MAX_AREA_FRACTION, MAX_ELONGATION, MIN_AREA_FRACTION, MIN_ELONGATION, MIN_FILL,
     find_blobs, refine, shape_of, water_model,
 )
-from core.segment.colour import to_lab
+from dolphinfit.core.segment.colour import to_lab
 
 PAIR_MAX_ELONGATION = 3.5   # below this a component may be two animals side by side
 LENGTH_SLACK = (0.6, 1.4)   # a candidate's length may lie this far outside the expected range

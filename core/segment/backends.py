@@ -10,8 +10,8 @@ than silently falling back to another back-end.
 from collections.abc import Sequence
 from pathlib import Path
 
-from core.errors import InputError
-from core.segment.segmenter import Segmenter
+from dolphinfit.core.errors import InputError
+from dolphinfit.core.segment.segmenter import Segmenter
 
 NETWORK = "network"
 NETWORK_COLOUR_EDGES = "network-colour-edges"
@@ -37,17 +37,17 @@ def make_segmenter(backend: str = DEFAULT_BACKEND, only_frames: Sequence[int] | 
     frames (the colour tracker is cheap enough to run on every frame and ignores it).
     ``checkpoint``: SAM-2's checkpoint file, required for it (the others ignore it)."""
     if backend in (NETWORK, NETWORK_COLOUR_EDGES):
-        from core.segment.net_settings import NetSettings
-        from core.segment.net_tracker import NetTracker
+        from dolphinfit.core.segment.net_settings import NetSettings
+        from dolphinfit.core.segment.net_tracker import NetTracker
         edges = "network" if backend == NETWORK else "colour"
         return NetTracker(NetSettings(edges=edges), only_frames=only_frames)
     if backend == COLOUR:
-        from core.segment.tracker import MaskTracker
+        from dolphinfit.core.segment.tracker import MaskTracker
         return MaskTracker()
     if backend == SAM2:
         if checkpoint is None:
             raise InputError(f"mask back-end {SAM2!r}: needs a SAM-2 checkpoint file (.pt)")
-        from core.segment.sam2_backend import Sam2Segmenter
+        from dolphinfit.core.segment.sam2_backend import Sam2Segmenter
         return Sam2Segmenter(checkpoint, only_frames)
     raise InputError(f"mask back-end {backend!r}: unknown; choose one of "
                      f"{', '.join(BACKENDS)}")

@@ -4,10 +4,10 @@ between them, and how much a mask looks like one lone dolphin."""
 import cv2
 import numpy as np
 
-from core.segment.auto_seed import PAIR_MAX_ELONGATION
-from core.segment.net_settings import PAIR_AREA_RATIO
-from core.segment.regions import attached
-from core.segment.seed import shape_of
+from dolphinfit.core.segment.auto_seed import PAIR_MAX_ELONGATION
+from dolphinfit.core.segment.net_settings import PAIR_AREA_RATIO
+from dolphinfit.core.segment.regions import attached
+from dolphinfit.core.segment.seed import shape_of
 
 CORE_LEVELS = (0.9, 0.99, 0.999)  # stricter probability levels where touching bodies part
 MIN_CORE_SHARE = 0.25  # a second core this large (× the largest) is a second animal

@@ -16,20 +16,20 @@ from pathlib import Path
 
 import numpy as np
 
-from core.io.atomic import atomic_path
-from core.io.masks import read_png_folder
-from core.io.video import VideoReader, open_clip
-from core.measure.hw_ratios import DEFAULT_PRESET
-from core.segment.net_settings import NetSettings
-from core.segment.net_look import NetLook
-from core.segment.regions import centroid, shifted
-from core.segment.salient import SalientNet
-from core.segment.seed import dilate
-from core.segment.windows import longer_side, square_window, window_side
-from core.synth.config import Effects, SynthConfig
-from core.synth.files import ClipFiles
-from core.synth.sample import ensure_clip
-from core.synth.water import WATER_PRESETS, with_water
+from dolphinfit.core.io.atomic import atomic_path
+from dolphinfit.core.io.masks import read_png_folder
+from dolphinfit.core.io.video import VideoReader, open_clip
+from dolphinfit.core.measure.hw_ratios import DEFAULT_PRESET
+from dolphinfit.core.segment.net_settings import NetSettings
+from dolphinfit.core.segment.net_look import NetLook
+from dolphinfit.core.segment.regions import centroid, shifted
+from dolphinfit.core.segment.salient import SalientNet
+from dolphinfit.core.segment.seed import dilate
+from dolphinfit.core.segment.windows import longer_side, square_window, window_side
+from dolphinfit.core.synth.config import Effects, SynthConfig
+from dolphinfit.core.synth.files import ClipFiles
+from dolphinfit.core.synth.sample import ensure_clip
+from dolphinfit.core.synth.water import WATER_PRESETS, with_water
 
 TRAINING_SET = "edge-training-v1"
 FIRST_SEED = 100_000     # far from the suite's seeds (201–212) and the sample's (7)

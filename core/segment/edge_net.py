@@ -25,10 +25,10 @@ import torch
 from torch import nn
 from torch.nn import functional as F
 
-from core.errors import InputError
-from core.io.atomic import atomic_path
-from core.resources import RESOURCES_DIR
-from core.segment.regions import attached
+from dolphinfit.core.errors import InputError
+from dolphinfit.core.io.atomic import atomic_path
+from dolphinfit.core.resources import RESOURCES_DIR
+from dolphinfit.core.segment.regions import attached
 
 WEIGHTS_PATH = RESOURCES_DIR / "models" / "edge_net_v1.npz"
 INPUT_CHANNELS = 5

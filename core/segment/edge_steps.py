@@ -6,12 +6,12 @@ from typing import Protocol
 import cv2
 import numpy as np
 
-from core.limits import one_of
-from core.segment.colour import coverage, separation, to_lab
-from core.segment.net_settings import EDGE_STEPS, NetSettings
-from core.segment.regions import attached
-from core.segment.seed import colour_models, dilate, erode
-from core.segment.windows import MIN_WINDOW_PX
+from dolphinfit.core.limits import one_of
+from dolphinfit.core.segment.colour import coverage, separation, to_lab
+from dolphinfit.core.segment.net_settings import EDGE_STEPS, NetSettings
+from dolphinfit.core.segment.regions import attached
+from dolphinfit.core.segment.seed import colour_models, dilate, erode
+from dolphinfit.core.segment.windows import MIN_WINDOW_PX
 
 MAX_CROP_COVER = 0.5  # a mask over more of its crop than this leaves no water to model
 
@@ -44,7 +44,7 @@ def make_edge_step(settings: NetSettings) -> EdgeStep:
     one_of(settings.edges, EDGE_STEPS, "network tracker edges")
     if settings.edges == "colour":
         return ColourEdges(settings)
-    from core.segment.edge_net import LearnedEdges
+    from dolphinfit.core.segment.edge_net import LearnedEdges
     return LearnedEdges(gap_px=settings.gap_px)
 
 

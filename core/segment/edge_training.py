@@ -26,21 +26,21 @@ import numpy as np
 import torch
 from torch.nn import functional as F
 
-from core.errors import InputError
-from core.iou import mask_iou
-from core.progress import Progress, ProgressCallback
-from core.segment.edge_data import (
+from dolphinfit.core.errors import InputError
+from dolphinfit.core.iou import mask_iou
+from dolphinfit.core.progress import Progress, ProgressCallback
+from dolphinfit.core.segment.edge_data import (
     TRAINING_SET, WINDOW_RECIPE, WINDOWS_PER_FRAME, Window, clip_windows,
     load_windows, save_windows, training_clip, training_configs,
 )
-from core.segment.edge_net import (
+from dolphinfit.core.segment.edge_net import (
     CHANNELS, EdgeNet, EdgeWeights, LearnedEdges, net_input, save_weights, water_of,
 )
-from core.segment.evaluate import outline_offset_px
-from core.segment.salient import SalientNet
-from core.segment.seed import dilate, erode
-from core.synth.config import SynthConfig
-from core.synth.sample import cache_dir
+from dolphinfit.core.segment.evaluate import outline_offset_px
+from dolphinfit.core.segment.salient import SalientNet
+from dolphinfit.core.segment.seed import dilate, erode
+from dolphinfit.core.synth.config import SynthConfig
+from dolphinfit.core.synth.sample import cache_dir
 
 WINDOWS_STAGE, TRAIN_STAGE = "windows", "train"
 HOLD_OUT_EVERY = 10   # every 10th clip is held out for validation

@@ -12,11 +12,11 @@ from pathlib import Path
 import cv2
 import numpy as np
 
-from core.io.masks import MaskTrack, read_png_folder
-from core.io.video import VideoReader, open_clip
-from core.iou import mask_iou
-from core.segment.segmenter import BoxSeed, Seed, Segmenter
-from core.segment.tracker import MaskTracker
+from dolphinfit.core.io.masks import MaskTrack, read_png_folder
+from dolphinfit.core.io.video import VideoReader, open_clip
+from dolphinfit.core.iou import mask_iou
+from dolphinfit.core.segment.segmenter import BoxSeed, Seed, Segmenter
+from dolphinfit.core.segment.tracker import MaskTracker
 
 
 def track_iou(result: MaskTrack, truth: MaskTrack) -> np.ndarray:

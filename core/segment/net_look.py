@@ -5,13 +5,13 @@ prediction, split from a neighbour touching it, and the outline drawn by the edg
 
 import numpy as np
 
-from core.segment.bodies import nearer_to, own_body
-from core.segment.edge_steps import EdgeStep, make_edge_step
-from core.segment.net_settings import PAIR_AREA_RATIO, NetSettings
-from core.segment.regions import attached, centroid
-from core.segment.salient import SalientNet
-from core.segment.seed import dilate
-from core.segment.windows import faded, longer_side, square_window, window_side
+from dolphinfit.core.segment.bodies import nearer_to, own_body
+from dolphinfit.core.segment.edge_steps import EdgeStep, make_edge_step
+from dolphinfit.core.segment.net_settings import PAIR_AREA_RATIO, NetSettings
+from dolphinfit.core.segment.regions import attached, centroid
+from dolphinfit.core.segment.salient import SalientNet
+from dolphinfit.core.segment.seed import dilate
+from dolphinfit.core.segment.windows import faded, longer_side, square_window, window_side
 
 
 class NetLook:

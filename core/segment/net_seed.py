@@ -25,17 +25,17 @@ from collections.abc import Sequence
 import cv2
 import numpy as np
 
-from core.errors import InputError
-from core.progress import check_cancel
-from core.segment.auto_seed import (
+from dolphinfit.core.errors import InputError
+from dolphinfit.core.progress import check_cancel
+from dolphinfit.core.segment.auto_seed import (
     Candidate, cut_by_window, find_animals, is_animal_shaped, is_lone, scan_order,
 )
-from core.segment.bodies import dolphin_unlikeness, own_body
-from core.segment.net_look import NetLook
-from core.segment.seed import POINT_SEARCH_FRACTION, dilate, seed_mask, shape_of
-from core.segment.segmenter import AutoSeed, BoxSeed, Frames, PointSeed, Seed
-from core.segment.windows import MIN_WINDOW_PX, longer_side, square_window
-from core.segment.working_scale import downscaled, resized, scaled_seed, scaled_size
+from dolphinfit.core.segment.bodies import dolphin_unlikeness, own_body
+from dolphinfit.core.segment.net_look import NetLook
+from dolphinfit.core.segment.seed import POINT_SEARCH_FRACTION, dilate, seed_mask, shape_of
+from dolphinfit.core.segment.segmenter import AutoSeed, BoxSeed, Frames, PointSeed, Seed
+from dolphinfit.core.segment.windows import MIN_WINDOW_PX, longer_side, square_window
+from dolphinfit.core.segment.working_scale import downscaled, resized, scaled_seed, scaled_size
 
 KEPT_SHARE = 0.85          # the automatic seed's redraw keeps this much of what it found
 AUTO_SEED_FRAMES = 12      # frames the automatic seed looks at before it gives up

@@ -43,23 +43,23 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from core.io.masks import MaskTrack
-from core.iou import mask_iou
-from core.progress import ProgressCallback, check_cancel
-from core.segment.auto_seed import describe
-from core.segment.colour import ColourModel, separation
-from core.segment.edge_steps import EdgeStep
-from core.segment.net_look import NetLook
-from core.segment.net_seed import NetSeeder
-from core.segment.net_settings import NetSettings
-from core.segment.regions import centroid, models_near, shifted
-from core.segment.salient import SalientNet
-from core.segment.seed import dilate
-from core.segment.segmenter import AutoSeed, Frames, Seed
-from core.segment.tracker import TrackerSettings, colour_follow
-from core.segment.tracking_loop import check_seed_frame, track_both_ways, track_of
-from core.segment.windows import longer_side
-from core.segment.working_scale import ScaledFrames, upscaled
+from dolphinfit.core.io.masks import MaskTrack
+from dolphinfit.core.iou import mask_iou
+from dolphinfit.core.progress import ProgressCallback, check_cancel
+from dolphinfit.core.segment.auto_seed import describe
+from dolphinfit.core.segment.colour import ColourModel, separation
+from dolphinfit.core.segment.edge_steps import EdgeStep
+from dolphinfit.core.segment.net_look import NetLook
+from dolphinfit.core.segment.net_seed import NetSeeder
+from dolphinfit.core.segment.net_settings import NetSettings
+from dolphinfit.core.segment.regions import centroid, models_near, shifted
+from dolphinfit.core.segment.salient import SalientNet
+from dolphinfit.core.segment.seed import dilate
+from dolphinfit.core.segment.segmenter import AutoSeed, Frames, Seed
+from dolphinfit.core.segment.tracker import TrackerSettings, colour_follow
+from dolphinfit.core.segment.tracking_loop import check_seed_frame, track_both_ways, track_of
+from dolphinfit.core.segment.windows import longer_side
+from dolphinfit.core.segment.working_scale import ScaledFrames, upscaled
 
 BACKEND_NAME = "network (U²-Net small)"
 COLOUR_SETTINGS = TrackerSettings()  # the colour tracker's, for frames the network misses

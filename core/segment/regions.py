@@ -6,8 +6,8 @@ from dataclasses import dataclass
 import cv2
 import numpy as np
 
-from core.segment.colour import ColourModel, to_lab
-from core.segment.seed import RING_OUTER_PX, colour_models, dilate, fill_holes
+from dolphinfit.core.segment.colour import ColourModel, to_lab
+from dolphinfit.core.segment.seed import RING_OUTER_PX, colour_models, dilate, fill_holes
 
 
 @dataclass(frozen=True, eq=False)

@@ -12,7 +12,7 @@ decided by the caller.
 import cv2
 import numpy as np
 
-from core.segment.weights import U2NETP, WheelWeights, installed_path
+from dolphinfit.core.segment.weights import U2NETP, WheelWeights, installed_path
 
 INPUT_SIZE_PX = 320
 MEAN_RGB = np.array([0.485, 0.456, 0.406], dtype=np.float32)

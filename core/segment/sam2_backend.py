@@ -25,14 +25,14 @@ from pathlib import Path
 import cv2
 import numpy as np
 
-from core.errors import InputError
-from core.io.masks import MaskTrack
-from core.progress import Cancelled, Progress, ProgressCallback, check_cancel
-from core.segment.regions import MaskCrop, crop_of, touches_border
-from core.segment.segmenter import (
+from dolphinfit.core.errors import InputError
+from dolphinfit.core.io.masks import MaskTrack
+from dolphinfit.core.progress import Cancelled, Progress, ProgressCallback, check_cancel
+from dolphinfit.core.segment.regions import MaskCrop, crop_of, touches_border
+from dolphinfit.core.segment.segmenter import (
     TRACK_STAGE, AutoSeed, BoxSeed, Frames, FrameTracked, PointSeed, Seed, TrackingCancelled,
 )
-from core.segment.tracking_loop import check_seed_frame, track_of
+from dolphinfit.core.segment.tracking_loop import check_seed_frame, track_of
 
 PACKAGE = "sam2"
 INSTALL_HINT = ("install it yourself (dolphinfit does not): clone "

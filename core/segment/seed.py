@@ -13,9 +13,9 @@ from dataclasses import dataclass
 import cv2
 import numpy as np
 
-from core.errors import InputError
-from core.segment.colour import ColourModel, coverage, to_lab
-from core.segment.segmenter import AutoSeed, BoxSeed, PointSeed, Seed
+from dolphinfit.core.errors import InputError
+from dolphinfit.core.segment.colour import ColourModel, coverage, to_lab
+from dolphinfit.core.segment.segmenter import AutoSeed, BoxSeed, PointSeed, Seed
 
 WATER_TRIM_QUANTILE = 0.95  # the water model drops the 5 % of pixels least like it (animal, glints)
 WATER_SAMPLE_STEP = 4  # fit the water model on every 4th pixel in each direction

@@ -13,8 +13,8 @@ from typing import Protocol
 import cv2
 import numpy as np
 
-from core.io.masks import MaskTrack
-from core.progress import Cancelled, ProgressCallback
+from dolphinfit.core.io.masks import MaskTrack
+from dolphinfit.core.progress import Cancelled, ProgressCallback
 
 TRACK_STAGE = "track"
 

@@ -23,19 +23,19 @@ from dataclasses import dataclass, field
 import cv2
 import numpy as np
 
-from core.io.masks import MaskTrack
-from core.progress import ProgressCallback, check_cancel
-from core.segment.colour import ColourModel, coverage, separation, to_lab
-from core.segment.regions import attached, centroid, models_near, shifted, window
-from core.segment.seed import (
+from dolphinfit.core.io.masks import MaskTrack
+from dolphinfit.core.progress import ProgressCallback, check_cancel
+from dolphinfit.core.segment.colour import ColourModel, coverage, separation, to_lab
+from dolphinfit.core.segment.regions import attached, centroid, models_near, shifted, window
+from dolphinfit.core.segment.seed import (
     dilate,
     find_blobs,
     refine,
     seed_mask,
     water_model,
 )
-from core.segment.segmenter import Frames, Seed
-from core.segment.tracking_loop import check_seed_frame, track_both_ways, track_of
+from dolphinfit.core.segment.segmenter import Frames, Seed
+from dolphinfit.core.segment.tracking_loop import check_seed_frame, track_both_ways, track_of
 
 
 @dataclass(frozen=True)

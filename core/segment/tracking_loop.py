@@ -9,11 +9,11 @@ from typing import TypeVar
 
 import numpy as np
 
-from core.errors import InputError
-from core.io.masks import MaskTrack
-from core.progress import Cancelled, Progress, ProgressCallback, check_cancel
-from core.segment.regions import MaskCrop, crop_of, touches_border
-from core.segment.segmenter import (
+from dolphinfit.core.errors import InputError
+from dolphinfit.core.io.masks import MaskTrack
+from dolphinfit.core.progress import Cancelled, Progress, ProgressCallback, check_cancel
+from dolphinfit.core.segment.regions import MaskCrop, crop_of, touches_border
+from dolphinfit.core.segment.segmenter import (
     TRACK_STAGE, BoxSeed, FrameTracked, Frames, PointSeed, Seed, TrackingCancelled,
 )
 

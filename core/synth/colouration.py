@@ -9,8 +9,8 @@ bluish grey of wet skin in daylight.
 
 import numpy as np
 
-from core.model.template import Template
-from core.model.texture import Countershading, build_albedo
+from dolphinfit.core.model.template import Template
+from dolphinfit.core.model.texture import Countershading, build_albedo
 
 LIGHT_GREY = Countershading(
     cape=0.42, flank=0.64, belly=0.84, cape_edge_shift_deg=-22.0, cape_fade_t=0.62,

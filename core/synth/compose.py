@@ -19,11 +19,11 @@ import numpy as np
 import torch
 import torch.nn.functional as F
 
-from core.camera import N_WATER, NadirCamera
-from core.intrinsics import CameraIntrinsics
-from core.render.render import Appearance, render
-from core.render.settings import Viewport
-from core.synth.highlight import wet_highlight
+from dolphinfit.core.camera import N_WATER, NadirCamera
+from dolphinfit.core.intrinsics import CameraIntrinsics
+from dolphinfit.core.render.render import Appearance, render
+from dolphinfit.core.render.settings import Viewport
+from dolphinfit.core.synth.highlight import wet_highlight
 
 SUPERSAMPLE = 2
 ROI_MARGIN_PX = 6

@@ -9,10 +9,10 @@ from dataclasses import asdict, dataclass, field
 
 import numpy as np
 
-from core.errors import InputError
-from core.io.json_file import dataclass_from_json
-from core.measure.hw_ratios import preset_names
-from core.limits import (
+from dolphinfit.core.errors import InputError
+from dolphinfit.core.io.json_file import dataclass_from_json
+from dolphinfit.core.measure.hw_ratios import preset_names
+from dolphinfit.core.limits import (
     ALTITUDE_M, BODY_LENGTH_M, FOCAL_MM, FPS, IMAGE_SIZE_PX, LAUNCH_HEIGHT_M, SENSOR_WIDTH_MM,
     check_fields, one_of,
 )

@@ -7,7 +7,7 @@ from pathlib import Path
 import cv2
 import numpy as np
 
-from core.synth.files import ClipFiles
+from dolphinfit.core.synth.files import ClipFiles
 
 CROP_M = 7.0            # side of each crop on the water, metres
 TILE_PX = 420

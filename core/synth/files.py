@@ -7,8 +7,8 @@ from pathlib import Path
 
 import numpy as np
 
-from core.errors import InputError
-from core.synth.config import SynthConfig
+from dolphinfit.core.errors import InputError
+from dolphinfit.core.synth.config import SynthConfig
 
 LOSSY_CODEC = ("mp4v", ".mp4")       # OpenCV's writable lossy codec (reference/platform.md §5)
 LOSSLESS_CODEC = ("FFV1", ".mkv")

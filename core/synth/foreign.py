@@ -24,9 +24,9 @@ import numpy as np
 import torch
 from scipy.interpolate import PchipInterpolator
 
-from core.model.profile_field import body_sections, fin_index, follow_bases
-from core.model.template import Template
-from core.synth.config import TEMPLATE_BODY
+from dolphinfit.core.model.profile_field import body_sections, fin_index, follow_bases
+from dolphinfit.core.model.template import Template
+from dolphinfit.core.synth.config import TEMPLATE_BODY
 
 
 @dataclass(frozen=True)

@@ -8,12 +8,12 @@ interpolated per pixel (the lobe is narrower than the mesh's facets); submerged 
 
 import torch
 
-from core.camera import NadirCamera
-from core.render.interpolate import barycentrics, interpolate_vertex_values
-from core.render.rasterize import rasterize
-from core.render.render import project_to_viewport
-from core.render.settings import RasterSettings, Viewport
-from core.render.shade import vertex_normals
+from dolphinfit.core.camera import NadirCamera
+from dolphinfit.core.render.interpolate import barycentrics, interpolate_vertex_values
+from dolphinfit.core.render.rasterize import rasterize
+from dolphinfit.core.render.render import project_to_viewport
+from dolphinfit.core.render.settings import RasterSettings, Viewport
+from dolphinfit.core.render.shade import vertex_normals
 
 SHARP_LOBE = 300.0      # exp(κ(n·h − 1)) of the specular spot
 SHEEN_LOBE = 40.0       # … of the broad wet sheen

@@ -15,7 +15,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 from scipy.spatial.transform import Rotation
 
-from core.synth.config import SynthConfig
+from dolphinfit.core.synth.config import SynthConfig
 
 # Stroke amplitude (rad) and phase lag (rad) per part at stroke_amplitude = 1, head to flukes.
 STROKE_PARTS: tuple[tuple[str, float, float], ...] = (

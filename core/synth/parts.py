@@ -7,8 +7,8 @@ tip, on the shaped rest mesh.
 
 import torch
 
-from core.measure.mesh import body_length
-from core.model.model import DolphinModel
+from dolphinfit.core.measure.mesh import body_length
+from dolphinfit.core.model.model import DolphinModel
 
 PART_NAMES = ("flukes", "rostrum")
 ROSTRUM_FRACTION = 0.10

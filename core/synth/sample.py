@@ -9,11 +9,11 @@ It is not stored in the repository: ``ensure_sample`` renders it deterministical
 import os
 from pathlib import Path
 
-from core.errors import InputError
-from core.measure.hw_ratios import DEFAULT_PRESET
-from core.progress import ProgressCallback
-from core.synth.config import SynthConfig
-from core.synth.files import ClipFiles, clip_files, made_from
+from dolphinfit.core.errors import InputError
+from dolphinfit.core.measure.hw_ratios import DEFAULT_PRESET
+from dolphinfit.core.progress import ProgressCallback
+from dolphinfit.core.synth.config import SynthConfig
+from dolphinfit.core.synth.files import ClipFiles, clip_files, made_from
 
 CACHE_DIR_ENV = "DOLPHINFIT_CACHE_DIR"
 SAMPLE_NAME = "sample-v2"
@@ -44,7 +44,7 @@ def ensure_clip(config: SynthConfig, out_dir: Path,
     except OSError as exc:  # a file where a folder should be, no permission, a full disk
         raise InputError(f"{out_dir}: the cache folder cannot be made ({exc.strerror or exc}); "
                          f"set {CACHE_DIR_ENV} to a folder you can write") from None
-    from core.synth.clip import make_clip
+    from dolphinfit.core.synth.clip import make_clip
     return make_clip(config, out_dir, progress=progress)
 
 

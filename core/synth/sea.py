@@ -18,8 +18,8 @@ from dataclasses import dataclass
 import cv2
 import numpy as np
 
-from core.camera import N_WATER
-from core.synth.config import SynthConfig
+from dolphinfit.core.camera import N_WATER
+from dolphinfit.core.synth.config import SynthConfig
 
 GRAVITY_M_S2 = 9.81
 NUM_WAVES = 10

@@ -15,12 +15,12 @@ import numpy as np
 import torch
 import trimesh
 
-from core.measure.hw_ratios import HWRatios
-from core.measure.mesh import body_length
-from core.measure.stations import STATION_FRACTIONS
-from core.model.model import NUM_SHAPE_PARAMS, DolphinModel
-from core.model.sections import NUM_TABLE_STATIONS
-from core.model.template import Template
+from dolphinfit.core.measure.hw_ratios import HWRatios
+from dolphinfit.core.measure.mesh import body_length
+from dolphinfit.core.measure.stations import STATION_FRACTIONS
+from dolphinfit.core.model.model import NUM_SHAPE_PARAMS, DolphinModel
+from dolphinfit.core.model.sections import NUM_TABLE_STATIONS
+from dolphinfit.core.model.template import Template
 
 WARP_COMPONENTS = 3        # sine components along the body
 WARP_AMPLITUDE = 0.05      # each component's amplitude, relative width/height change

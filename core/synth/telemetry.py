@@ -11,8 +11,8 @@ from pathlib import Path
 
 import numpy as np
 
-from core.io.altitude_csv import write_altitude_csv
-from core.io.atomic import atomic_path
+from dolphinfit.core.io.altitude_csv import write_altitude_csv
+from dolphinfit.core.io.atomic import atomic_path
 
 SRT_START = datetime(2024, 6, 1, 9, 30, 0)   # a fixed, plausible recording time
 SRT_LATITUDE = -25.78                         # Shark Bay, Western Australia (the paper's site)

@@ -9,9 +9,9 @@ import av
 import cv2
 import numpy as np
 
-from core.errors import InputError
-from core.synth.config import SynthConfig
-from core.synth.files import LOSSLESS_CODEC
+from dolphinfit.core.errors import InputError
+from dolphinfit.core.synth.config import SynthConfig
+from dolphinfit.core.synth.files import LOSSLESS_CODEC
 
 H264_PRESET = "medium"
 

@@ -12,8 +12,8 @@ than its background; and ``ocean``, deep, dark navy offshore water.
 
 from dataclasses import replace
 
-from core.errors import InputError
-from core.synth.config import SynthConfig
+from dolphinfit.core.errors import InputError
+from dolphinfit.core.synth.config import SynthConfig
 
 WATER_PRESETS: dict[str, dict] = {
     "green": dict(water_rgb=(0.16, 0.33, 0.26), clarity_per_m=(0.50, 0.20, 0.32),

@@ -12,8 +12,8 @@ import math
 import cv2
 import numpy as np
 
-from core.synth.compose import DolphinLayer
-from core.synth.config import SynthConfig
+from dolphinfit.core.synth.compose import DolphinLayer
+from dolphinfit.core.synth.config import SynthConfig
 
 FOAM_RGB = np.array([0.86, 0.90, 0.90], dtype=np.float32)
 FOAM_LIFETIME_S = 1.0

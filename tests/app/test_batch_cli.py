@@ -10,11 +10,11 @@ import time
 from dataclasses import replace
 from pathlib import Path
 
-from app.cli import main
-from core.batch.record import RECORD_JSON
-from core.batch.summary import SUMMARY_CSV
-from core.bench.batch_bench import TINY_CONFIG, write_synthetic_batch
-from core.synth.config import Effects, SynthConfig
+from dolphinfit.app.cli import main
+from dolphinfit.core.batch.record import RECORD_JSON
+from dolphinfit.core.batch.summary import SUMMARY_CSV
+from dolphinfit.core.bench.batch_bench import TINY_CONFIG, write_synthetic_batch
+from dolphinfit.core.synth.config import Effects, SynthConfig
 
 CLIP = SynthConfig(seed=51, width_px=320, height_px=180, fps=4.0, duration_s=1.0,
                    altitude_m=12.0, length_m=2.4, speed_m_s=0.5, dive_depth_m=0.0,
@@ -34,7 +34,7 @@ def test_bad_row_exits_2_naming_manifest_row_and_column(tmp_path, capsys):
 
 
 def _batch(manifest: Path, out: Path) -> list[str]:
-    return [sys.executable, "-m", "app.cli", "batch", str(manifest), "--out", str(out),
+    return [sys.executable, "-m", "dolphinfit.app.cli", "batch", str(manifest), "--out", str(out),
             "--workers", "1", "--mc", "100"]
 
 

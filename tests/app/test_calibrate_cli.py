@@ -8,10 +8,10 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from app.cli import main
-from core.io.calibration_table import read_calibration_table
-from core.io.medidor import read_medidor
-from core.measure.altitude_calibration import (
+from dolphinfit.app.cli import main
+from dolphinfit.core.io.calibration_table import read_calibration_table
+from dolphinfit.core.io.medidor import read_medidor
+from dolphinfit.core.measure.altitude_calibration import (
     fit_altitude_calibration,
     read_altitude_calibration,
 )
@@ -73,7 +73,7 @@ def test_medidor_calibration_agrees_with_collatrix_method_5():
 
 
 def _medidor_camera():
-    from core.measure.altitude_calibration import CalibrationCamera
+    from dolphinfit.core.measure.altitude_calibration import CalibrationCamera
 
     return CalibrationCamera(7.6, 6.4, 2688)
 
@@ -257,9 +257,9 @@ def test_calibrate_lens_from_board_images_and_measure_through_it(tmp_path, capsy
 def test_a_projects_calibration_is_fitted_headless(tmp_path, capsys):
     """The set made in the app, from the project file: the same line as the app fits; its
     own object and camera, so options that would contradict them are refused."""
-    from core.project.calibrations import fitted_calibration
-    from core.project.model import Project
-    from core.project.project_file import write_project
+    from dolphinfit.core.project.calibrations import fitted_calibration
+    from dolphinfit.core.project.model import Project
+    from dolphinfit.core.project.project_file import write_project
     from tests.core.project.test_calibrations import calibration_set
 
     calibration = calibration_set(CAMERA)

@@ -4,8 +4,8 @@ import json
 
 import pytest
 
-from app.cli import main
-from core.camera_presets import CONFIG_DIR_ENV, DEFAULT_PRESET, load_presets
+from dolphinfit.app.cli import main
+from dolphinfit.core.camera_presets import CONFIG_DIR_ENV, DEFAULT_PRESET, load_presets
 
 
 @pytest.fixture(autouse=True)

@@ -5,7 +5,7 @@ import sys
 
 import pytest
 
-from app.cli import SUBCOMMANDS, build_parser, command_module, main
+from dolphinfit.app.cli import SUBCOMMANDS, build_parser, command_module, main
 
 
 @pytest.mark.parametrize("name", sorted(SUBCOMMANDS))
@@ -23,7 +23,7 @@ def test_full_help_lists_every_command(capsys):
 
 
 def test_gui_help_loads_no_torch():
-    probe = ("import sys, contextlib, io\nfrom app.cli import main\n"
+    probe = ("import sys, contextlib, io\nfrom dolphinfit.app.cli import main\n"
              "with contextlib.redirect_stdout(io.StringIO()):\n"
              "    try:\n        main(['gui', '--help'])\n    except SystemExit:\n        pass\n"
              "print('torch' in sys.modules)")
@@ -44,12 +44,12 @@ def test_ctrl_c_stops_at_once_with_exit_130_and_no_traceback():
     import time
 
     script = ("import sys, time\n"
-              "import app.commands.camera as camera\n"
+              "import dolphinfit.app.commands.camera as camera\n"
               "def work(args):\n"
               "    print('working', flush=True)\n"
               "    time.sleep(60)\n"
               "camera.run = work\n"
-              "from app.cli import main\n"
+              "from dolphinfit.app.cli import main\n"
               "sys.exit(main(['camera', 'list']))\n")
     process = subprocess.Popen([sys.executable, "-c", script], stdout=subprocess.PIPE,
                                stderr=subprocess.PIPE, text=True)
@@ -66,7 +66,7 @@ def test_ctrl_c_stops_at_once_with_exit_130_and_no_traceback():
 def test_an_internal_error_exits_1_with_a_crash_report_not_a_traceback(capsys, monkeypatch):
     """A fault of ours (not bad input): exit 1, one message naming the crash report, which
     holds the traceback and the command."""
-    from core.crash_report import log_dir
+    from dolphinfit.core.crash_report import log_dir
 
     def broken(args):
         raise ZeroDivisionError("division by zero in the camera table")

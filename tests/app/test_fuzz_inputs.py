@@ -19,9 +19,9 @@ import cv2
 import numpy as np
 import pytest
 
-from app.cli import SUBCOMMANDS, main
-from core.camera_presets import CONFIG_DIR_ENV, DEFAULT_PRESET
-from core.runtime import THREADS_ENV
+from dolphinfit.app.cli import SUBCOMMANDS, main
+from dolphinfit.core.camera_presets import CONFIG_DIR_ENV, DEFAULT_PRESET
+from dolphinfit.core.runtime import THREADS_ENV
 
 DATA = Path(__file__).resolve().parents[1] / "data"
 MMX = DATA / "morphometrix" / "mmx_v2_demo-annotated.csv"
@@ -342,7 +342,7 @@ def test_help_of_every_command(name, capsys):
 
 def test_installed_entry_point_exits_2_without_traceback(paths):
     """The real process: an impossible altitude exits 2 with one line naming the option."""
-    done = subprocess.run([sys.executable, "-m", "app.cli", "fit", str(paths["clip"]),
+    done = subprocess.run([sys.executable, "-m", "dolphinfit.app.cli", "fit", str(paths["clip"]),
                            "--altitude", "0", "--out", str(paths["out_fit"])],
                           capture_output=True, text=True, timeout=120,
                           env={**os.environ, THREADS_ENV: "1"})

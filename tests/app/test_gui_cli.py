@@ -1,6 +1,6 @@
 """``dolphinfit gui`` refuses bad input with exit code 2 before any window opens."""
 
-from app.cli import main
+from dolphinfit.app.cli import main
 
 
 def test_missing_path_and_bad_option_mix_exit_2(tmp_path, capsys, monkeypatch):

@@ -7,9 +7,9 @@ import cv2
 import numpy as np
 import pytest
 
-from app.cli import main
-from core.io.masks import read_masks
-from core.io.video import open_clip
+from dolphinfit.app.cli import main
+from dolphinfit.core.io.masks import read_masks
+from dolphinfit.core.io.video import open_clip
 
 NUM_FRAMES, WIDTH_PX, HEIGHT_PX = 12, 160, 120
 
@@ -36,7 +36,7 @@ def clip(tmp_path_factory) -> Path:
 
 
 def _frame(clip: Path, t: int) -> np.ndarray:
-    from core.io.video import VideoReader
+    from dolphinfit.core.io.video import VideoReader
     with VideoReader(open_clip(clip)) as frames:
         return frames[t]
 

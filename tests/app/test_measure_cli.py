@@ -8,15 +8,15 @@ import cv2
 import numpy as np
 import pytest
 
-from app.cli import main
-from core.camera_presets import CameraPreset
-from core.measure.annotation_json import AnnotationFile, write_annotation_json
-from core.measure.morphometrix import read_morphometrix
-from core.measure.annotation import Annotation, Calibration
-from core.measure.elliptical import TAIL_EXTRAPOLATED, TAIL_MEASURED, elliptical_volume
-from core.measure.hw_ratios import load_hw_preset
-from core.measure.stations import STATION_FRACTIONS
-from core.measure.xcertainty import MEASUREMENT_COLUMNS
+from dolphinfit.app.cli import main
+from dolphinfit.core.camera_presets import CameraPreset
+from dolphinfit.core.measure.annotation_json import AnnotationFile, write_annotation_json
+from dolphinfit.core.measure.morphometrix import read_morphometrix
+from dolphinfit.core.measure.annotation import Annotation, Calibration
+from dolphinfit.core.measure.elliptical import TAIL_EXTRAPOLATED, TAIL_MEASURED, elliptical_volume
+from dolphinfit.core.measure.hw_ratios import load_hw_preset
+from dolphinfit.core.measure.stations import STATION_FRACTIONS
+from dolphinfit.core.measure.xcertainty import MEASUREMENT_COLUMNS
 
 V2_DEMO = Path(__file__).resolve().parents[1] / "data" / "morphometrix" / \
     "mmx_v2_demo-annotated.csv"

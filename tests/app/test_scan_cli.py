@@ -6,11 +6,11 @@ import json
 
 import pytest
 
-from app.cli import main
-from core.io.masks import read_masks
-from core.io.video import open_clip
-from core.scan.scan_files import read_scan_json
-from core.synth.sample import SAMPLE_CONFIG, ensure_sample
+from dolphinfit.app.cli import main
+from dolphinfit.core.io.masks import read_masks
+from dolphinfit.core.io.video import open_clip
+from dolphinfit.core.scan.scan_files import read_scan_json
+from dolphinfit.core.synth.sample import SAMPLE_CONFIG, ensure_sample
 
 
 @pytest.fixture(scope="module")

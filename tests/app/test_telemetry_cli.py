@@ -6,7 +6,7 @@ import cv2
 import numpy as np
 import pytest
 
-from app.cli import main
+from dolphinfit.app.cli import main
 
 DATA = Path(__file__).parents[1] / "data"
 

@@ -6,8 +6,8 @@ import numpy as np
 import pytest
 import trimesh
 
-from app.cli import main
-from core.model.template import load_template
+from dolphinfit.app.cli import main
+from dolphinfit.core.model.template import load_template
 
 
 def test_info_json_reports_figures_and_stations(capsys):

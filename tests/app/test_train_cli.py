@@ -3,7 +3,7 @@ recipe itself is tested in tests/core/segment/test_edge_net.py)."""
 
 import pytest
 
-from app.cli import main
+from dolphinfit.app.cli import main
 
 
 @pytest.mark.parametrize("args, problem", [

@@ -7,10 +7,10 @@ from dataclasses import asdict, replace
 import pytest
 import torch
 
-from app.cli import main
-from core.bench import render_bench
-from core.errors import InputError
-from core.bench.timing import median_ms, median_phases_ms, peak_rss_mb_of
+from dolphinfit.app.cli import main
+from dolphinfit.core.bench import render_bench
+from dolphinfit.core.errors import InputError
+from dolphinfit.core.bench.timing import median_ms, median_phases_ms, peak_rss_mb_of
 
 
 def allocate_job(megabytes: int):
@@ -76,10 +76,10 @@ def test_bench_render_quick_reports_consistent_ratios(capsys):
 def tiny_scenario(tmp_path_factory):
     """A one-scenario suite of a small light-grey clip over green water, rendered once into
     a cache of this module's own."""
-    from core.bench.scenario import Scenario, ensure_scenario
-    from core.synth import sample
-    from core.synth.config import SynthConfig
-    from core.synth.water import with_water
+    from dolphinfit.core.bench.scenario import Scenario, ensure_scenario
+    from dolphinfit.core.synth import sample
+    from dolphinfit.core.synth.config import SynthConfig
+    from dolphinfit.core.synth.water import with_water
 
     with pytest.MonkeyPatch.context() as patch:
         patch.setenv(sample.CACHE_DIR_ENV, str(tmp_path_factory.mktemp("cache")))
@@ -96,8 +96,8 @@ def test_fit_suite_scores_clips_against_their_truth(tiny_scenario):
     """A one-clip suite with true masks and with the product's own masks, from a click and
     from the automatic seed, reports per-clip errors, per-frame IoU and a summary per
     variant."""
-    from core.bench import fit_bench
-    from core.fit.config import FitConfig
+    from dolphinfit.core.bench import fit_bench
+    from dolphinfit.core.fit.config import FitConfig
 
     quick = FitConfig(heading_trial_steps=2, steps_global=3, steps_body=2, steps_shape=4)
     variants = ("true_masks", "product_masks", "product_masks_auto_seed")
@@ -126,8 +126,8 @@ def test_mask_bench_scores_each_back_end_from_the_click_the_automatic_seed_and_a
     from each seed, and with the colour outline step from a click; the colour tracker, which
     looks for a dark animal, finds none at the click nor by itself and scores 0 with the
     reason recorded, but follows it from a box (GrabCut finds it there)."""
-    from core.bench.mask_bench import bench_masks, score_backend
-    from core.bench.scenario import ensure_scenario
+    from dolphinfit.core.bench.mask_bench import bench_masks, score_backend
+    from dolphinfit.core.bench.scenario import ensure_scenario
 
     clip = ensure_scenario(tiny_scenario)
     figures = bench_masks({"tiny": clip}, backends=("network", "colour"), stride=2)
@@ -154,7 +154,7 @@ def test_mask_bench_scores_each_back_end_from_the_click_the_automatic_seed_and_a
 
 
 def test_suite_clips_by_name_keep_the_order_given_and_refuse_unknown_names(capsys):
-    from core.bench.suites import scenarios_named
+    from dolphinfit.core.bench.suites import scenarios_named
 
     assert [s.name for s in scenarios_named(["turn_right", "grey_green"])] == \
         ["turn_right", "grey_green"]
@@ -165,7 +165,7 @@ def test_suite_clips_by_name_keep_the_order_given_and_refuse_unknown_names(capsy
 
 
 def test_the_4k_suite_is_the_same_scenes_with_four_times_the_pixels(capsys):
-    from core.bench.suites import scenarios
+    from dolphinfit.core.bench.suites import scenarios
 
     full_hd, uhd = scenarios(), scenarios(frame_size="4k")
     assert [s.name for s in uhd] == [s.name for s in full_hd]
@@ -182,7 +182,7 @@ def test_the_4k_suite_is_the_same_scenes_with_four_times_the_pixels(capsys):
 
 
 def test_masks_table_shows_each_seed_beside_the_click():
-    from app.commands.bench import format_masks
+    from dolphinfit.app.commands.bench import format_masks
 
     def scores(iou, error=""):
         return {"mean_iou": iou, "min_iou": iou, "flukes_iou": 0.5, "rostrum_iou": 0.6,
@@ -204,7 +204,7 @@ def test_masks_table_shows_each_seed_beside_the_click():
 
 def test_bench_masks_defaults_to_the_back_ends_that_always_work():
     """SAM-2 is never in the default list: the bench must not fail where it is not installed."""
-    from app.cli import build_parser
+    from dolphinfit.app.cli import build_parser
 
     assert build_parser("bench").parse_args(["bench", "masks"]).backends == \
         "network,network-colour-edges,colour"
@@ -226,7 +226,7 @@ def test_bench_masks_checks_the_sam2_checkpoint_before_any_work(tmp_path, capsys
 
 
 def test_the_held_out_split_is_chosen_by_name_and_kept_apart(capsys):
-    from core.bench.suites import scenarios_named
+    from dolphinfit.core.bench.suites import scenarios_named
 
     assert [s.name for s in scenarios_named(["small_5k_pair"], split="held-out")] == \
         ["small_5k_pair"]
@@ -244,8 +244,8 @@ def test_the_held_out_split_is_chosen_by_name_and_kept_apart(capsys):
 def test_the_click_bench_clicks_the_middle_frame_and_prints_its_waits(capsys):
     """The click lands on the target in the visible frame nearest the clip's middle; the
     table gives both waits beside their aims; an unknown part is refused before any work."""
-    from app.commands.bench import format_app
-    from core.bench.click_bench import AIMS_S, middle_click
+    from dolphinfit.app.commands.bench import format_app
+    from dolphinfit.core.bench.click_bench import AIMS_S, middle_click
 
     truth = {"frames": [{"frame": t, "visible": t not in (4, 5), "seed_px": [10.0 + t, 20.0]}
                         for t in range(10)]}

@@ -7,8 +7,8 @@ import pytest
 import torch
 from scipy.optimize import minimize, root
 
-from core.camera import N_WATER, NadirCamera, apparent_surface_point
-from core.intrinsics import CameraIntrinsics
+from dolphinfit.core.camera import N_WATER, NadirCamera, apparent_surface_point
+from dolphinfit.core.intrinsics import CameraIntrinsics
 
 PAPER_SENSOR_WIDTH_MM = 17.27  # γ, Baieri et al. arXiv 2504.15782, table of constants
 PAPER_FOCAL_MM = 12.29  # ω, same table

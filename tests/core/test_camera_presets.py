@@ -4,7 +4,7 @@ import json
 
 import pytest
 
-from core.camera_presets import (
+from dolphinfit.core.camera_presets import (
     CONFIG_DIR_ENV,
     DEFAULT_PRESET,
     CameraPreset,
@@ -15,7 +15,7 @@ from core.camera_presets import (
     save_user_preset,
     user_presets_path,
 )
-from core.errors import InputError
+from dolphinfit.core.errors import InputError
 
 
 @pytest.fixture(autouse=True)

@@ -1,6 +1,6 @@
 """Crash reports: what happened, where, with which versions, after which actions."""
 
-from core.crash_report import log_dir, versions, write_crash_report
+from dolphinfit.core.crash_report import log_dir, versions, write_crash_report
 
 
 def failing() -> None:

@@ -2,10 +2,10 @@
 
 import pytest
 
-from core.bench.hidden_heights import hidden_height_floor, truth_sections
-from core.fit.config import FitConfig
-from core.model.sections import section_area_factor
-from core.synth.config import Effects, SynthConfig
+from dolphinfit.core.bench.hidden_heights import hidden_height_floor, truth_sections
+from dolphinfit.core.fit.config import FitConfig
+from dolphinfit.core.model.sections import section_area_factor
+from dolphinfit.core.synth.config import Effects, SynthConfig
 
 PLAIN = SynthConfig(seed=4, shape_sd=0.0, effects=Effects(profile_warp=False))
 TEMPLATE_FIT = FitConfig(hw_table=None)   # the template's own heights

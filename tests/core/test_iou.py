@@ -3,7 +3,7 @@
 import numpy as np
 import torch
 
-from core.iou import mask_iou
+from dolphinfit.core.iou import mask_iou
 
 
 def test_iou_is_the_same_for_numpy_and_torch_and_one_for_two_empty_masks():

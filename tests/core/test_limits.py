@@ -5,8 +5,8 @@ from dataclasses import dataclass
 
 import pytest
 
-from core.errors import InputError
-from core.limits import (
+from dolphinfit.core.errors import InputError
+from dolphinfit.core.limits import (
     ALTITUDE_M, BODY_LENGTH_M, at_least, body_measurements, check_fields, count, in_range,
     result_figures, time_window,
 )

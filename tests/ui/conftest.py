@@ -7,7 +7,7 @@ from pathlib import Path
 import cv2
 import pytest
 
-from core.project.model import AltitudeSpec
+from dolphinfit.core.project.model import AltitudeSpec
 
 from .ellipse_scene import dolphin_frame
 
@@ -46,7 +46,7 @@ def no_modal_dialogs(monkeypatch: pytest.MonkeyPatch) -> list[str]:
 @pytest.fixture(scope="session", autouse=True)
 def collect_on_the_gui_thread(qapp):
     """As the app does (ui/gc_guard.py): no cycle collection in worker threads."""
-    from ui.gc_guard import GuiThreadGarbageCollector
+    from dolphinfit.ui.gc_guard import GuiThreadGarbageCollector
     collector = GuiThreadGarbageCollector(qapp)
     yield collector
     collector.stop()
@@ -62,7 +62,7 @@ def collect_after_each_test():
 @pytest.fixture
 def shown_canvas(qtbot):
     """Makes a FrameCanvas of a given size showing a frame."""
-    from ui.widgets.canvas import FrameCanvas
+    from dolphinfit.ui.widgets.canvas import FrameCanvas
 
     def make(frame, size: tuple[int, int]) -> FrameCanvas:
         view = FrameCanvas()
@@ -80,7 +80,7 @@ def shown_canvas(qtbot):
 def make_window(qtbot):
     """Makes shown, active main windows that close without asking about unsaved work (a test
     that cares overrides ``ask.save_changes``); every worker stops after the test."""
-    from ui.main_window import MainWindow
+    from dolphinfit.ui.main_window import MainWindow
 
     windows = []
 

@@ -5,7 +5,7 @@ every length, edge and width has an analytic value."""
 import numpy as np
 from PySide6.QtCore import Qt
 
-from core.measure.annotation import place_stations
+from dolphinfit.core.measure.annotation import place_stations
 
 WIDTH, HEIGHT = 800, 400
 CENTRE = np.array([400.0, 200.0])

@@ -16,9 +16,9 @@ from pathlib import Path
 from PySide6.QtCore import QPoint, QPointF, Qt
 from PySide6.QtWidgets import QApplication
 
-from core.measure.annotation import ALTITUDE_SOURCES
-from core.project.model import AltitudeSpec
-from core.project.project_file import project_from_json, project_to_json, read_project
+from dolphinfit.core.measure.annotation import ALTITUDE_SOURCES
+from dolphinfit.core.project.model import AltitudeSpec
+from dolphinfit.core.project.project_file import project_from_json, project_to_json, read_project
 
 LEFT = Qt.MouseButton.LeftButton
 SKIPPED_ACTIONS = {  # opening media, quitting, tracking, scanning, fitting and slow exports

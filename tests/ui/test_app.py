@@ -17,16 +17,16 @@ import numpy as np
 import pytest
 from PySide6.QtCore import QPoint, QPointF, Qt, QTimer
 
-from core.measure.morphometrix import read_morphometrix
-from core.measure.annotation import pixel_measurements, place_stations
-from core.measure.baseline import BaselineSettings, estimate_baseline
-from core.measure.hw_ratios import load_hw_preset
-from core.measure.uncertainty import ErrorModel
-from core.project.model import AltitudeSpec
-from core.project.project_file import autosave_path, find_moved_media
-from core.project.sample import ensure_sample_project
-from ui.workers import results_worker
-from ui.main_window import MainWindow
+from dolphinfit.core.measure.morphometrix import read_morphometrix
+from dolphinfit.core.measure.annotation import pixel_measurements, place_stations
+from dolphinfit.core.measure.baseline import BaselineSettings, estimate_baseline
+from dolphinfit.core.measure.hw_ratios import load_hw_preset
+from dolphinfit.core.measure.uncertainty import ErrorModel
+from dolphinfit.core.project.model import AltitudeSpec
+from dolphinfit.core.project.project_file import autosave_path, find_moved_media
+from dolphinfit.core.project.sample import ensure_sample_project
+from dolphinfit.ui.workers import results_worker
+from dolphinfit.ui.main_window import MainWindow
 
 from .ellipse_scene import LEFT, MIDLINE, analytic_widths, chord, dolphin_frame
 
@@ -194,9 +194,9 @@ def test_an_exception_in_a_slot_writes_a_crash_report_and_keeps_the_work(qtbot, 
                                                                           still):
     """A slot that raises: the crash report names the last actions and holds the traceback,
     the unsaved measurement is in the autosave, and the user is told both; the app goes on."""
-    from core.crash_report import log_dir
-    from core.project.project_file import read_project
-    from ui.crash_handler import CrashHandler
+    from dolphinfit.core.crash_report import log_dir
+    from dolphinfit.core.project.project_file import read_project
+    from dolphinfit.ui.crash_handler import CrashHandler
 
     window = new_window()
     open_and_wait(qtbot, window, still)
@@ -328,7 +328,7 @@ def test_the_gui_keeps_turning_while_a_slow_result_is_computed(qtbot, measured, 
 
 
 def test_the_window_opens_at_the_size_and_dock_layout_it_was_closed_with(qtbot, make_window):
-    from ui.main_window import MainWindow
+    from dolphinfit.ui.main_window import MainWindow
 
     first = make_window(size=(1100, 800))  # within the test screen (restored sizes fit it)
     first.docks["Project"].hide()

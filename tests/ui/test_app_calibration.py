@@ -10,9 +10,9 @@ import numpy as np
 import pytest
 from PySide6.QtCore import QPointF
 
-from core.project.calibrations import clip_calibration
-from core.project.model import AltitudeSpec
-from ui.dialogs.calibration_dialog import CalibrationDialog
+from dolphinfit.core.project.calibrations import clip_calibration
+from dolphinfit.core.project.model import AltitudeSpec
+from dolphinfit.ui.dialogs.calibration_dialog import CalibrationDialog
 
 from .ellipse_scene import HEIGHT, LEFT, WIDTH
 from .test_app import SIGNAL_TIMEOUT_MS, measure_by_hand, open_and_wait
@@ -111,10 +111,10 @@ def test_frames_of_a_clip_come_with_their_srt_altitudes(qtbot, tmp_path):
     measured shots count."""
     import shutil
 
-    from core.camera_presets import get_preset
-    from core.io.telemetry import load_telemetry
-    from core.io.video import open_clip
-    from core.project.sample import ensure_sample_project
+    from dolphinfit.core.camera_presets import get_preset
+    from dolphinfit.core.io.telemetry import load_telemetry
+    from dolphinfit.core.io.video import open_clip
+    from dolphinfit.core.project.sample import ensure_sample_project
 
     sample = ensure_sample_project().parent
     video = tmp_path / "clip.mp4"

@@ -16,14 +16,14 @@ import numpy as np
 import pytest
 from PySide6.QtCore import QRectF, QTimer
 
-from core.fit.result_io import read_fit_result
-from core.io.masks import read_masks
-from core.measure.mask_midline import midline_from_mask
-from core.project.fit_settings import FitSettings, fit_dir
-from core.project.project_file import relative_media_path
-from core.project.sample import ensure_sample_project
-from ui.state.commands import edit_measurement
-from ui.main_window import MainWindow
+from dolphinfit.core.fit.result_io import read_fit_result
+from dolphinfit.core.io.masks import read_masks
+from dolphinfit.core.measure.mask_midline import midline_from_mask
+from dolphinfit.core.project.fit_settings import FitSettings, fit_dir
+from dolphinfit.core.project.project_file import relative_media_path
+from dolphinfit.core.project.sample import ensure_sample_project
+from dolphinfit.ui.state.commands import edit_measurement
+from dolphinfit.ui.main_window import MainWindow
 
 FIT_TIMEOUT_MS = 300_000
 SMALL = FitSettings(start_s=0.0, end_s=0.4, fps=5.0, quality="quick")  # 2 frames, quick

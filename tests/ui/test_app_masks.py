@@ -8,17 +8,17 @@ import numpy as np
 import pytest
 from PySide6.QtCore import QPointF, Qt
 
-from core.io.masks import read_masks
-from core.progress import Progress
-from core.project.mask_store import masks_file
-from core.project.model import with_animal
-from core.project.project_file import relative_media_path
-from core.project.sample import ensure_sample_project
-from core.segment.segmenter import FrameTracked
-from ui.main_window import MainWindow
-from ui.state.commands import push_edit
-from ui.state.project_model import Change
-from ui.workers.tracker_jobs import Tracked
+from dolphinfit.core.io.masks import read_masks
+from dolphinfit.core.progress import Progress
+from dolphinfit.core.project.mask_store import masks_file
+from dolphinfit.core.project.model import with_animal
+from dolphinfit.core.project.project_file import relative_media_path
+from dolphinfit.core.project.sample import ensure_sample_project
+from dolphinfit.core.segment.segmenter import FrameTracked
+from dolphinfit.ui.main_window import MainWindow
+from dolphinfit.ui.state.commands import push_edit
+from dolphinfit.ui.state.project_model import Change
+from dolphinfit.ui.workers.tracker_jobs import Tracked
 
 TIMEOUT_MS = 120_000
 LEFT = Qt.MouseButton.LeftButton
@@ -47,7 +47,7 @@ def _iou(a: np.ndarray, b: np.ndarray) -> float:
 def test_track_every_frame_asks_the_tracker_for_all_of_them(qtbot, window, monkeypatch):
     """Clip → Track every frame re-tracks from the frame's mask with no limit to the fit's
     frames (the network otherwise sees only those)."""
-    from ui.controllers import mask_controller
+    from dolphinfit.ui.controllers import mask_controller
     asked = []
 
     def track_job(*args, **kwargs):
@@ -68,7 +68,7 @@ def test_track_every_frame_asks_the_tracker_for_all_of_them(qtbot, window, monke
 def test_the_coverage_strip_fills_as_frames_are_tracked(qtbot, window, monkeypatch):
     """Each frame a running tracker reports shows on the coverage strip at once: a frame
     found lost turns lost before the run ends."""
-    from ui.controllers import mask_controller
+    from dolphinfit.ui.controllers import mask_controller
     qtbot.waitUntil(lambda: window.masks.track is not None, timeout=10_000)
     qtbot.waitUntil(lambda: window.masks._coverage is not None, timeout=10_000)
     assert window.masks._coverage.visible[21]

@@ -6,8 +6,8 @@ import importlib.util
 import pytest
 from PySide6.QtWidgets import QFileDialog, QMessageBox
 
-from core.segment.backends import NETWORK, SAM2
-from ui.state.preferences import load_preferences
+from dolphinfit.core.segment.backends import NETWORK, SAM2
+from dolphinfit.ui.state.preferences import load_preferences
 
 HAS_SAM2 = importlib.util.find_spec("sam2") is not None
 

@@ -13,16 +13,16 @@ import numpy as np
 import pytest
 from PySide6.QtCore import Qt
 
-from core.io.masks import read_masks
-from core.measure.mask_midline import midline_from_mask
-from core.project.fit_settings import FitSettings
-from core.project.scan_store import scan_file
-from core.scan.scan_files import read_scan_json
-from core.synth.config import SynthConfig
-from core.synth.sample import ensure_clip
-from core.project.model import with_animal
-from ui.state.commands import edit_measurement, push_edit
-from ui.state.project_model import Change
+from dolphinfit.core.io.masks import read_masks
+from dolphinfit.core.measure.mask_midline import midline_from_mask
+from dolphinfit.core.project.fit_settings import FitSettings
+from dolphinfit.core.project.scan_store import scan_file
+from dolphinfit.core.scan.scan_files import read_scan_json
+from dolphinfit.core.synth.config import SynthConfig
+from dolphinfit.core.synth.sample import ensure_clip
+from dolphinfit.core.project.model import with_animal
+from dolphinfit.ui.state.commands import edit_measurement, push_edit
+from dolphinfit.ui.state.project_model import Change
 
 SMALL = dict(width_px=480, height_px=270, fps=5.0, duration_s=3.0, altitude_m=9.0,
              heading_deg=10.0, sea_state=0.3)

@@ -13,19 +13,19 @@ from PySide6.QtWidgets import (QAbstractSpinBox, QColorDialog, QComboBox, QDialo
                                QListWidget, QPlainTextEdit, QPushButton, QRadioButton,
                                QTableWidget, QWidget)
 
-from core.camera_presets import load_presets
-from core.errors import InputError
-from core.io.video import Clip
-from core.project.model import AltitudeSpec
-from ui.action_table import load_action_table
-from ui.dialogs.altitude_dialog import AltitudeDialog
-from ui.dialogs.animal_dialog import AnimalDialog
-from ui.dialogs.camera_dialog import CameraDialog
-from ui.dialogs.handle_style_dialog import HandleStyleDialog
-from ui.state.handle_style import HandleStyle
-from ui.dialogs.relink_dialog import RelinkDialog
-from ui.action_table import MOUSE_GESTURES
-from ui.dialogs.shortcuts_dialog import ShortcutsDialog
+from dolphinfit.core.camera_presets import load_presets
+from dolphinfit.core.errors import InputError
+from dolphinfit.core.io.video import Clip
+from dolphinfit.core.project.model import AltitudeSpec
+from dolphinfit.ui.action_table import load_action_table
+from dolphinfit.ui.dialogs.altitude_dialog import AltitudeDialog
+from dolphinfit.ui.dialogs.animal_dialog import AnimalDialog
+from dolphinfit.ui.dialogs.camera_dialog import CameraDialog
+from dolphinfit.ui.dialogs.handle_style_dialog import HandleStyleDialog
+from dolphinfit.ui.state.handle_style import HandleStyle
+from dolphinfit.ui.dialogs.relink_dialog import RelinkDialog
+from dolphinfit.ui.action_table import MOUSE_GESTURES
+from dolphinfit.ui.dialogs.shortcuts_dialog import ShortcutsDialog
 
 DATA = Path(__file__).parents[1] / "data"
 SRT_SAMPLE = DATA / "srt" / "p4p_sample.SRT"  # single-line family: H, relative, 45.60 m
@@ -304,8 +304,8 @@ def test_handle_style_values(qtbot, monkeypatch):
 
 def test_questions_save_path_adds_the_project_suffix_and_cancel_is_none(qtbot, monkeypatch,
                                                                         tmp_path):
-    from core.project.project_file import PROJECT_SUFFIX
-    from ui.dialogs.questions import Questions
+    from dolphinfit.core.project.project_file import PROJECT_SUFFIX
+    from dolphinfit.ui.dialogs.questions import Questions
 
     parent = QWidget()
     qtbot.addWidget(parent)
@@ -319,7 +319,7 @@ def test_questions_save_path_adds_the_project_suffix_and_cancel_is_none(qtbot, m
 
 
 def test_questions_mesh_export_asks_the_format_then_the_folder(qtbot, monkeypatch, tmp_path):
-    from ui.dialogs.questions import Questions
+    from dolphinfit.ui.dialogs.questions import Questions
 
     parent = QWidget()
     qtbot.addWidget(parent)
@@ -340,7 +340,7 @@ def test_help_manual_opens_the_built_manual_or_says_how_to_build_it(qtbot, tmp_p
     page and `make docs`, and nothing opened."""
     from PySide6.QtWidgets import QWidget
 
-    from ui.dialogs import questions
+    from dolphinfit.ui.dialogs import questions
 
     opened, told = [], []
     monkeypatch.setattr(questions.QDesktopServices, "openUrl", lambda url: opened.append(url))
@@ -359,7 +359,7 @@ def test_help_manual_opens_the_built_manual_or_says_how_to_build_it(qtbot, tmp_p
 
 
 def test_the_about_box_gives_the_version_licence_and_citation():
-    from ui.dialogs.questions import ABOUT, version
+    from dolphinfit.ui.dialogs.questions import ABOUT, version
 
     text = ABOUT.format(version=version())
     assert version() != "unknown" and f"dolphinfit {version()}" in text

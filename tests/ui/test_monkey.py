@@ -9,7 +9,7 @@ from pathlib import Path
 
 import pytest
 
-from core.project.sample import ensure_sample_project
+from dolphinfit.core.project.sample import ensure_sample_project
 
 from .monkey import Monkey, settle
 from .test_app import measure_by_hand, open_and_wait

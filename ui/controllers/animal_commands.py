@@ -6,7 +6,7 @@ from dataclasses import replace
 
 from PySide6.QtCore import QObject
 
-from core.project.model import (
+from dolphinfit.core.project.model import (
     Animal,
     Measurement,
     add_animal,
@@ -16,11 +16,11 @@ from core.project.model import (
     remove_measurement,
     with_animal,
 )
-from core.project.scan_store import scan_animal, scan_animal_id
-from ui.dialogs.questions import Questions
-from ui.state.commands import push_edit
-from ui.state.project_model import Change, ProjectModel
-from ui.state.viewer_state import Notifier, ViewerState, selected_clip
+from dolphinfit.core.project.scan_store import scan_animal, scan_animal_id
+from dolphinfit.ui.dialogs.questions import Questions
+from dolphinfit.ui.state.commands import push_edit
+from dolphinfit.ui.state.project_model import Change, ProjectModel
+from dolphinfit.ui.state.viewer_state import Notifier, ViewerState, selected_clip
 
 
 class AnimalCommands(QObject):

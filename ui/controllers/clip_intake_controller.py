@@ -10,18 +10,18 @@ from pathlib import Path
 from PySide6.QtCore import QObject, Signal
 from PySide6.QtWidgets import QWidget
 
-from core.errors import InputError
-from core.io.media import video_files
-from core.progress import ProgressCallback
-from core.project.clip_intake import Intake, intake, with_launch_height
-from core.project.model import add_clip
-from ui.controllers.project_files import ProjectFiles
-from ui.dialogs.job_progress import JobProgress
-from ui.dialogs.questions import Questions
-from ui.state.commands import push_edit
-from ui.state.project_model import Change, ProjectModel
-from ui.state.viewer_state import Notifier
-from ui.workers.job_worker import JobWorker
+from dolphinfit.core.errors import InputError
+from dolphinfit.core.io.media import video_files
+from dolphinfit.core.progress import ProgressCallback
+from dolphinfit.core.project.clip_intake import Intake, intake, with_launch_height
+from dolphinfit.core.project.model import add_clip
+from dolphinfit.ui.controllers.project_files import ProjectFiles
+from dolphinfit.ui.dialogs.job_progress import JobProgress
+from dolphinfit.ui.dialogs.questions import Questions
+from dolphinfit.ui.state.commands import push_edit
+from dolphinfit.ui.state.project_model import Change, ProjectModel
+from dolphinfit.ui.state.viewer_state import Notifier
+from dolphinfit.ui.workers.job_worker import JobWorker
 
 STATUS_MS = 10_000
 

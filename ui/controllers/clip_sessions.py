@@ -8,19 +8,19 @@ reads again (``telemetry_changed``)."""
 from dataclasses import replace
 from PySide6.QtCore import QObject, Signal
 
-from core.errors import InputError
-from core.measure.altitude_calibration import same_focal_px
-from core.measure.lens import LensModel, read_lens
-from core.project.calibrations import clip_calibration
-from core.project.model import with_calibration, with_clip
-from core.project.project_file import media_path
-from core.project.results import frame_altitude
-from ui.dialogs.questions import Questions
-from ui.state.clip_session import ClipSession, open_session, read_session_telemetry
-from ui.state.commands import push_edit
-from ui.state.project_model import Change, ProjectModel
-from ui.state.viewer_state import Notifier, ViewerState, selected_clip
-from ui.workers.background import BackgroundJobs
+from dolphinfit.core.errors import InputError
+from dolphinfit.core.measure.altitude_calibration import same_focal_px
+from dolphinfit.core.measure.lens import LensModel, read_lens
+from dolphinfit.core.project.calibrations import clip_calibration
+from dolphinfit.core.project.model import with_calibration, with_clip
+from dolphinfit.core.project.project_file import media_path
+from dolphinfit.core.project.results import frame_altitude
+from dolphinfit.ui.dialogs.questions import Questions
+from dolphinfit.ui.state.clip_session import ClipSession, open_session, read_session_telemetry
+from dolphinfit.ui.state.commands import push_edit
+from dolphinfit.ui.state.project_model import Change, ProjectModel
+from dolphinfit.ui.state.viewer_state import Notifier, ViewerState, selected_clip
+from dolphinfit.ui.workers.background import BackgroundJobs
 
 
 class ClipSessions(QObject):

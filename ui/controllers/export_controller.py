@@ -10,18 +10,18 @@ from pathlib import Path
 from PySide6.QtCore import QObject
 from PySide6.QtWidgets import QWidget
 
-from core.fit.result import FitResult
-from core.progress import ProgressCallback
-from core.project.comparison import project_comparison_rows, write_comparison_csv
-from core.project.evaluate import all_keys
-from core.project.model import MeasurementKey, get_measurement
-from core.project.results import image_id
-from ui.dialogs.job_progress import JobProgress
-from ui.dialogs.questions import Questions
-from ui.state.project_model import ProjectModel
-from ui.state.viewer_state import Notifier
-from ui.workers.export_worker import ExportWorker
-from ui.workers.job_worker import Job
+from dolphinfit.core.fit.result import FitResult
+from dolphinfit.core.progress import ProgressCallback
+from dolphinfit.core.project.comparison import project_comparison_rows, write_comparison_csv
+from dolphinfit.core.project.evaluate import all_keys
+from dolphinfit.core.project.model import MeasurementKey, get_measurement
+from dolphinfit.core.project.results import image_id
+from dolphinfit.ui.dialogs.job_progress import JobProgress
+from dolphinfit.ui.dialogs.questions import Questions
+from dolphinfit.ui.state.project_model import ProjectModel
+from dolphinfit.ui.state.viewer_state import Notifier
+from dolphinfit.ui.workers.export_worker import ExportWorker
+from dolphinfit.ui.workers.job_worker import Job
 
 STATUS_MS = 10_000
 
@@ -105,8 +105,8 @@ class ExportController(QObject):
         folder, suffix = choice
 
         def job(progress: ProgressCallback, cancel: threading.Event) -> tuple[list, list]:
-            from core.fit.mesh_files import export_fit_meshes  # trimesh, in the worker
-            from core.model.template import load_template
+            from dolphinfit.core.fit.mesh_files import export_fit_meshes  # trimesh, in the worker
+            from dolphinfit.core.model.template import load_template
             return export_fit_meshes(fit, load_template(), folder, suffix, progress, cancel), []
 
         self._run(job)

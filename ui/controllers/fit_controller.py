@@ -13,48 +13,50 @@ from PySide6.QtCore import QObject, QPointF, Signal
 from PySide6.QtGui import QColor, QPainterPath, QPen, QPolygonF
 from PySide6.QtWidgets import QGraphicsPathItem
 
-from core.errors import InputError
-from core.fit.reporter import FitPreview
-from core.fit.result import FitResult
-from core.fit.result_io import read_fit_result
-from core.io.video import frames_at_fps
-from core.measure.stations import STATION_PCT
-from core.model.template import load_template
-from core.progress import Progress
-from core.project.calibrations import calibrated_clip_telemetry
-from core.project.fit_overlay import silhouette_outlines
-from core.project.fit_playback import posed_at
-from core.measure.hw_ratios import write_hw_csv
-from core.project.comparison_view import ComparisonView, comparison_view
-from core.project.fit_settings import FitSettings, fit_dir, hw_table_path
-from core.project.model import Animal, with_animal
-from core.project.project_file import media_path, relative_media_path
-from core.project.results import FrameResult, frame_altitude, project_fit_config
-from ui.workers.background import BackgroundJobs
-from ui.widgets.canvas import FrameCanvas
-from ui.state.commands import push_edit
-from ui.widgets.fit_panel import FitPanel
-from ui.workers.fit_worker import FitJob, FitWorker
-from ui.widgets.lazy_widget import LazyWidget
-from ui.state.project_model import Change, ProjectModel
-from ui.widgets.results_panel import ResultsPanel
-from ui.state.viewer_state import ViewerState
+from dolphinfit.core.errors import InputError
+from dolphinfit.core.fit.reporter import FitPreview
+from dolphinfit.core.fit.result import FitResult
+from dolphinfit.core.fit.result_io import read_fit_result
+from dolphinfit.core.io.video import frames_at_fps
+from dolphinfit.core.measure.stations import STATION_PCT
+from dolphinfit.core.model.template import load_template
+from dolphinfit.core.progress import Progress
+from dolphinfit.core.project.calibrations import calibrated_clip_telemetry
+from dolphinfit.core.project.fit_overlay import silhouette_outlines
+from dolphinfit.core.project.fit_playback import posed_at
+from dolphinfit.core.measure.hw_ratios import write_hw_csv
+from dolphinfit.core.project.comparison_view import ComparisonView, comparison_view
+from dolphinfit.core.project.fit_settings import FitSettings, fit_dir, hw_table_path
+from dolphinfit.core.project.model import Animal, with_animal
+from dolphinfit.core.project.project_file import media_path, relative_media_path
+from dolphinfit.core.project.results import FrameResult, frame_altitude, project_fit_config
+from dolphinfit.ui.workers.background import BackgroundJobs
+from dolphinfit.ui.widgets.canvas import FrameCanvas
+from dolphinfit.ui.state.commands import push_edit
+from dolphinfit.ui.widgets.fit_panel import FitPanel
+from dolphinfit.ui.workers.fit_worker import FitJob, FitWorker
+from dolphinfit.ui.widgets.lazy_widget import LazyWidget
+from dolphinfit.ui.state.project_model import Change, ProjectModel
+from dolphinfit.ui.widgets.results_panel import ResultsPanel
+from dolphinfit.ui.state.viewer_state import ViewerState
 
 if TYPE_CHECKING:
-    from ui.widgets.comparison_panel import ComparisonPanel
-    from ui.widgets.viewer3d import Viewer3D
+    from dolphinfit.ui.widgets.comparison_panel import ComparisonPanel
+    from dolphinfit.ui.widgets.viewer3d import Viewer3D
 
 SILHOUETTE_COLOUR = "#ff8c1a"  # orange: apart from the measuring handles and the water
 SILHOUETTE_Z = 0.5             # above the frame, under the measuring overlay
 
 
 def _make_viewer() -> "Viewer3D":
-    from ui.widgets.viewer3d import Viewer3D  # VTK: imported when the 3D view is first shown
+    from dolphinfit.ui.widgets.viewer3d import (  # VTK: imported when the 3D view is first shown
+        Viewer3D,
+    )
     return Viewer3D()
 
 
 def _make_comparison() -> "ComparisonPanel":
-    from ui.widgets.comparison_panel import ComparisonPanel  # matplotlib: on first show
+    from dolphinfit.ui.widgets.comparison_panel import ComparisonPanel  # matplotlib: on first show
     return ComparisonPanel()
 
 
@@ -416,8 +418,8 @@ class FitController(QObject):
         table = hw_table_path(path, clip.media_path, animal_id)
 
         def make() -> str:
-            from core.model.hw_from_model import hw_from_mesh
-            from core.model.template import load_template
+            from dolphinfit.core.model.hw_from_model import hw_from_mesh
+            from dolphinfit.core.model.template import load_template
             hw = hw_from_mesh(fit.rest_verts, load_template().station_rings,
                               name=f"3D fit of {animal_id} ({clip.name})",
                               source=f"heights / widths of the fitted mesh at the stations, "

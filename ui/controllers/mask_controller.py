@@ -11,10 +11,10 @@ from pathlib import Path
 import numpy as np
 from PySide6.QtCore import QObject, Signal
 
-from core.errors import InputError
-from core.io.masks import MaskTrack, read_masks
-from core.progress import Progress
-from core.project.mask_store import (
+from dolphinfit.core.errors import InputError
+from dolphinfit.core.io.masks import MaskTrack, read_masks
+from dolphinfit.core.progress import Progress
+from dolphinfit.core.project.mask_store import (
     Coverage,
     coverage,
     masks_file,
@@ -22,18 +22,18 @@ from core.project.mask_store import (
     save_track,
     with_frame,
 )
-from core.project.model import with_clip
-from core.project.project_file import relative_media_path
-from core.segment.backends import COLOUR, DEFAULT_BACKEND
-from core.segment.segmenter import FrameTracked, PointSeed
-from ui.workers.background import BackgroundJobs
-from ui.widgets.canvas import FrameCanvas
-from ui.state.commands import push_edit
-from ui.workers.job_worker import JobWorker
-from ui.widgets.mask_layer import MaskLayer
-from ui.state.project_model import Change, ProjectModel
-from ui.workers.tracker_jobs import Tracked, track_job
-from ui.state.viewer_state import Notifier, ViewerState
+from dolphinfit.core.project.model import with_clip
+from dolphinfit.core.project.project_file import relative_media_path
+from dolphinfit.core.segment.backends import COLOUR, DEFAULT_BACKEND
+from dolphinfit.core.segment.segmenter import FrameTracked, PointSeed
+from dolphinfit.ui.workers.background import BackgroundJobs
+from dolphinfit.ui.widgets.canvas import FrameCanvas
+from dolphinfit.ui.state.commands import push_edit
+from dolphinfit.ui.workers.job_worker import JobWorker
+from dolphinfit.ui.widgets.mask_layer import MaskLayer
+from dolphinfit.ui.state.project_model import Change, ProjectModel
+from dolphinfit.ui.workers.tracker_jobs import Tracked, track_job
+from dolphinfit.ui.state.viewer_state import Notifier, ViewerState
 
 
 class MaskController(QObject):

@@ -9,10 +9,10 @@ from pathlib import Path
 
 from PySide6.QtCore import QObject, Signal
 
-from core.errors import InputError
-from core.project.model import Project
-from core.project.new_project import project_path_for, project_with_media
-from core.project.project_file import (
+from dolphinfit.core.errors import InputError
+from dolphinfit.core.project.model import Project
+from dolphinfit.core.project.new_project import project_path_for, project_with_media
+from dolphinfit.core.project.project_file import (
     PROJECT_SUFFIX,
     autosave_path,
     has_newer_autosave,
@@ -22,12 +22,12 @@ from core.project.project_file import (
     relink_clip,
     write_project,
 )
-from core.project.recent import add_recent
-from ui.dialogs.questions import Questions
-from ui.state.commands import push_edit
-from ui.state.project_model import Change, ProjectModel
-from ui.state.viewer_state import Notifier
-from ui.workers.background import BackgroundJobs
+from dolphinfit.core.project.recent import add_recent
+from dolphinfit.ui.dialogs.questions import Questions
+from dolphinfit.ui.state.commands import push_edit
+from dolphinfit.ui.state.project_model import Change, ProjectModel
+from dolphinfit.ui.state.viewer_state import Notifier
+from dolphinfit.ui.workers.background import BackgroundJobs
 
 STATUS_MS = 10_000
 
@@ -115,7 +115,7 @@ class ProjectFiles(QObject):
 
     def add_media(self, media: Path) -> None:
         """Open media in the background and add it to the project (or select its clip)."""
-        from core.io.media import open_media
+        from dolphinfit.core.io.media import open_media
 
         def opened(source: object) -> None:
             project, clip_idx = project_with_media(self.model.project, media,

@@ -19,22 +19,22 @@ from pathlib import Path
 import numpy as np
 from PySide6.QtCore import QObject, Signal
 
-from core.io.media import open_media
-from core.progress import Progress, ProgressCallback
-from core.project.model import with_clip
-from core.project.project_file import media_path, relative_media_path
-from core.project.scan_store import (
+from dolphinfit.core.io.media import open_media
+from dolphinfit.core.progress import Progress, ProgressCallback
+from dolphinfit.core.project.model import with_clip
+from dolphinfit.core.project.project_file import media_path, relative_media_path
+from dolphinfit.core.project.scan_store import (
     ClipStatus, clip_status, next_clip_needing_work, save_scan, scan_clip, scan_file,
 )
-from core.scan.clip_scan import ClipScan
-from core.scan.frame_scores import FrameScore, ScanSettings
-from core.scan.scan_files import read_scan_json
-from core.scan.thumbnails import thumbnails
-from ui.state.commands import push_edit
-from ui.state.project_model import Change, ProjectModel
-from ui.state.viewer_state import Notifier
-from ui.workers.background import BackgroundJobs
-from ui.workers.job_worker import JobWorker
+from dolphinfit.core.scan.clip_scan import ClipScan
+from dolphinfit.core.scan.frame_scores import FrameScore, ScanSettings
+from dolphinfit.core.scan.scan_files import read_scan_json
+from dolphinfit.core.scan.thumbnails import thumbnails
+from dolphinfit.ui.state.commands import push_edit
+from dolphinfit.ui.state.project_model import Change, ProjectModel
+from dolphinfit.ui.state.viewer_state import Notifier
+from dolphinfit.ui.workers.background import BackgroundJobs
+from dolphinfit.ui.workers.job_worker import JobWorker
 
 STATUS_MS = 10_000
 
@@ -184,7 +184,7 @@ class ScanController(QObject):
 
             def job(progress: ProgressCallback, cancel: threading.Event) -> tuple:
                 if self._scanner is None:  # the network loads torch: only when first scanning
-                    from core.scan.scanner import Scanner
+                    from dolphinfit.core.scan.scanner import Scanner
                     self._scanner = Scanner()
                 scan = scan_clip(path, project, clip_idx, settings, self._scanner, progress,
                                  cancel)

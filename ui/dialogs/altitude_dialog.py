@@ -16,15 +16,17 @@ from PySide6.QtWidgets import (QButtonGroup, QComboBox, QDialog, QDialogButtonBo
                                QDoubleSpinBox, QFileDialog, QFormLayout, QGridLayout, QLineEdit,
                                QPushButton, QRadioButton, QVBoxLayout, QWidget)
 
-from core.errors import InputError
-from core.io.altitude_samples import AltitudeSamples
-from core.io.telemetry import READER_KINDS, find_srt_sidecar, read_altitude, summarize_samples
-from core.io.video import Clip
-from core.measure.annotation import ALTITUDE_SOURCE_OF_KIND, ALTITUDE_SOURCES
-from core.project.model import AltitudeSpec
-from core.project.project_file import relative_media_path
-from ui.dialogs.dialog_buttons import ok_cancel_buttons
-from ui.dialogs.message_label import MessageLabel
+from dolphinfit.core.errors import InputError
+from dolphinfit.core.io.altitude_samples import AltitudeSamples
+from dolphinfit.core.io.telemetry import (
+    READER_KINDS, find_srt_sidecar, read_altitude, summarize_samples,
+)
+from dolphinfit.core.io.video import Clip
+from dolphinfit.core.measure.annotation import ALTITUDE_SOURCE_OF_KIND, ALTITUDE_SOURCES
+from dolphinfit.core.project.model import AltitudeSpec
+from dolphinfit.core.project.project_file import relative_media_path
+from dolphinfit.ui.dialogs.dialog_buttons import ok_cancel_buttons
+from dolphinfit.ui.dialogs.message_label import MessageLabel
 
 CONSTANT_RANGE_M = (1.0, 500.0)
 DEFAULT_CONSTANT_M = 20.0  # a typical survey height over dolphins (DESIGN.md §3)

@@ -5,8 +5,8 @@ from collections.abc import Iterable
 from PySide6.QtWidgets import (QDialog, QDialogButtonBox, QFormLayout, QLineEdit,
                                QPlainTextEdit, QVBoxLayout, QWidget)
 
-from ui.dialogs.dialog_buttons import ok_cancel_buttons
-from ui.dialogs.message_label import MessageLabel
+from dolphinfit.ui.dialogs.dialog_buttons import ok_cancel_buttons
+from dolphinfit.ui.dialogs.message_label import MessageLabel
 
 
 class AnimalDialog(QDialog):

@@ -17,13 +17,13 @@ from PySide6.QtWidgets import (QAbstractItemView, QCheckBox, QComboBox, QDialog,
                                QLineEdit, QPushButton, QSplitter, QTableWidget,
                                QTableWidgetItem, QVBoxLayout, QWidget)
 
-from core.camera_presets import CameraPreset
-from core.io.calibration_table import read_calibration_table
-from core.io.image_file import read_image
-from core.measure.altitude_calibration import AltitudeCalibration
-from core.measure.annotation import ALTITUDE_SOURCES
-from core.measure.calibration_plot import draw_altitude_calibration
-from core.project.calibrations import (
+from dolphinfit.core.camera_presets import CameraPreset
+from dolphinfit.core.io.calibration_table import read_calibration_table
+from dolphinfit.core.io.image_file import read_image
+from dolphinfit.core.measure.altitude_calibration import AltitudeCalibration
+from dolphinfit.core.measure.annotation import ALTITUDE_SOURCES
+from dolphinfit.core.measure.calibration_plot import draw_altitude_calibration
+from dolphinfit.core.project.calibrations import (
     UNKNOWN_ALTITUDE_M,
     FRAME_MARK,
     clip_shots,
@@ -31,12 +31,12 @@ from core.project.calibrations import (
     read_shot_image,
     shots_from_table,
 )
-from core.project.model import AltitudeCalibrationSet, ObjectShot
-from ui.dialogs.dialog_buttons import ok_cancel_buttons
-from ui.dialogs.message_label import MessageLabel
-from ui.widgets.canvas import FrameCanvas
-from ui.widgets.overlay_items import cosmetic_pen
-from ui.workers.background import BackgroundJobs
+from dolphinfit.core.project.model import AltitudeCalibrationSet, ObjectShot
+from dolphinfit.ui.dialogs.dialog_buttons import ok_cancel_buttons
+from dolphinfit.ui.dialogs.message_label import MessageLabel
+from dolphinfit.ui.widgets.canvas import FrameCanvas
+from dolphinfit.ui.widgets.overlay_items import cosmetic_pen
+from dolphinfit.ui.workers.background import BackgroundJobs
 
 ALTIMETERS = tuple(source for source in ALTITUDE_SOURCES if source != "manual")
 COLUMNS = ("image", "recorded altitude (m)", "length (px)")

@@ -9,11 +9,11 @@ from PySide6.QtWidgets import (QComboBox, QDialog, QDoubleSpinBox, QFormLayout, 
                                QInputDialog, QLabel, QMessageBox, QPushButton, QSpinBox,
                                QVBoxLayout, QWidget)
 
-from core.camera_presets import (CameraPreset, load_presets, preset_resolution_mismatch,
+from dolphinfit.core.camera_presets import (CameraPreset, load_presets, preset_resolution_mismatch,
                                  save_user_preset)
-from core.errors import InputError
-from ui.dialogs.dialog_buttons import ok_cancel_buttons
-from ui.dialogs.message_label import MessageLabel
+from dolphinfit.core.errors import InputError
+from dolphinfit.ui.dialogs.dialog_buttons import ok_cancel_buttons
+from dolphinfit.ui.dialogs.message_label import MessageLabel
 
 GSD_ALTITUDE_M = 20.0  # the altitude of the GSD readout (DESIGN.md §3's example)
 CM_PER_M = 100.0

@@ -6,8 +6,8 @@ from PySide6.QtGui import QColor, QIcon, QPixmap
 from PySide6.QtWidgets import (QColorDialog, QComboBox, QDialog, QFormLayout, QPushButton,
                                QSpinBox, QVBoxLayout, QWidget)
 
-from ui.dialogs.dialog_buttons import ok_cancel_buttons
-from ui.state.handle_style import HandleStyle
+from dolphinfit.ui.dialogs.dialog_buttons import ok_cancel_buttons
+from dolphinfit.ui.state.handle_style import HandleStyle
 
 SIZE_RANGE_PX = (6, 60)
 OPACITY_RANGE_PCT = (10, 100)

@@ -3,8 +3,8 @@ and text following the job's progress, its Cancel the worker's, closed when the 
 
 from PySide6.QtWidgets import QProgressDialog, QWidget
 
-from core.progress import Progress
-from ui.workers.job_worker import JobWorker
+from dolphinfit.core.progress import Progress
+from dolphinfit.ui.workers.job_worker import JobWorker
 
 SHOW_AFTER_MS = 500
 

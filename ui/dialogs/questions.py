@@ -11,21 +11,22 @@ from PySide6.QtCore import QUrl
 from PySide6.QtGui import QDesktopServices
 from PySide6.QtWidgets import QFileDialog, QInputDialog, QMessageBox, QWidget
 
-from core.camera_presets import CameraPreset
-from core.errors import InputError
-from core.io.frame_source import Clip
-from core.io.media import MEDIA_SUFFIXES, VIDEO_SUFFIXES
-from core.project.model import AltitudeCalibrationSet, AltitudeSpec, Animal
-from core.project.project_file import PROJECT_SUFFIX, autosave_path, find_moved_media
-from core.segment.sam2_backend import check_checkpoint, config_for
-from ui.dialogs.altitude_dialog import AltitudeDialog
-from ui.dialogs.animal_dialog import AnimalDialog
-from ui.dialogs.calibration_dialog import CalibrationChoice, CalibrationDialog
-from ui.dialogs.camera_dialog import CameraDialog
-from ui.dialogs.handle_style_dialog import HandleStyleDialog
-from ui.dialogs.relink_dialog import RelinkDialog
-from ui.dialogs.shortcuts_dialog import ShortcutsDialog
-from ui.state.handle_style import HandleStyle
+from dolphinfit.core.camera_presets import CameraPreset
+from dolphinfit.core.errors import InputError
+from dolphinfit.core.io.frame_source import Clip
+from dolphinfit.core.io.media import MEDIA_SUFFIXES, VIDEO_SUFFIXES
+from dolphinfit.core.project.model import AltitudeCalibrationSet, AltitudeSpec, Animal
+from dolphinfit.core.project.project_file import PROJECT_SUFFIX, autosave_path, find_moved_media
+from dolphinfit.core.resources import RESOURCES_DIR
+from dolphinfit.core.segment.sam2_backend import check_checkpoint, config_for
+from dolphinfit.ui.dialogs.altitude_dialog import AltitudeDialog
+from dolphinfit.ui.dialogs.animal_dialog import AnimalDialog
+from dolphinfit.ui.dialogs.calibration_dialog import CalibrationChoice, CalibrationDialog
+from dolphinfit.ui.dialogs.camera_dialog import CameraDialog
+from dolphinfit.ui.dialogs.handle_style_dialog import HandleStyleDialog
+from dolphinfit.ui.dialogs.relink_dialog import RelinkDialog
+from dolphinfit.ui.dialogs.shortcuts_dialog import ShortcutsDialog
+from dolphinfit.ui.state.handle_style import HandleStyle
 
 ABOUT = ("<p><b>dolphinfit {version}</b>: body length, volume, body condition and mass of "
          "dolphins from nadir drone video, by the elliptical baseline (Christiansen et al. "
@@ -34,8 +35,8 @@ ABOUT = ("<p><b>dolphinfit {version}</b>: body length, volume, body condition an
          "(2025) Model-based metric 3D shape and motion reconstruction of wild bottlenose "
          "dolphins in drone-shot videos. arXiv:2504.15782; and dolphinfit {version} itself "
          "(CITATION.cff in its repository).</p>")
-# the manual as `make docs` builds it beside the package folders of a clone
-MANUAL_INDEX = Path(__file__).resolve().parents[2] / "site" / "index.html"
+# the manual as `make docs` builds it, shipped in the wheel with the other resources
+MANUAL_INDEX = RESOURCES_DIR / "manual" / "index.html"
 
 
 def version() -> str:
@@ -83,9 +84,9 @@ class Questions:
             QDesktopServices.openUrl(QUrl.fromLocalFile(str(MANUAL_INDEX)))
         else:
             self.warn("Manual", f"The manual is not built on this machine ({MANUAL_INDEX} "
-                                f"is missing). Run `make docs` in the dolphinfit folder to "
-                                f"build it; its pages are also readable as Markdown in "
-                                f"{MANUAL_INDEX.parents[1] / 'docs'}.")
+                                f"is missing). In a clone of dolphinfit, `make docs` builds "
+                                f"it; its pages are also readable as Markdown in the clone's "
+                                f"docs/ folder.")
 
     # ------------------------------------------------------------------ files and folders
     def media_to_open(self) -> Path | None:
@@ -135,7 +136,9 @@ class Questions:
 
     def mesh_export(self, start: Path) -> tuple[Path, str] | None:
         """A mesh format, then a folder."""
-        from core.io.mesh_export import MESH_SUFFIXES  # trimesh: loaded when first needed
+        from dolphinfit.core.io.mesh_export import (  # trimesh: loaded when first needed
+            MESH_SUFFIXES,
+        )
 
         suffix, ok = QInputDialog.getItem(self.parent, "Export 3D fit meshes", "Format:",
                                           list(MESH_SUFFIXES), 0, False)

@@ -4,7 +4,7 @@ from PySide6.QtGui import QKeySequence
 from PySide6.QtWidgets import (QAbstractItemView, QDialog, QDialogButtonBox, QHeaderView,
                                QTableWidget, QTableWidgetItem, QVBoxLayout, QWidget)
 
-from ui.action_table import CTRL, MOUSE_GESTURES, load_action_table
+from dolphinfit.ui.action_table import CTRL, MOUSE_GESTURES, load_action_table
 
 COLUMNS = ("Menu", "Key", "Action")
 MOUSE = "Mouse"

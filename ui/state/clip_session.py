@@ -3,12 +3,12 @@
 from dataclasses import dataclass
 from pathlib import Path
 
-from core.errors import InputError
-from core.io.media import FrameSource, open_media
-from core.io.telemetry import Telemetry
-from core.project.model import AltitudeSpec, ClipEntry
-from core.project.project_file import media_path
-from core.project.results import clip_telemetry
+from dolphinfit.core.errors import InputError
+from dolphinfit.core.io.media import FrameSource, open_media
+from dolphinfit.core.io.telemetry import Telemetry
+from dolphinfit.core.project.model import AltitudeSpec, ClipEntry
+from dolphinfit.core.project.project_file import media_path
+from dolphinfit.core.project.results import clip_telemetry
 
 
 @dataclass

@@ -10,8 +10,8 @@ from collections.abc import Hashable
 
 from PySide6.QtGui import QUndoCommand
 
-from core.project.model import Measurement, MeasurementKey, Project, with_measurement
-from ui.state.project_model import Change, ProjectModel
+from dolphinfit.core.project.model import Measurement, MeasurementKey, Project, with_measurement
+from dolphinfit.ui.state.project_model import Change, ProjectModel
 
 MERGE_ID = 1
 

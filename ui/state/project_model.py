@@ -8,8 +8,8 @@ from pathlib import Path
 from PySide6.QtCore import QObject, QTimer, Signal
 from PySide6.QtGui import QUndoStack
 
-from core.project.model import Measurement, MeasurementKey, Project, get_measurement
-from core.project.project_file import autosave_path, write_project
+from dolphinfit.core.project.model import Measurement, MeasurementKey, Project, get_measurement
+from dolphinfit.core.project.project_file import autosave_path, write_project
 
 AUTOSAVE_DELAY_MS = 1500  # after the last change; a burst of drags writes once
 Selection = tuple[int | None, int | None, int | None]  # clip, animal, measured frame

@@ -8,7 +8,7 @@ views it draws on alone.
 
 from PySide6.QtCore import QObject, Signal
 
-from ui.state.clip_session import ClipSession
+from dolphinfit.ui.state.clip_session import ClipSession
 
 
 class ViewerState(QObject):

@@ -11,7 +11,7 @@ from PySide6.QtGui import (QColor, QFocusEvent, QKeyEvent, QMouseEvent, QPainter
                            QResizeEvent, QWheelEvent)
 from PySide6.QtWidgets import QGraphicsPixmapItem, QGraphicsScene, QGraphicsView, QWidget
 
-from ui.workers.frame_loader import rgb_to_qimage
+from dolphinfit.ui.workers.frame_loader import rgb_to_qimage
 
 ZOOM_STEP = 1.15  # scale factor per wheel notch
 WHEEL_NOTCH = 120  # angleDelta units per notch

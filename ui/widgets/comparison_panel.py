@@ -14,7 +14,7 @@ from PySide6.QtWidgets import (
     QVBoxLayout, QWidget,
 )
 
-from core.project.comparison import ComparisonRow
+from dolphinfit.core.project.comparison import ComparisonRow
 
 COLUMNS = ("Quantity", "Elliptical (95 %)", "3D fit (95 %)", "Fit − ell.")
 FORMATS = {"length_m": ".3f", "volume_m3": ".4f", "bci": "+.3f", "density_kg_m3": ".1f",

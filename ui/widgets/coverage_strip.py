@@ -10,8 +10,8 @@ from PySide6.QtCore import QRectF
 from PySide6.QtGui import QColor, QPainter
 from PySide6.QtWidgets import QWidget
 
-from core.project.mask_store import Coverage
-from ui.widgets.frame_strip import PlottedStrip
+from dolphinfit.core.project.mask_store import Coverage
+from dolphinfit.ui.widgets.frame_strip import PlottedStrip
 
 NO_MASKS, VISIBLE, LOST, BORDER = range(4)
 COLOURS = {NO_MASKS: QColor(90, 90, 90), VISIBLE: QColor(60, 190, 90),

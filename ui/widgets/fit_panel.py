@@ -11,8 +11,8 @@ from PySide6.QtWidgets import (
     QPushButton, QVBoxLayout, QWidget,
 )
 
-from core.progress import Progress
-from core.project.fit_settings import QUALITY_STEP_SCALE, FitSettings
+from dolphinfit.core.progress import Progress
+from dolphinfit.core.project.fit_settings import QUALITY_STEP_SCALE, FitSettings
 
 LOSS_PLOT_HEIGHT_PX = 60
 MAX_FPS = 30.0

@@ -12,10 +12,10 @@ from PySide6.QtWidgets import (
     QTableWidgetItem, QVBoxLayout, QWidget,
 )
 
-from core.project.scan_store import usable_frames
-from core.scan.clip_scan import ClipScan
-from core.scan.frame_scores import FrameScore
-from ui.workers.frame_loader import rgb_to_qimage
+from dolphinfit.core.project.scan_store import usable_frames
+from dolphinfit.core.scan.clip_scan import ClipScan
+from dolphinfit.core.scan.frame_scores import FrameScore
+from dolphinfit.ui.workers.frame_loader import rgb_to_qimage
 
 THUMBNAIL_PX = 72
 COLUMNS = ("animal", "rank", "frame", "quality", "length m", "time s", "length %",

@@ -17,9 +17,9 @@ from PySide6.QtCore import QEvent, QObject, QPointF, QRectF, Qt, Signal
 from PySide6.QtGui import QBrush, QColor, QKeyEvent, QMouseEvent, QPainterPath, QPolygonF
 from PySide6.QtWidgets import QGraphicsEllipseItem, QGraphicsPathItem
 
-from core.project.mask_store import outlines, paint_segment
-from ui.widgets.canvas import FrameCanvas
-from ui.widgets.overlay_items import cosmetic_pen
+from dolphinfit.core.project.mask_store import outlines, paint_segment
+from dolphinfit.ui.widgets.canvas import FrameCanvas
+from dolphinfit.ui.widgets.overlay_items import cosmetic_pen
 
 MASK_Z = 5  # above the frame (z = 0), below the measuring overlay (z = 10)
 CURSOR_Z = 20

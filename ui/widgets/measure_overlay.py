@@ -20,17 +20,17 @@ import numpy as np
 from PySide6.QtCore import QEvent, QObject, QPointF, QRectF, Qt, Signal
 from PySide6.QtGui import QKeyEvent
 
-from core.errors import InputError
-from core.measure.annotation import SIDES, Stations
-from core.measure.mask_midline import suggested_edges
-from core.measure.stations import NUM_STATIONS, STATION_PCT
-from core.project import edits
-from core.project.model import Measurement
-from ui.widgets.canvas import FrameCanvas
-from ui.state.commands import edit_measurement
-from ui.state.handle_style import HandleStyle
-from ui.widgets.overlay_items import HandleItem, MeasurementItems
-from ui.state.project_model import Change, ProjectModel
+from dolphinfit.core.errors import InputError
+from dolphinfit.core.measure.annotation import SIDES, Stations
+from dolphinfit.core.measure.mask_midline import suggested_edges
+from dolphinfit.core.measure.stations import NUM_STATIONS, STATION_PCT
+from dolphinfit.core.project import edits
+from dolphinfit.core.project.model import Measurement
+from dolphinfit.ui.widgets.canvas import FrameCanvas
+from dolphinfit.ui.state.commands import edit_measurement
+from dolphinfit.ui.state.handle_style import HandleStyle
+from dolphinfit.ui.widgets.overlay_items import HandleItem, MeasurementItems
+from dolphinfit.ui.state.project_model import Change, ProjectModel
 
 MODES = ("length", "widths")
 NUDGE_PX = 1.0  # arrow key, image px along the perpendicular

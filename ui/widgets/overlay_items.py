@@ -16,10 +16,10 @@ from PySide6.QtWidgets import (QGraphicsEllipseItem, QGraphicsItem, QGraphicsLin
                                QGraphicsPathItem, QGraphicsScene, QGraphicsSceneMouseEvent,
                                QGraphicsSimpleTextItem, QStyleOptionGraphicsItem, QWidget)
 
-from core.measure.annotation import Stations, midline_spline
-from core.measure.stations import NUM_STATIONS, STATION_PCT
-from core.project.model import Measurement
-from ui.state.handle_style import HandleStyle
+from dolphinfit.core.measure.annotation import Stations, midline_spline
+from dolphinfit.core.measure.stations import NUM_STATIONS, STATION_PCT
+from dolphinfit.core.project.model import Measurement
+from dolphinfit.ui.state.handle_style import HandleStyle
 
 OVERLAY_Z = 10  # above the frame's pixmap (z = 0)
 PERPENDICULAR_HALF_LENGTH = 0.15  # of body length: past the widest body (≈ 0.09) and flippers

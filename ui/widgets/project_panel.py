@@ -7,9 +7,9 @@ from PySide6.QtCore import Qt
 from PySide6.QtGui import QFont
 from PySide6.QtWidgets import QTreeWidget, QTreeWidgetItem, QVBoxLayout, QWidget
 
-from core.project.model import MeasurementKey
-from core.project.scan_store import ClipStatus
-from ui.state.project_model import Change, ProjectModel
+from dolphinfit.core.project.model import MeasurementKey
+from dolphinfit.core.project.scan_store import ClipStatus
+from dolphinfit.ui.state.project_model import Change, ProjectModel
 
 ROLE_PATH = Qt.ItemDataRole.UserRole  # (clip, animal or None, measurement or None)
 

@@ -16,18 +16,18 @@ from PySide6.QtWidgets import (
     QScrollArea, QTableWidget, QTableWidgetItem, QVBoxLayout, QWidget,
 )
 
-from core.errors import InputError
-from core.measure.baseline import BaselineEstimate
-from core.measure.elliptical import TAIL_EXTRAPOLATED, TAIL_IDX, TAIL_MEASURED
-from core.measure.hw_ratios import preset_names
-from core.measure.stations import NUM_STATIONS, STATION_PCT
-from core.measure.uncertainty import Summary
-from core.project.comparison import interval_of
-from core.project.model import Measurement
-from core.project.results import FrameResult, LengthResult, Spread
-from ui.state.commands import push_edit
-from ui.state.project_model import Change, ProjectModel
-from ui.workers.results_worker import AnimalSummary, ResultsWorker
+from dolphinfit.core.errors import InputError
+from dolphinfit.core.measure.baseline import BaselineEstimate
+from dolphinfit.core.measure.elliptical import TAIL_EXTRAPOLATED, TAIL_IDX, TAIL_MEASURED
+from dolphinfit.core.measure.hw_ratios import preset_names
+from dolphinfit.core.measure.stations import NUM_STATIONS, STATION_PCT
+from dolphinfit.core.measure.uncertainty import Summary
+from dolphinfit.core.project.comparison import interval_of
+from dolphinfit.core.project.model import Measurement
+from dolphinfit.core.project.results import FrameResult, LengthResult, Spread
+from dolphinfit.ui.state.commands import push_edit
+from dolphinfit.ui.state.project_model import Change, ProjectModel
+from dolphinfit.ui.workers.results_worker import AnimalSummary, ResultsWorker
 
 AltitudeLookup = Callable[[int, int], tuple[float, str]]  # (clip, frame) → (m, source)
 

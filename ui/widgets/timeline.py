@@ -12,9 +12,9 @@ from PySide6.QtCore import QPointF, QRectF, Qt, Signal
 from PySide6.QtGui import (QColor, QMouseEvent, QPainter, QPaintEvent, QPen, QPolygonF)
 from PySide6.QtWidgets import QGridLayout, QLabel, QSlider, QStyle, QWidget
 
-from core.project.mask_store import Coverage
-from ui.widgets.coverage_strip import CoverageStrip
-from ui.widgets.frame_strip import STRIP_BACKGROUND, FrameStrip, PlottedStrip
+from dolphinfit.core.project.mask_store import Coverage
+from dolphinfit.ui.widgets.coverage_strip import CoverageStrip
+from dolphinfit.ui.widgets.frame_strip import STRIP_BACKGROUND, FrameStrip, PlottedStrip
 
 MARK_COLOUR = QColor(255, 200, 60)
 MEASURED_COLOUR = QColor(90, 170, 255)

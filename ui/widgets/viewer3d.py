@@ -16,7 +16,7 @@ from PySide6.QtGui import QCloseEvent, QGuiApplication
 from PySide6.QtWidgets import QCheckBox, QGridLayout, QLabel, QPushButton, QVBoxLayout, QWidget
 from pyvistaqt import QtInteractor
 
-from core.project.fit_playback import posed_at
+from dolphinfit.core.project.fit_playback import posed_at
 
 SPACING = 1.5          # centre-to-centre spacing of side-by-side bodies, × the wider width
 WATER_MARGIN = 0.25    # water plane margin around the bodies, × body length

@@ -7,8 +7,8 @@ from typing import Any
 
 from PySide6.QtCore import QObject, QRunnable, QThreadPool, Signal
 
-from core.errors import InputError
-from core.progress import Cancelled
+from dolphinfit.core.errors import InputError
+from dolphinfit.core.progress import Cancelled
 
 log = logging.getLogger(__name__)
 

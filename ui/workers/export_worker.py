@@ -9,12 +9,12 @@ from pathlib import Path
 
 from PySide6.QtCore import QObject
 
-from core.measure.uncertainty import DEFAULT_NUM_DRAWS
-from core.progress import ProgressCallback, part_of
-from core.project.evaluate import frame_results
-from core.project.exports import MediaFrames, export_frames
-from core.project.model import MeasurementKey, Project
-from ui.workers.job_worker import JobWorker
+from dolphinfit.core.measure.uncertainty import DEFAULT_NUM_DRAWS
+from dolphinfit.core.progress import ProgressCallback, part_of
+from dolphinfit.core.project.evaluate import frame_results
+from dolphinfit.core.project.exports import MediaFrames, export_frames
+from dolphinfit.core.project.model import MeasurementKey, Project
+from dolphinfit.ui.workers.job_worker import JobWorker
 
 
 class ExportWorker(JobWorker):

@@ -10,14 +10,14 @@ import threading
 from dataclasses import dataclass
 from pathlib import Path
 
-from core.camera_presets import CameraPreset, preset_resolution_mismatch
-from core.errors import InputError
-from core.io.masks import read_masks
-from core.io.media import open_media
-from core.io.telemetry import Telemetry
-from core.progress import Cancelled, ProgressCallback
-from core.fit.config import FitConfig
-from ui.workers.job_worker import JobWorker
+from dolphinfit.core.camera_presets import CameraPreset, preset_resolution_mismatch
+from dolphinfit.core.errors import InputError
+from dolphinfit.core.io.masks import read_masks
+from dolphinfit.core.io.media import open_media
+from dolphinfit.core.io.telemetry import Telemetry
+from dolphinfit.core.progress import Cancelled, ProgressCallback
+from dolphinfit.core.fit.config import FitConfig
+from dolphinfit.ui.workers.job_worker import JobWorker
 
 
 @dataclass(frozen=True, eq=False)
@@ -35,10 +35,10 @@ class FitJob:
 
 def run_fit_job(job: FitJob, progress: ProgressCallback, cancel: threading.Event) -> tuple:
     """Fit, write the outputs, return (FitResult, fit folder). Loads torch: worker only."""
-    from core.fit.outputs import write_outputs
-    from core.fit.pipeline import fit_clip
-    from core.model.template import load_template
-    from core.runtime import configure_threads
+    from dolphinfit.core.fit.outputs import write_outputs
+    from dolphinfit.core.fit.pipeline import fit_clip
+    from dolphinfit.core.model.template import load_template
+    from dolphinfit.core.runtime import configure_threads
 
     configure_threads()
     with open_media(job.media) as frames:

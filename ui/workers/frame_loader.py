@@ -11,7 +11,7 @@ import numpy as np
 from PySide6.QtCore import QObject, QThread, Signal, Slot
 from PySide6.QtGui import QImage
 
-from core.io.frame_source import FrameSource
+from dolphinfit.core.io.frame_source import FrameSource
 
 
 def rgb_to_qimage(rgb: np.ndarray) -> QImage:

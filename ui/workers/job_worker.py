@@ -8,8 +8,8 @@ from typing import Any
 
 from PySide6.QtCore import QObject, QRunnable, Qt, QThreadPool, Signal, Slot
 
-from core.progress import Cancelled, ProgressCallback
-from ui.workers.background import guarded
+from dolphinfit.core.progress import Cancelled, ProgressCallback
+from dolphinfit.ui.workers.background import guarded
 
 PROGRESS, FINISHED, FAILED, CANCELLED = "progress", "finished", "failed", "cancelled"
 Job = Callable[[ProgressCallback, threading.Event], Any]  # (progress, cancel) → result

@@ -15,13 +15,13 @@ from dataclasses import dataclass
 
 from PySide6.QtCore import QObject, Qt, Signal, Slot
 
-from core.errors import InputError
-from core.measure.elliptical import NoWidthError
-from core.measure.hw_ratios import HWRatios
-from core.model.hw_spec import resolve_hw
-from core.measure.uncertainty import DEFAULT_NUM_DRAWS
-from core.project.model import MeasurementKey, Project
-from core.project.results import (
+from dolphinfit.core.errors import InputError
+from dolphinfit.core.measure.elliptical import NoWidthError
+from dolphinfit.core.measure.hw_ratios import HWRatios
+from dolphinfit.core.model.hw_spec import resolve_hw
+from dolphinfit.core.measure.uncertainty import DEFAULT_NUM_DRAWS
+from dolphinfit.core.project.model import MeasurementKey, Project
+from dolphinfit.core.project.results import (
     FrameResult, LengthResult, Spread, animal_summary, measure_frame, measure_length,
     project_hw_spec,
 )

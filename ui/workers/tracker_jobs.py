@@ -16,13 +16,13 @@ from typing import Literal
 
 import numpy as np
 
-from core.io.frame_source import FrameSource
-from core.io.masks import MaskTrack, check_against_clip
-from core.io.media import open_media
-from core.progress import Progress, ProgressCallback
-from core.segment.backends import DEFAULT_BACKEND, make_segmenter
-from core.segment.segmenter import BoxSeed, FrameTracked, PointSeed, TrackingCancelled
-from ui.workers.job_worker import Job
+from dolphinfit.core.io.frame_source import FrameSource
+from dolphinfit.core.io.masks import MaskTrack, check_against_clip
+from dolphinfit.core.io.media import open_media
+from dolphinfit.core.progress import Progress, ProgressCallback
+from dolphinfit.core.segment.backends import DEFAULT_BACKEND, make_segmenter
+from dolphinfit.core.segment.segmenter import BoxSeed, FrameTracked, PointSeed, TrackingCancelled
+from dolphinfit.ui.workers.job_worker import Job
 
 Direction = Literal["forward", "backward", "both"]
 DIRECTIONS = ("forward", "backward", "both")

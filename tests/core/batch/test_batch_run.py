@@ -8,14 +8,14 @@ from dataclasses import replace
 
 import pytest
 
-from core.batch.cluster import batch_client, local_plan
-from core.batch.inputs import inputs_digest, task_inputs
-from core.batch.manifest import read_manifest
-from core.batch.record import RECORD_JSON
-from core.batch.runner import run_batch
-from core.batch.summary import SUMMARY_CSV
-from core.bench.batch_bench import TINY_CONFIG, write_synthetic_batch
-from core.synth.config import Effects, SynthConfig
+from dolphinfit.core.batch.cluster import batch_client, local_plan
+from dolphinfit.core.batch.inputs import inputs_digest, task_inputs
+from dolphinfit.core.batch.manifest import read_manifest
+from dolphinfit.core.batch.record import RECORD_JSON
+from dolphinfit.core.batch.runner import run_batch
+from dolphinfit.core.batch.summary import SUMMARY_CSV
+from dolphinfit.core.bench.batch_bench import TINY_CONFIG, write_synthetic_batch
+from dolphinfit.core.synth.config import Effects, SynthConfig
 
 # 320×180 at 12 m: a 2.3 m animal about 45 px long; 4 frames, 2 of them fitted
 CLIP = SynthConfig(seed=41, width_px=320, height_px=180, fps=4.0, duration_s=1.0,
@@ -110,7 +110,7 @@ def test_inputs_digest_follows_content_and_options(batch, tmp_path):
 def test_inputs_digest_takes_the_hw_tables_values_not_its_place(batch, tmp_path):
     """A fit's HW table enters the digest by its values: the same table in another folder is
     the same input, the table edited in place is a new one."""
-    from core.measure.hw_ratios import load_hw_preset, write_hw_csv
+    from dolphinfit.core.measure.hw_ratios import load_hw_preset, write_hw_csv
 
     _, tasks = batch
     task = tasks[0]
@@ -133,8 +133,8 @@ def test_a_calibrated_task_corrects_both_methods_altitudes(batch, tmp_path):
     """An altitude calibration of the clip's camera (true = 0.5 m + 1.02 × recorded): the
     fit's and the elliptical's altitudes are the calibrated 12.7 m, not the recorded 12 m,
     and the elliptical's altitude error is the calibration's ~1 %, not the manual 10 %."""
-    from core.batch.task_run import run_task
-    from core.io.video import open_clip
+    from dolphinfit.core.batch.task_run import run_task
+    from dolphinfit.core.io.video import open_clip
     from tests.core.measure.test_altitude_calibration import _calibration
 
     _, tasks = batch
@@ -159,12 +159,12 @@ def test_a_scans_best_frames_are_tracked_and_measured(batch, tmp_path):
     """A row naming the clip's scan: the elliptical method measures the animal's best frames
     (here frames 3 and 1 of 4: frame 3 is not one the fit uses, so the tracker draws it too),
     each exported, the summary taking the frame of median volume."""
-    from core.batch.task_run import run_task
-    from core.scan.clip_scan import ClipScan
-    from core.scan.frame_scores import FrameScore, ScanSettings
-    from core.scan.scan_files import write_scan_json
+    from dolphinfit.core.batch.task_run import run_task
+    from dolphinfit.core.scan.clip_scan import ClipScan
+    from dolphinfit.core.scan.frame_scores import FrameScore, ScanSettings
+    from dolphinfit.core.scan.scan_files import write_scan_json
 
-    from core.synth.files import clip_files
+    from dolphinfit.core.synth.files import clip_files
 
     folder, _ = batch
     video = clip_files(folder / "clip0", CLIP).video

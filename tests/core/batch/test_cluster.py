@@ -2,8 +2,8 @@
 
 import pytest
 
-from core.batch.cluster import WORKER_MEMORY_BYTES, ClusterPlan, local_plan
-from core.errors import InputError
+from dolphinfit.core.batch.cluster import WORKER_MEMORY_BYTES, ClusterPlan, local_plan
+from dolphinfit.core.errors import InputError
 
 
 @pytest.mark.parametrize("workers, threads, cores, memory, plan", [
@@ -33,7 +33,7 @@ def test_an_interrupt_kills_the_local_workers_at_once():
 
     import psutil
 
-    from core.batch.cluster import batch_client
+    from dolphinfit.core.batch.cluster import batch_client
 
     with pytest.raises(KeyboardInterrupt):
         with batch_client(plan=ClusterPlan(1, 1)) as client:

@@ -4,12 +4,12 @@ from pathlib import Path
 
 import pytest
 
-from core.batch.manifest import read_manifest
-from core.batch.task import check_unique_names
-from core.errors import InputError
-from core.fit.config import FitConfig
-from core.project.fit_settings import fit_dir
-from core.segment.segmenter import AutoSeed, BoxSeed, PointSeed
+from dolphinfit.core.batch.manifest import read_manifest
+from dolphinfit.core.batch.task import check_unique_names
+from dolphinfit.core.errors import InputError
+from dolphinfit.core.fit.config import FitConfig
+from dolphinfit.core.project.fit_settings import fit_dir
+from dolphinfit.core.segment.segmenter import AutoSeed, BoxSeed, PointSeed
 
 HEADER = "clip,animal,altitude,launch_height_m,masks,seed,seed_frame,fps,quality,start_s,end_s"
 
@@ -103,7 +103,7 @@ def test_tasks_sharing_an_output_folder_are_refused(folder):
 def test_an_altitude_calibration_is_read_before_any_work(folder):
     """A calibration file is checked when the manifest is read; a good one goes to the fit."""
     from tests.core.measure.test_altitude_calibration import _calibration
-    from core.measure.altitude_calibration import write_altitude_calibration
+    from dolphinfit.core.measure.altitude_calibration import write_altitude_calibration
 
     write_altitude_calibration(_calibration(), folder / "cal.json")
     (folder / "broken.json").write_text('{"format": "dolphinfit-altitude-calibration"}')
@@ -115,9 +115,9 @@ def test_an_altitude_calibration_is_read_before_any_work(folder):
 
 
 def _scan(folder: Path, clip_name: str = "a.mp4", usable: bool = True) -> Path:
-    from core.scan.clip_scan import ClipScan
-    from core.scan.frame_scores import FrameScore, ScanSettings
-    from core.scan.scan_files import write_scan_json
+    from dolphinfit.core.scan.clip_scan import ClipScan
+    from dolphinfit.core.scan.frame_scores import FrameScore, ScanSettings
+    from dolphinfit.core.scan.scan_files import write_scan_json
 
     faults = () if usable else ("at the frame's edge",)
     scores = tuple(FrameScore(2, f, f / 10, 100.0 + f, 50.0, 80.0, 2.4, 1.0, 1.0, 1.0, 30.0,
@@ -165,7 +165,7 @@ def test_a_scan_of_another_clip_or_without_usable_frames_is_refused(folder):
 
 
 def test_a_lens_model_is_read_before_any_work(folder):
-    from core.measure.lens import LensModel, write_lens
+    from dolphinfit.core.measure.lens import LensModel, write_lens
 
     lens = LensModel(1920, 1080, 1400.0, 1400.0, 959.5, 539.5, (-0.1, 0.02, 0.0, 0.0, 0.0),
                      0.05, 9, "boards")

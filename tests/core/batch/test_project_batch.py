@@ -5,14 +5,14 @@ import cv2
 import numpy as np
 import pytest
 
-from core.batch.cluster import batch_client, local_plan
-from core.batch.project_tasks import project_tasks
-from core.batch.runner import run_batch
-from core.camera_presets import CameraPreset
-from core.measure.stations import NUM_STATIONS
-from core.project.fit_settings import FitSettings, fit_dir
-from core.project.model import AltitudeSpec, Animal, ClipEntry, Measurement, Project
-from core.project.project_file import write_project
+from dolphinfit.core.batch.cluster import batch_client, local_plan
+from dolphinfit.core.batch.project_tasks import project_tasks
+from dolphinfit.core.batch.runner import run_batch
+from dolphinfit.core.camera_presets import CameraPreset
+from dolphinfit.core.measure.stations import NUM_STATIONS
+from dolphinfit.core.project.fit_settings import FitSettings, fit_dir
+from dolphinfit.core.project.model import AltitudeSpec, Animal, ClipEntry, Measurement, Project
+from dolphinfit.core.project.project_file import write_project
 
 CAMERA = CameraPreset(name="test", description="test camera", focal_mm=12.29,
                       sensor_width_mm=17.27, image_width_px=320, image_height_px=180,

@@ -8,19 +8,19 @@ import cv2
 import numpy as np
 import pytest
 
-from app.cli import main
-from core.bench.real_bench import (
+from dolphinfit.app.cli import main
+from dolphinfit.core.bench.real_bench import (
     edge_point_offsets, minke_figures, outline_scores, replay_medidor, right_whale_figures,
     score_outline,
 )
-from core.bench.real_data import (
+from dolphinfit.core.bench.real_data import (
     OUTLINE_PAIRS, crossings, distance_to_outline, load_medidor, load_minke, load_outlines,
     real_data_dir,
 )
-from core.bench.real_fit import fit_minke
-from core.errors import InputError
-from core.fit.config import FitConfig
-from core.segment.backends import DEFAULT_BACKEND
+from dolphinfit.core.bench.real_fit import fit_minke
+from dolphinfit.core.errors import InputError
+from dolphinfit.core.fit.config import FitConfig
+from dolphinfit.core.segment.backends import DEFAULT_BACKEND
 
 
 def test_medidor_clicks_through_its_geometry_give_its_sheet_to_a_hundredth_of_a_pixel():

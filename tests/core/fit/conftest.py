@@ -5,14 +5,14 @@ from dataclasses import replace
 
 import pytest
 
-from core.fit.config import FitConfig
-from core.fit.pipeline import fit_clip
-from core.intrinsics import CameraIntrinsics
-from core.io.masks import read_png_folder
-from core.io.telemetry import load_telemetry
-from core.io.video import VideoReader
-from core.synth.clip import make_clip
-from core.synth.config import Effects, SynthConfig
+from dolphinfit.core.fit.config import FitConfig
+from dolphinfit.core.fit.pipeline import fit_clip
+from dolphinfit.core.intrinsics import CameraIntrinsics
+from dolphinfit.core.io.masks import read_png_folder
+from dolphinfit.core.io.telemetry import load_telemetry
+from dolphinfit.core.io.video import VideoReader
+from dolphinfit.core.synth.clip import make_clip
+from dolphinfit.core.synth.config import Effects, SynthConfig
 
 # A 2.3 m animal in 1920×1080 footage at 20 m (1.46 cm per pixel), 8 frames.
 # Part shapes vary little (SD 0.02), so the test measures the pipeline, not how much height a

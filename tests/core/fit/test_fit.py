@@ -10,26 +10,26 @@ import numpy as np
 import pytest
 import torch
 
-from app.cli import main
-from core.errors import InputError
-from core.fit import losses
-from core.fit.config import FitConfig
-from core.fit.data import prepare_data
-from core.fit.engine import fit
-from core.fit.init import initial_state
-from core.fit.reporter import STAGE_ORDER
-from core.fit.result_io import (
+from dolphinfit.app.cli import main
+from dolphinfit.core.errors import InputError
+from dolphinfit.core.fit import losses
+from dolphinfit.core.fit.config import FitConfig
+from dolphinfit.core.fit.data import prepare_data
+from dolphinfit.core.fit.engine import fit
+from dolphinfit.core.fit.init import initial_state
+from dolphinfit.core.fit.reporter import STAGE_ORDER
+from dolphinfit.core.fit.result_io import (
     RESULT_JSON,
     RESULT_NPZ,
     read_fit_result,
     write_fit_result,
 )
-from core.io.masks import read_png_folder
-from core.io.telemetry import load_telemetry
-from core.io.video import VideoReader, open_clip
-from core.model.model import DolphinModel
-from core.measure.altitude_calibration import write_altitude_calibration
-from core.progress import Cancelled
+from dolphinfit.core.io.masks import read_png_folder
+from dolphinfit.core.io.telemetry import load_telemetry
+from dolphinfit.core.io.video import VideoReader, open_clip
+from dolphinfit.core.model.model import DolphinModel
+from dolphinfit.core.measure.altitude_calibration import write_altitude_calibration
+from dolphinfit.core.progress import Cancelled
 
 # conftest.py: the clip (a 2.3 m animal in 1920×1080 footage at 20 m, 8 frames, with the
 # template's heights, which the fit then takes too), the configurations and the tiny fit.
@@ -242,7 +242,7 @@ def test_broken_saved_fits_name_the_file(tiny_run, tmp_path):
 
 def test_config_round_trips_and_rejects_nonsense():
     """FitConfig survives JSON; bad values are input errors."""
-    from core.errors import InputError
+    from dolphinfit.core.errors import InputError
     assert FitConfig.from_json(json.loads(json.dumps(QUICK.to_json()))) == QUICK
     with pytest.raises(InputError, match="fps"):
         replace(QUICK, fps=0.0)
@@ -288,8 +288,8 @@ def test_cli_fit_writes_result_meshes_and_overlays(clip_dir, tmp_path, capsys):
 def test_without_masks_the_tracker_finds_the_dolphin(clip_dir):
     """run_fit with no mask files finds the dolphin itself (a scan of the fit's window picks
     it, the network back-end tracks it on the frames the fit looks at only) and fits it."""
-    from core.fit.pipeline import CameraChoice, run_fit
-    from core.segment.net_tracker import BACKEND_NAME
+    from dolphinfit.core.fit.pipeline import CameraChoice, run_fit
+    from dolphinfit.core.segment.net_tracker import BACKEND_NAME
 
     run = run_fit(clip_dir / "clip.mkv", clip_dir / "altitude.csv", None,
                   CameraChoice(sensor_width_mm=17.27, focal_mm=12.29), TINY)
@@ -302,7 +302,7 @@ def test_without_masks_the_tracker_finds_the_dolphin(clip_dir):
 
 def test_the_automatic_seed_looks_for_a_dolphins_length_at_the_clips_altitudes():
     """1–4 m at 15–25 m with a 1000 px focal length: 40–267 px; no altitude: any length."""
-    from core.segment.auto_seed import DOLPHIN_LENGTH_M, expected_length_px
+    from dolphinfit.core.segment.auto_seed import DOLPHIN_LENGTH_M, expected_length_px
 
     low, high = expected_length_px(1000.0, np.array([15.0, np.nan, 25.0]), DOLPHIN_LENGTH_M)
     assert (low, high) == pytest.approx((40.0, 4000.0 / 15.0))
@@ -312,7 +312,7 @@ def test_the_automatic_seed_looks_for_a_dolphins_length_at_the_clips_altitudes()
 def test_a_fit_that_explains_its_masks_poorly_is_flagged():
     """Mean IoU below 0.7 (masks of a seagrass patch gave 0.61 on the bench suite) adds a
     warning that names the IoU; good fits get none."""
-    from core.fit.engine import quality_warnings
+    from dolphinfit.core.fit.engine import quality_warnings
 
     assert quality_warnings(np.array([0.9, 0.85, 0.75])) == ()
     (warning,) = quality_warnings(np.array([0.7, 0.6, 0.55]))
@@ -325,7 +325,7 @@ def test_an_animal_too_few_pixels_wide_is_warned_about():
     its width and what a tenth of a pixel costs; widest_px reads a disc's diameter."""
     import cv2
 
-    from core.fit.data import narrow_animal_warnings, widest_px
+    from dolphinfit.core.fit.data import narrow_animal_warnings, widest_px
 
     def ellipses(width_px: int) -> np.ndarray:
         mask = np.zeros((3, 120, 240), np.uint8)
@@ -345,8 +345,8 @@ def test_cli_fit_with_an_altitude_calibration(clip_dir, tiny_run, tmp_path, caps
     """A calibration of the clip's camera: its spread is the intervals' altitude error (the
     camera's own error then left out, the line absorbed it); one of another camera is refused
     before any work."""
-    from app.commands.fit import fit_error_model
-    from core.fit.pipeline import CameraChoice
+    from dolphinfit.app.commands.fit import fit_error_model
+    from dolphinfit.core.fit.pipeline import CameraChoice
     from tests.core.measure.test_altitude_calibration import _calibration
 
     run, _ = tiny_run
@@ -369,9 +369,9 @@ def test_cli_fit_with_an_altitude_calibration(clip_dir, tiny_run, tmp_path, caps
 def test_the_fit_measures_its_edges_blur_and_its_interval_takes_the_larger_rule(tiny_run):
     """The synthetic clip's edge reads a blur index of about 1 px; the outline SD of the fit's
     interval is the larger of the frame-width rule (0.36 px at 1920) and 0.35 × the index."""
-    from core.fit.interval import run_interval
-    from core.measure.fit_uncertainty import OUTLINE_SD_OF_WIDTH, OUTLINE_SD_PER_BLUR
-    from core.measure.uncertainty import ErrorModel
+    from dolphinfit.core.fit.interval import run_interval
+    from dolphinfit.core.measure.fit_uncertainty import OUTLINE_SD_OF_WIDTH, OUTLINE_SD_PER_BLUR
+    from dolphinfit.core.measure.uncertainty import ErrorModel
 
     run, _ = tiny_run
     blur = run.result.edge_blur_px

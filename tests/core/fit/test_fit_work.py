@@ -6,17 +6,17 @@ import numpy as np
 import pytest
 import torch
 
-from core.fit import objective, scene, schedule
-from core.fit.config import FitConfig, LossWeights
-from core.fit.data import downscaled
-from core.fit.engine import fit
-from core.fit.objective import equal_chunks, evenly_spaced
-from core.fit.init import initial_state, silhouette_centroid_offset
-from core.fit.reporter import FitReporter
-from core.model.model import DolphinModel
-from core.model.template import load_template
-from core.render.render import project_to_viewport
-from core.render.settings import Viewport
+from dolphinfit.core.fit import objective, scene, schedule
+from dolphinfit.core.fit.config import FitConfig, LossWeights
+from dolphinfit.core.fit.data import downscaled
+from dolphinfit.core.fit.engine import fit
+from dolphinfit.core.fit.objective import equal_chunks, evenly_spaced
+from dolphinfit.core.fit.init import initial_state, silhouette_centroid_offset
+from dolphinfit.core.fit.reporter import FitReporter
+from dolphinfit.core.model.model import DolphinModel
+from dolphinfit.core.model.template import load_template
+from dolphinfit.core.render.render import project_to_viewport
+from dolphinfit.core.render.settings import Viewport
 
 from .test_fit import TINY, _data
 

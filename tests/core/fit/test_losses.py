@@ -3,7 +3,7 @@
 import pytest
 import torch
 
-from core.fit import losses
+from dolphinfit.core.fit import losses
 
 
 def test_depth_prior_is_the_mean_squared_depth_deviation():

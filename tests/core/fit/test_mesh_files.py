@@ -5,8 +5,8 @@ put it."""
 import numpy as np
 import trimesh
 
-from core.fit.mesh_files import export_fit_meshes
-from core.model.template import load_template
+from dolphinfit.core.fit.mesh_files import export_fit_meshes
+from dolphinfit.core.model.template import load_template
 
 
 def _bounds(verts: np.ndarray) -> np.ndarray:

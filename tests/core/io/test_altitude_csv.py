@@ -3,8 +3,8 @@
 import numpy as np
 import pytest
 
-from core.errors import InputError
-from core.io.altitude_csv import read_altitude_csv, write_altitude_csv
+from dolphinfit.core.errors import InputError
+from dolphinfit.core.io.altitude_csv import read_altitude_csv, write_altitude_csv
 
 
 def _csv(tmp_path, text: str):

@@ -6,9 +6,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from core.errors import InputError
-from core.io.astro_log import is_astro_log, read_astro_log
-from core.io.telemetry import read_altitude
+from dolphinfit.core.errors import InputError
+from dolphinfit.core.io.astro_log import is_astro_log, read_astro_log
+from dolphinfit.core.io.telemetry import read_altitude
 
 HEADER = ("Unix Time (ms),Video Time (s),Altitude (m above takeoff location),"
           "Camera Range (m),Latitude,Longitude")

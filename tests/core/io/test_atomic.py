@@ -9,17 +9,17 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-import core.io.atomic as atomic
-from core.errors import InputError
-from core.io.atomic import atomic_folder, atomic_path
-from core.io.masks import MaskTrack, write_masks
-from core.io.mesh_export import export_mesh
+import dolphinfit.core.io.atomic as atomic
+from dolphinfit.core.errors import InputError
+from dolphinfit.core.io.atomic import atomic_folder, atomic_path
+from dolphinfit.core.io.masks import MaskTrack, write_masks
+from dolphinfit.core.io.mesh_export import export_mesh
 
 SLOW_WRITER = """
 import sys, time
 from pathlib import Path
 import numpy as np
-from core.io.masks import MaskTrack, write_png_folder
+from dolphinfit.core.io.masks import MaskTrack, write_png_folder
 
 def load(idx):
     time.sleep(0.02)

@@ -6,8 +6,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from core.errors import InputError
-from core.io.laser_log import is_laser_log, read_laser_log
+from dolphinfit.core.errors import InputError
+from dolphinfit.core.io.laser_log import is_laser_log, read_laser_log
 
 LOG = Path(__file__).parents[2] / "data" / "laser" / "LOG_0007.CSV"
 # The fixture's dated rows, one a second from 17:02:10 (the repeated second left out).

@@ -6,14 +6,14 @@ import cv2
 import numpy as np
 import pytest
 
-from core.errors import InputError
-from core.io.masks import (
+from dolphinfit.core.errors import InputError
+from dolphinfit.core.io.masks import (
     MaskTrack,
     check_against_clip,
     read_masks,
     write_masks,
 )
-from core.io.video import Clip
+from dolphinfit.core.io.video import Clip
 
 T, H, W = 6, 48, 64
 

@@ -7,9 +7,9 @@ import cv2
 import numpy as np
 import pytest
 
-from core.errors import InputError
-from core.io.frame_source import FrameSource
-from core.io.media import MEDIA_SUFFIXES, open_media
+from dolphinfit.core.errors import InputError
+from dolphinfit.core.io.frame_source import FrameSource
+from dolphinfit.core.io.media import MEDIA_SUFFIXES, open_media
 
 WIDTH_PX, HEIGHT_PX = 64, 48
 

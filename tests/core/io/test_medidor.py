@@ -5,8 +5,8 @@ from pathlib import Path
 import openpyxl
 import pytest
 
-from core.errors import InputError
-from core.io.medidor import read_medidor
+from dolphinfit.core.errors import InputError
+from dolphinfit.core.io.medidor import read_medidor
 
 SHEET = Path(__file__).parents[2] / "data" / "real" / "medidor" / "Measurements_10.xlsx"
 

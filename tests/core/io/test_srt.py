@@ -7,9 +7,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from core.errors import InputError
-from core.io.altitude_samples import AltitudeSamples, AltitudeSource
-from core.io.srt import SrtCue, SrtFile, parse_srt, read_srt
+from dolphinfit.core.errors import InputError
+from dolphinfit.core.io.altitude_samples import AltitudeSamples, AltitudeSource
+from dolphinfit.core.io.srt import SrtCue, SrtFile, parse_srt, read_srt
 
 SRT_DIR = Path(__file__).parents[2] / "data" / "srt"
 LAUNCH_HEIGHT_M = 1.5

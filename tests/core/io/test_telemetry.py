@@ -7,16 +7,16 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from core.errors import InputError
-from core.io.altitude_samples import AltitudeSamples, AltitudeSource
-from core.io.telemetry import (
+from dolphinfit.core.errors import InputError
+from dolphinfit.core.io.altitude_samples import AltitudeSamples, AltitudeSource
+from dolphinfit.core.io.telemetry import (
     align_to_frames,
     find_srt_sidecar,
     load_telemetry,
     read_altitude,
     summarize_samples,
 )
-from core.io.video import Clip
+from dolphinfit.core.io.video import Clip
 
 DATA = Path(__file__).parents[2] / "data"
 SRT_DIR = DATA / "srt"

@@ -8,9 +8,11 @@ import cv2
 import numpy as np
 import pytest
 
-import core.io.video as video
-from core.errors import InputError
-from core.io.video import Clip, VideoReader, crop_roi, frame_range, open_clip, step_for_fps
+import dolphinfit.core.io.video as video
+from dolphinfit.core.errors import InputError
+from dolphinfit.core.io.video import (
+    Clip, VideoReader, crop_roi, frame_range, open_clip, step_for_fps,
+)
 
 WIDTH_PX, HEIGHT_PX, FPS, NUM_FRAMES = 160, 128, 25.0, 48
 NUM_BITS = 6  # 2⁶ = 64 > NUM_FRAMES

@@ -5,11 +5,11 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from core.errors import InputError
-from core.io.calibration_table import CalibrationShot, CalibrationTable
-from core.io.altitude_samples import AltitudeSource
-from core.io.telemetry import Telemetry
-from core.measure.altitude_calibration import (
+from dolphinfit.core.errors import InputError
+from dolphinfit.core.io.calibration_table import CalibrationShot, CalibrationTable
+from dolphinfit.core.io.altitude_samples import AltitudeSource
+from dolphinfit.core.io.telemetry import Telemetry
+from dolphinfit.core.measure.altitude_calibration import (
     CalibrationCamera,
     calibrated_telemetry,
     fit_altitude_calibration,

@@ -5,12 +5,12 @@ import math
 import numpy as np
 import pytest
 
-from core.camera_presets import CameraPreset
-from core.measure.annotation import (
+from dolphinfit.core.camera_presets import CameraPreset
+from dolphinfit.core.measure.annotation import (
     Annotation, Calibration, Geometry, midline_spline, pixel_measurements, place_stations,
     station_widths, suggest_edges,
 )
-from core.measure.stations import STATION_FRACTIONS
+from dolphinfit.core.measure.stations import STATION_FRACTIONS
 
 NO_EDGES = np.full((19, 2, 2), np.nan)
 

@@ -6,13 +6,13 @@ import json
 import numpy as np
 import pytest
 
-from core.camera_presets import CameraPreset, get_preset
-from core.errors import InputError
-from core.measure.annotation_json import (
+from dolphinfit.core.camera_presets import CameraPreset, get_preset
+from dolphinfit.core.errors import InputError
+from dolphinfit.core.measure.annotation_json import (
     AnnotationFile, annotation_from_json, annotation_to_json, read_annotation_json,
     write_annotation_json,
 )
-from core.measure.annotation import Annotation, Calibration, pixel_measurements
+from dolphinfit.core.measure.annotation import Annotation, Calibration, pixel_measurements
 
 MIDLINE = np.array([[100.0, 400.0], [300.0, 420.0], [520.0, 410.0]])
 

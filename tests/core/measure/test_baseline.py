@@ -5,11 +5,11 @@ import json
 import numpy as np
 import pytest
 
-from core.measure.annotation import PixelMeasurements
-from core.measure.baseline import BaselineSettings, estimate_baseline
-from core.measure.elliptical import TAIL_MEASURED
-from core.measure.hw_ratios import load_hw_preset
-from core.measure.uncertainty import ErrorModel
+from dolphinfit.core.measure.annotation import PixelMeasurements
+from dolphinfit.core.measure.baseline import BaselineSettings, estimate_baseline
+from dolphinfit.core.measure.elliptical import TAIL_MEASURED
+from dolphinfit.core.measure.hw_ratios import load_hw_preset
+from dolphinfit.core.measure.uncertainty import ErrorModel
 
 # Provisional template widths / BL (reference/morphometrics.md §4), 2.5 m at 5 mm/px
 W_BL = np.array([.045, .085, .13, .15, .165, .175, .18, .18, .175, .16, .14, .125, .11, .09,

@@ -10,12 +10,12 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from core.measure.collatrix import collatrix_row, wide_row, write_wide_csv
-from core.measure.morphometrix import read_morphometrix
-from core.measure.baseline import BaselineSettings, estimate_baseline
-from core.measure.elliptical import TAIL_EXTRAPOLATED
-from core.measure.hw_ratios import load_hw_preset
-from core.measure.records import (
+from dolphinfit.core.measure.collatrix import collatrix_row, wide_row, write_wide_csv
+from dolphinfit.core.measure.morphometrix import read_morphometrix
+from dolphinfit.core.measure.baseline import BaselineSettings, estimate_baseline
+from dolphinfit.core.measure.elliptical import TAIL_EXTRAPOLATED
+from dolphinfit.core.measure.hw_ratios import load_hw_preset
+from dolphinfit.core.measure.records import (
     collatrix_csv_row, default_error_model, measured_image_from_morphometrix, result_record,
     wide_csv_row,
 )

@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from core.measure.condition import MassModel, body_condition, expected_volume
+from dolphinfit.core.measure.condition import MassModel, body_condition, expected_volume
 
 # reference/morphometrics.md §3.1: BL (m), BV_exp (m³), BM (kg) at BCI = −0.2, 0, +0.2
 TABLE = [(2.0, 0.1082, 91, 108, 123), (2.2, 0.1386, 117, 139, 157),

@@ -5,7 +5,7 @@ import cv2
 import numpy as np
 import pytest
 
-from core.measure.edge_blur import edge_blur_px
+from dolphinfit.core.measure.edge_blur import edge_blur_px
 
 V, U = np.mgrid[0:200, 0:300]
 MASK = ((U - 150) / 100) ** 2 + ((V - 100) / 25) ** 2 <= 1   # a 50-px wide ellipse

@@ -7,13 +7,13 @@ import numpy as np
 import pytest
 from scipy.integrate import quad
 
-from core.measure.morphometrix import pixel_measurements, read_morphometrix
-from core.measure.elliptical import (
+from dolphinfit.core.measure.morphometrix import pixel_measurements, read_morphometrix
+from dolphinfit.core.measure.elliptical import (
     TAIL_EXTRAPOLATED, TAIL_MEASURED, apply_tail, body_area_index, circular_volume,
     projected_area,
     elliptical_volume, fill_skipped, segment_volumes,
 )
-from core.measure.stations import STATION_FRACTIONS, STATION_PCT
+from dolphinfit.core.measure.stations import STATION_FRACTIONS, STATION_PCT
 
 BL_M = 2.5
 WIDTH_M = 0.4

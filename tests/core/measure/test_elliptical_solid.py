@@ -6,11 +6,11 @@ import numpy as np
 import pytest
 import trimesh
 
-from core.measure.elliptical import (
+from dolphinfit.core.measure.elliptical import (
     TAIL_EXTRAPOLATED, apply_tail, elliptical_volume, segment_volumes,
 )
-from core.measure.elliptical_solid import elliptical_solid
-from core.measure.stations import STATION_FRACTIONS
+from dolphinfit.core.measure.elliptical_solid import elliptical_solid
+from dolphinfit.core.measure.stations import STATION_FRACTIONS
 
 BL_M = 2.5
 # Provisional template widths / BL at 5 … 95 % and HW ratios (as in test_elliptical.py)

@@ -7,15 +7,15 @@ import numpy as np
 import pytest
 import torch
 
-from core.measure.annotation import PixelMeasurements
-from core.measure.baseline import BaselineSettings, estimate_baseline
-from core.measure.condition import body_condition
-from core.measure.fit_uncertainty import fit_interval, outline_sd_px
-from core.measure.hw_ratios import load_hw_preset
-from core.measure.mesh import body_length, mesh_volume
-from core.measure.uncertainty import ErrorModel
-from core.model.template import load_template
-from core.project.comparison import compare
+from dolphinfit.core.measure.annotation import PixelMeasurements
+from dolphinfit.core.measure.baseline import BaselineSettings, estimate_baseline
+from dolphinfit.core.measure.condition import body_condition
+from dolphinfit.core.measure.fit_uncertainty import fit_interval, outline_sd_px
+from dolphinfit.core.measure.hw_ratios import load_hw_preset
+from dolphinfit.core.measure.mesh import body_length, mesh_volume
+from dolphinfit.core.measure.uncertainty import ErrorModel
+from dolphinfit.core.model.template import load_template
+from dolphinfit.core.project.comparison import compare
 
 HW = load_hw_preset()
 RATIOS, RATIO_SD = HW.completed()

@@ -4,14 +4,14 @@ import numpy as np
 import pytest
 import torch
 
-from core.errors import InputError
-from core.measure.hw_ratios import (
+from dolphinfit.core.errors import InputError
+from dolphinfit.core.measure.hw_ratios import (
     FROM_MODEL, load_hw_preset, preset_names, read_hw_csv, write_hw_csv,
 )
-from core.measure.mesh import station_profile
-from core.model.hw_from_model import hw_from_template
-from core.model.hw_spec import resolve_hw
-from core.model.template import load_template
+from dolphinfit.core.measure.mesh import station_profile
+from dolphinfit.core.model.hw_from_model import hw_from_template
+from dolphinfit.core.model.hw_spec import resolve_hw
+from dolphinfit.core.model.template import load_template
 
 
 def test_provisional_preset_is_the_reference_prior():

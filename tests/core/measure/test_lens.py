@@ -6,17 +6,17 @@ import cv2
 import numpy as np
 import pytest
 
-from core.errors import InputError
-from core.intrinsics import CameraIntrinsics
-from core.measure.annotation import Annotation, pixel_measurements
-from core.measure.lens import (
+from dolphinfit.core.errors import InputError
+from dolphinfit.core.intrinsics import CameraIntrinsics
+from dolphinfit.core.measure.annotation import Annotation, pixel_measurements
+from dolphinfit.core.measure.lens import (
     calibrate_lens,
     off_centre_warning,
     read_lens,
     undistorted_annotation,
     write_lens,
 )
-from core.measure.stations import NUM_STATIONS
+from dolphinfit.core.measure.stations import NUM_STATIONS
 
 WIDTH, HEIGHT = 1280, 720
 MATRIX = np.array([[900.0, 0.0, 639.5], [0.0, 900.0, 359.5], [0.0, 0.0, 1.0]])

@@ -5,8 +5,8 @@ import cv2
 import numpy as np
 import pytest
 
-from core.measure.annotation import place_stations, station_widths, suggest_edges
-from core.measure.mask_midline import annotation_from_mask, midline_from_mask
+from dolphinfit.core.measure.annotation import place_stations, station_widths, suggest_edges
+from dolphinfit.core.measure.mask_midline import annotation_from_mask, midline_from_mask
 
 SUPERSAMPLE = 8
 

@@ -7,7 +7,7 @@ import pytest
 import torch
 import trimesh
 
-from core.measure.mesh import body_length, mesh_volume, station_profile
+from dolphinfit.core.measure.mesh import body_length, mesh_volume, station_profile
 
 
 def test_volume_of_a_box_and_a_sphere():

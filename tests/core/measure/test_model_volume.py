@@ -5,15 +5,15 @@ import pytest
 import torch
 import trimesh
 
-from core.camera import NadirCamera
-from core.camera_presets import DEFAULT_PRESET, get_preset
-from core.measure.annotation import Annotation, pixel_measurements
-from core.measure.elliptical import TAIL_MEASURED, elliptical_volume
-from core.measure.hw_ratios import FROM_MODEL
-from core.model.hw_spec import resolve_hw
-from core.measure.mesh import body_length, mesh_volume, station_profile
-from core.model.model import DolphinModel
-from core.model.template import load_template
+from dolphinfit.core.camera import NadirCamera
+from dolphinfit.core.camera_presets import DEFAULT_PRESET, get_preset
+from dolphinfit.core.measure.annotation import Annotation, pixel_measurements
+from dolphinfit.core.measure.elliptical import TAIL_MEASURED, elliptical_volume
+from dolphinfit.core.measure.hw_ratios import FROM_MODEL
+from dolphinfit.core.model.hw_spec import resolve_hw
+from dolphinfit.core.measure.mesh import body_length, mesh_volume, station_profile
+from dolphinfit.core.model.model import DolphinModel
+from dolphinfit.core.model.template import load_template
 
 ALTITUDE_M = 20.0
 

@@ -5,12 +5,12 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from core.errors import InputError
-from core.measure.morphometrix import (
+from dolphinfit.core.errors import InputError
+from dolphinfit.core.measure.morphometrix import (
     MorphoMetrixRecord, pixel_measurements, read_morphometrix, record_from_pixels,
     width_name, write_morphometrix_v2,
 )
-from core.measure.annotation import PixelMeasurements
+from dolphinfit.core.measure.annotation import PixelMeasurements
 
 DATA = Path(__file__).resolve().parents[2] / "data" / "morphometrix"
 V2_DEMO = DATA / "mmx_v2_demo-annotated.csv"

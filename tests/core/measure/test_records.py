@@ -7,19 +7,19 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from core.camera_presets import CameraPreset
-from core.errors import InputError
-from core.measure.annotation_json import AnnotationFile
-from core.measure.morphometrix import read_morphometrix
-from core.measure.annotation import Annotation, Calibration
-from core.measure.baseline import BaselineSettings, estimate_baseline
-from core.measure.hw_ratios import load_hw_preset
-from core.measure.records import (
+from dolphinfit.core.camera_presets import CameraPreset
+from dolphinfit.core.errors import InputError
+from dolphinfit.core.measure.annotation_json import AnnotationFile
+from dolphinfit.core.measure.morphometrix import read_morphometrix
+from dolphinfit.core.measure.annotation import Annotation, Calibration
+from dolphinfit.core.measure.baseline import BaselineSettings, estimate_baseline
+from dolphinfit.core.measure.hw_ratios import load_hw_preset
+from dolphinfit.core.measure.records import (
     RESULT_SCHEMA_VERSION, default_error_model, mass_model_from_json,
     collatrix_csv_row, measured_image_from_annotation, result_record, wide_csv_row,
     write_exports,
 )
-from core.measure.stations import STATION_FRACTIONS
+from dolphinfit.core.measure.stations import STATION_FRACTIONS
 
 # A 4K camera (explicit values) and a dolphin lying diagonally, 600 px long, spindle-shaped
 CAMERA = CameraPreset("test-4k", "", 8.8, 13.2, 3840, 2160, "test", True)

@@ -6,16 +6,16 @@ import numpy as np
 import pytest
 from scipy.optimize import brentq
 
-from core.measure.annotation import (
+from dolphinfit.core.measure.annotation import (
     Annotation, PixelMeasurements, pixel_measurements, place_stations,
 )
-from core.measure.baseline import BaselineSettings, estimate_baseline
-from core.measure.condition import body_condition
-from core.measure.elliptical import TAIL_EXTRAPOLATED, elliptical_volume
-from core.measure.hw_ratios import HWRatios, load_hw_preset
-from core.measure.stations import STATION_FRACTIONS
-from core.measure.uncertainty import BATCH_DRAWS, ErrorModel, draw_pixels, monte_carlo
-from core.progress import Cancelled
+from dolphinfit.core.measure.baseline import BaselineSettings, estimate_baseline
+from dolphinfit.core.measure.condition import body_condition
+from dolphinfit.core.measure.elliptical import TAIL_EXTRAPOLATED, elliptical_volume
+from dolphinfit.core.measure.hw_ratios import HWRatios, load_hw_preset
+from dolphinfit.core.measure.stations import STATION_FRACTIONS
+from dolphinfit.core.measure.uncertainty import BATCH_DRAWS, ErrorModel, draw_pixels, monte_carlo
+from dolphinfit.core.progress import Cancelled
 
 # Provisional template widths / BL (reference/morphometrics.md §4)
 W_BL = np.array([.045, .085, .13, .15, .165, .175, .18, .18, .175, .16, .14, .125, .11, .09,

@@ -7,9 +7,9 @@ import pytest
 import torch
 import trimesh
 
-from core.measure.mesh import body_length, mesh_volume, station_profile
-from core.model.model import DolphinModel
-from core.model.template import load_template
+from dolphinfit.core.measure.mesh import body_length, mesh_volume, station_profile
+from dolphinfit.core.model.model import DolphinModel
+from dolphinfit.core.model.template import load_template
 
 
 @pytest.fixture(scope="module")

@@ -5,9 +5,9 @@ import pytest
 import torch
 import trimesh
 
-from core.measure.mesh import body_length, mesh_volume, station_profile
-from core.model.model import DolphinModel
-from core.model.profile_field import NUM_KNOTS, spline_basis
+from dolphinfit.core.measure.mesh import body_length, mesh_volume, station_profile
+from dolphinfit.core.model.model import DolphinModel
+from dolphinfit.core.model.profile_field import NUM_KNOTS, spline_basis
 
 
 @pytest.fixture(scope="module")

@@ -10,14 +10,14 @@ import pytest
 import torch
 import trimesh
 
-from core.errors import InputError
-from core.measure.hw_ratios import load_hw_preset
-from core.measure.mesh import body_length, mesh_volume, station_profile
-from core.model.template import load_template
-from core.model.sections import reshape_sections, section_area_factor
-from core.synth.clip import make_clip
-from core.synth.config import Effects, SynthConfig
-from core.synth.shape import draw_hw
+from dolphinfit.core.errors import InputError
+from dolphinfit.core.measure.hw_ratios import load_hw_preset
+from dolphinfit.core.measure.mesh import body_length, mesh_volume, station_profile
+from dolphinfit.core.model.template import load_template
+from dolphinfit.core.model.sections import reshape_sections, section_area_factor
+from dolphinfit.core.synth.clip import make_clip
+from dolphinfit.core.synth.config import Effects, SynthConfig
+from dolphinfit.core.synth.shape import draw_hw
 
 
 def _figures(template):

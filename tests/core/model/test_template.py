@@ -4,15 +4,17 @@ import numpy as np
 import pytest
 import trimesh
 
-from core.errors import InputError
-from core.model.body import RING_SIZE, body_faces, build_body, ring_angles_deg
-from core.model.builder import TEMPLATE_LENGTH_M, build_template
-from core.model.fins import DORSAL_FIN, FLUKE
-from core.model.profile import ring_fractions
-from core.model.skeleton import ROOT_T
-from core.model.summary import shape_targets, summarize
-from core.model.template import FORMAT_VERSION, TEMPLATE_PATH, load_template, save_template
-from core.model.texture import body_uv
+from dolphinfit.core.errors import InputError
+from dolphinfit.core.model.body import RING_SIZE, body_faces, build_body, ring_angles_deg
+from dolphinfit.core.model.builder import TEMPLATE_LENGTH_M, build_template
+from dolphinfit.core.model.fins import DORSAL_FIN, FLUKE
+from dolphinfit.core.model.profile import ring_fractions
+from dolphinfit.core.model.skeleton import ROOT_T
+from dolphinfit.core.model.summary import shape_targets, summarize
+from dolphinfit.core.model.template import (
+    FORMAT_VERSION, TEMPLATE_PATH, load_template, save_template,
+)
+from dolphinfit.core.model.texture import body_uv
 
 
 @pytest.fixture(scope="module")

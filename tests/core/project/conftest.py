@@ -4,11 +4,11 @@ dolphin measured on frame 3 (midline along the major axis, edges on the outline)
 import numpy as np
 import pytest
 
-from core.camera_presets import CameraPreset
-from core.measure.annotation import place_stations
-from core.measure.stations import NUM_STATIONS
-from core.project.fit_settings import FitSettings
-from core.project.model import AltitudeSpec, Animal, ClipEntry, Measurement, Project
+from dolphinfit.core.camera_presets import CameraPreset
+from dolphinfit.core.measure.annotation import place_stations
+from dolphinfit.core.measure.stations import NUM_STATIONS
+from dolphinfit.core.project.fit_settings import FitSettings
+from dolphinfit.core.project.model import AltitudeSpec, Animal, ClipEntry, Measurement, Project
 
 CENTRE = np.array([640.0, 360.0])
 SEMI_MAJOR, SEMI_MINOR = 300.0, 50.0

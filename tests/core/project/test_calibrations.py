@@ -6,12 +6,14 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from core.errors import InputError
-from core.measure.hw_ratios import load_hw_preset
-from core.project.calibrations import clip_calibration, fitted_calibration
-from core.project.model import AltitudeCalibrationSet, MeasurementKey, ObjectShot, Project
-from core.project.project_file import project_from_json, project_to_json
-from core.project.results import measure_frame, measure_length
+from dolphinfit.core.errors import InputError
+from dolphinfit.core.measure.hw_ratios import load_hw_preset
+from dolphinfit.core.project.calibrations import clip_calibration, fitted_calibration
+from dolphinfit.core.project.model import (
+    AltitudeCalibrationSet, MeasurementKey, ObjectShot, Project,
+)
+from dolphinfit.core.project.project_file import project_from_json, project_to_json
+from dolphinfit.core.project.results import measure_frame, measure_length
 
 KEY = MeasurementKey(0, 0, 0)
 
@@ -92,7 +94,7 @@ def test_a_calibration_too_thin_to_fit_says_why(project, camera):
 
 
 def test_a_renamed_calibration_moves_its_clips_and_frees_the_unticked(project, camera):
-    from core.project.model import add_clip, with_calibration
+    from dolphinfit.core.project.model import add_clip, with_calibration
 
     two = add_clip(project, replace(project.clips[0], media_path="media/other.mp4"))
     first = with_calibration(two, calibration_set(camera, "old"), (0, 1))

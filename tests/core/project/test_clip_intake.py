@@ -8,9 +8,9 @@ import cv2
 import numpy as np
 import pytest
 
-from core.camera_presets import load_presets
-from core.io.srt import FAMILIES
-from core.project.clip_intake import guess_camera, intake, with_launch_height
+from dolphinfit.core.camera_presets import load_presets
+from dolphinfit.core.io.srt import FAMILIES
+from dolphinfit.core.project.clip_intake import guess_camera, intake, with_launch_height
 
 DATA = Path(__file__).parents[2] / "data" / "srt"
 
@@ -73,7 +73,7 @@ def test_each_clip_is_added_or_put_aside_with_its_reason(tmp_path):
 def test_a_cancelled_intake_stops_between_clips(tmp_path):
     import threading
 
-    from core.progress import Cancelled
+    from dolphinfit.core.progress import Cancelled
     for name in ("DJI_0001.MP4", "DJI_0002.MP4"):
         _video(tmp_path / name, 20)
     cancel, seen = threading.Event(), []

@@ -13,16 +13,16 @@ import numpy as np
 import pytest
 import torch
 
-from core.errors import InputError
-from core.fit.config import FitConfig
-from core.fit.result import STATUS_CANCELLED, FitResult
-from core.fit.result_io import write_fit_result
-from core.measure.condition import body_condition
-from core.measure.mesh import body_length, mesh_volume
-from core.model.template import load_template
-from core.project.comparison import project_comparison_rows, write_comparison_csv
-from core.project.evaluate import frame_results
-from core.project.model import MeasurementKey
+from dolphinfit.core.errors import InputError
+from dolphinfit.core.fit.config import FitConfig
+from dolphinfit.core.fit.result import STATUS_CANCELLED, FitResult
+from dolphinfit.core.fit.result_io import write_fit_result
+from dolphinfit.core.measure.condition import body_condition
+from dolphinfit.core.measure.mesh import body_length, mesh_volume
+from dolphinfit.core.model.template import load_template
+from dolphinfit.core.project.comparison import project_comparison_rows, write_comparison_csv
+from dolphinfit.core.project.evaluate import frame_results
+from dolphinfit.core.project.model import MeasurementKey
 
 NUM_DRAWS = 200
 

@@ -9,15 +9,15 @@ import cv2
 import numpy as np
 import pytest
 
-from core.camera_presets import CameraPreset
-from core.errors import InputError
-from core.measure.morphometrix import read_morphometrix
-from core.measure.annotation import place_stations
-from core.measure.hw_ratios import load_hw_preset
-from core.progress import Cancelled
-from core.project.exports import MediaFrames, export_frames
-from core.project.model import Animal, ClipEntry, Measurement, MeasurementKey, Project
-from core.project.results import FrameResult, measure_frame
+from dolphinfit.core.camera_presets import CameraPreset
+from dolphinfit.core.errors import InputError
+from dolphinfit.core.measure.morphometrix import read_morphometrix
+from dolphinfit.core.measure.annotation import place_stations
+from dolphinfit.core.measure.hw_ratios import load_hw_preset
+from dolphinfit.core.progress import Cancelled
+from dolphinfit.core.project.exports import MediaFrames, export_frames
+from dolphinfit.core.project.model import Animal, ClipEntry, Measurement, MeasurementKey, Project
+from dolphinfit.core.project.results import FrameResult, measure_frame
 
 CAMERA = CameraPreset("test-1080p", "", 8.8, 13.2, 1920, 1080, "test", True)
 FRAME_SHAPE = (1080, 1920, 3)

@@ -4,8 +4,8 @@ import numpy as np
 import pytest
 import trimesh
 
-from core.intrinsics import CameraIntrinsics
-from core.project.fit_overlay import project_straight, silhouette_outlines
+from dolphinfit.core.intrinsics import CameraIntrinsics
+from dolphinfit.core.project.fit_overlay import project_straight, silhouette_outlines
 
 INTRINSICS = CameraIntrinsics.from_sensor(12.29, 17.27, 1920, 1080)
 

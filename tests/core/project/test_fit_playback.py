@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from core.project.fit_playback import posed_at
+from dolphinfit.core.project.fit_playback import posed_at
 
 FITTED = np.array([10, 20, 40])
 # Two vertices; frame t's mesh is translated by t metres along x

@@ -7,10 +7,10 @@ import cv2
 import numpy as np
 import pytest
 
-from core.errors import InputError
-from core.io.masks import MaskTrack
-from core.io.video import Clip
-from core.project.mask_store import (
+from dolphinfit.core.errors import InputError
+from dolphinfit.core.io.masks import MaskTrack
+from dolphinfit.core.io.video import Clip
+from dolphinfit.core.project.mask_store import (
     coverage,
     load_track,
     masks_file,

@@ -3,9 +3,9 @@
 import numpy as np
 import pytest
 
-from core.measure.annotation import pixel_measurements
-from core.project import edits
-from core.project.model import (
+from dolphinfit.core.measure.annotation import pixel_measurements
+from dolphinfit.core.project import edits
+from dolphinfit.core.project.model import (
     Animal, Measurement, MeasurementKey, add_measurement, get_measurement, next_animal_id,
     remove_measurement, with_measurement,
 )
@@ -106,8 +106,8 @@ def test_tree_edits_share_untouched_branches(project):
 
 
 def test_fit_settings_make_the_engines_configuration():
-    from core.fit.config import FitConfig
-    from core.project.fit_settings import FitSettings, fit_config, fit_dir
+    from dolphinfit.core.fit.config import FitConfig
+    from dolphinfit.core.project.fit_settings import FitSettings, fit_config, fit_dir
 
     base = FitConfig()
     quick = fit_config(FitSettings(start_s=1.0, end_s=3.0, fps=2.5, quality="quick",

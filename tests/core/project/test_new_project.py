@@ -3,10 +3,12 @@
 import cv2
 import numpy as np
 
-from core.camera_presets import DEFAULT_PRESET, get_preset
-from core.io.media import open_media
-from core.project.model import Project
-from core.project.new_project import default_camera, project_path_for, project_with_media
+from dolphinfit.core.camera_presets import DEFAULT_PRESET, get_preset
+from dolphinfit.core.io.media import open_media
+from dolphinfit.core.project.model import Project
+from dolphinfit.core.project.new_project import (
+    default_camera, project_path_for, project_with_media,
+)
 
 
 def test_project_file_sits_beside_the_media(tmp_path):

@@ -8,9 +8,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from core.errors import InputError
-from core.project import recent
-from core.project.project_file import (
+from dolphinfit.core.errors import InputError
+from dolphinfit.core.project import recent
+from dolphinfit.core.project.project_file import (
     autosave_path, find_moved_media, has_newer_autosave, media_path, missing_media,
     project_from_json, project_to_json, read_project, rebase_media, relink_clip, write_project,
 )
@@ -133,7 +133,7 @@ def test_recent_projects_newest_first_and_existing_only(tmp_path, monkeypatch):
 def test_the_projects_own_hw_table_follows_save_as(tmp_path, project):
     from dataclasses import replace
 
-    from core.project.results import project_hw_spec
+    from dolphinfit.core.project.results import project_hw_spec
 
     own = replace(project, hw_ratios="p.fits/clip_dolphin-1_hw.csv")
     assert project_hw_spec(own, tmp_path) == str(tmp_path / "p.fits/clip_dolphin-1_hw.csv")
@@ -146,8 +146,8 @@ def test_the_projects_own_hw_table_follows_save_as(tmp_path, project):
 def test_a_clips_lens_model_round_trips_and_is_checked(tmp_path, project):
     from dataclasses import replace
 
-    from core.measure.lens import LensModel
-    from core.project.model import with_clip
+    from dolphinfit.core.measure.lens import LensModel
+    from dolphinfit.core.project.model import with_clip
 
     lens = LensModel(1280, 720, 900.0, 901.0, 639.5, 359.5, (-0.12, 0.05, 0.001, 0.0, 0.0),
                      0.05, 9, "boards of 3 May")

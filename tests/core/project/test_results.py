@@ -4,19 +4,19 @@ import cv2
 import numpy as np
 import pytest
 
-from core.errors import InputError
-from core.io.telemetry import constant_telemetry
-from core.io.video import Clip
-from core.measure.annotation import pixel_measurements
-from core.measure.baseline import BaselineSettings, estimate_baseline
-from core.measure.hw_ratios import load_hw_preset
-from core.measure.mask_midline import midline_from_mask
-from core.measure.uncertainty import ErrorModel
-from core.project.evaluate import all_keys, frame_results
-from core.project.model import Measurement, MeasurementKey, with_clip, with_measurement
-from core.project.project_file import write_project
-from core.measure.elliptical import NoWidthError
-from core.project.results import (
+from dolphinfit.core.errors import InputError
+from dolphinfit.core.io.telemetry import constant_telemetry
+from dolphinfit.core.io.video import Clip
+from dolphinfit.core.measure.annotation import pixel_measurements
+from dolphinfit.core.measure.baseline import BaselineSettings, estimate_baseline
+from dolphinfit.core.measure.hw_ratios import load_hw_preset
+from dolphinfit.core.measure.mask_midline import midline_from_mask
+from dolphinfit.core.measure.uncertainty import ErrorModel
+from dolphinfit.core.project.evaluate import all_keys, frame_results
+from dolphinfit.core.project.model import Measurement, MeasurementKey, with_clip, with_measurement
+from dolphinfit.core.project.project_file import write_project
+from dolphinfit.core.measure.elliptical import NoWidthError
+from dolphinfit.core.project.results import (
     animal_summary, frame_altitude, image_id, measure_frame, measure_length, spread,
 )
 
@@ -127,8 +127,8 @@ def test_the_fit_takes_its_hidden_heights_from_the_projects_hw_table(project, tm
     ratios from the template) as the template's own heights (hw_table None)."""
     from dataclasses import replace
 
-    from core.project.fit_settings import FitSettings
-    from core.project.results import project_fit_config
+    from dolphinfit.core.project.fit_settings import FitSettings
+    from dolphinfit.core.project.results import project_fit_config
 
     settings = FitSettings(fps=2.0)
     for spec, expected in (("circular", "circular"), ("model", None),
@@ -143,7 +143,7 @@ def test_a_clips_lens_model_straightens_the_clicks_before_measuring(project):
     measured near the corner is warned about."""
     from dataclasses import replace
 
-    from core.measure.lens import LensModel, undistorted_annotation
+    from dolphinfit.core.measure.lens import LensModel, undistorted_annotation
 
     lens = LensModel(1280, 720, 900.0, 900.0, 639.5, 359.5, (-0.12, 0.05, 0.0, 0.0, 0.0),
                      0.05, 9, "test")

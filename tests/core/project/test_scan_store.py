@@ -3,13 +3,13 @@ clip, and which clip needs work next."""
 
 from dataclasses import replace
 
-from core.project.model import Animal
-from core.project.scan_store import (
+from dolphinfit.core.project.model import Animal
+from dolphinfit.core.project.scan_store import (
     clip_status, next_clip_needing_work, save_scan, scan_animal, scan_file,
 )
-from core.scan.clip_scan import ClipScan
-from core.scan.frame_scores import FrameScore, ScanSettings
-from core.scan.scan_files import read_scan_json
+from dolphinfit.core.scan.clip_scan import ClipScan
+from dolphinfit.core.scan.frame_scores import FrameScore, ScanSettings
+from dolphinfit.core.scan.scan_files import read_scan_json
 
 
 def _score(animal: int, frame: int, quality: float, faults: tuple[str, ...] = ()) -> FrameScore:

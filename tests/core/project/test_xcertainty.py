@@ -11,11 +11,11 @@ import pandas as pd
 import pytest
 import rdata
 
-from core.measure.hw_ratios import load_hw_preset
-from core.project.exports import export_frames
-from core.project.model import AltitudeSpec, MeasurementKey
-from core.project.results import measure_frame
-from core.measure.xcertainty import CALIBRATION_COLUMNS, MEASUREMENT_COLUMNS
+from dolphinfit.core.measure.hw_ratios import load_hw_preset
+from dolphinfit.core.project.exports import export_frames
+from dolphinfit.core.project.model import AltitudeSpec, MeasurementKey
+from dolphinfit.core.project.results import measure_frame
+from dolphinfit.core.measure.xcertainty import CALIBRATION_COLUMNS, MEASUREMENT_COLUMNS
 
 from .test_calibrations import calibration_set
 

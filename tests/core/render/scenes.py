@@ -6,10 +6,10 @@ import numpy as np
 import torch
 import trimesh
 
-from core.camera import NadirCamera
-from core.intrinsics import CameraIntrinsics
-from core.render.render import Appearance
-from core.render.shade import SGLight
+from dolphinfit.core.camera import NadirCamera
+from dolphinfit.core.intrinsics import CameraIntrinsics
+from dolphinfit.core.render.render import Appearance
+from dolphinfit.core.render.shade import SGLight
 
 
 def ellipsoid(radii, centre, subdivisions=1):

@@ -4,11 +4,13 @@ import numpy as np
 import torch
 import trimesh
 
-from core.render.contour import contour_edges, mesh_edges
-from core.render.rasterize import gather_corners, rasterize
-from core.render.render import project_to_viewport
-from core.render.settings import RasterSettings, Viewport
-from core.render.soft_mask import _SEGMENT_EDGES, _TRIANGLE_EDGES, BoundaryDistanceSq, soft_mask
+from dolphinfit.core.render.contour import contour_edges, mesh_edges
+from dolphinfit.core.render.rasterize import gather_corners, rasterize
+from dolphinfit.core.render.render import project_to_viewport
+from dolphinfit.core.render.settings import RasterSettings, Viewport
+from dolphinfit.core.render.soft_mask import (
+    _SEGMENT_EDGES, _TRIANGLE_EDGES, BoundaryDistanceSq, soft_mask,
+)
 
 from .scenes import camera, moved, two_ellipsoids
 

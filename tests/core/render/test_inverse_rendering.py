@@ -4,13 +4,13 @@ import math
 
 import torch
 
-from core.camera import NadirCamera
-from core.intrinsics import CameraIntrinsics
-from core.model.model import DolphinModel
-from core.model.template import load_template
-from core.render.render import Appearance, render
-from core.render.settings import Viewport
-from core.render.shade import SGLight
+from dolphinfit.core.camera import NadirCamera
+from dolphinfit.core.intrinsics import CameraIntrinsics
+from dolphinfit.core.model.model import DolphinModel
+from dolphinfit.core.model.template import load_template
+from dolphinfit.core.render.render import Appearance, render
+from dolphinfit.core.render.settings import Viewport
+from dolphinfit.core.render.shade import SGLight
 
 ALTITUDE_M = 20.0
 TRUE_XY = (0.32, -0.21)

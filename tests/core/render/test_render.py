@@ -7,17 +7,17 @@ import pytest
 import torch
 import torch.nn.functional as F
 
-from core.render.interpolate import barycentrics, interpolate_vertex_values
-from core.render.pyramid import (
+from dolphinfit.core.render.interpolate import barycentrics, interpolate_vertex_values
+from dolphinfit.core.render.pyramid import (
     PYRAMID_LEVELS, gaussian_kernel, pyramid_loss, silhouette_pyramid,
 )
-from core.render.rasterize import rasterize
-from core.render.render import project_to_viewport, render
-from core.render.settings import RasterSettings, Viewport
-from core.render.shade import (
+from dolphinfit.core.render.rasterize import rasterize
+from dolphinfit.core.render.render import project_to_viewport, render
+from dolphinfit.core.render.settings import RasterSettings, Viewport
+from dolphinfit.core.render.shade import (
     SGLight, sample_texture, sg_irradiance, vertex_normals, water_filter,
 )
-from core.render.soft_mask import soft_mask
+from dolphinfit.core.render.soft_mask import soft_mask
 
 from .scenes import appearance, camera, ellipsoid, moved, two_ellipsoids
 

@@ -3,9 +3,9 @@
 import pytest
 import torch
 
-from core.render.dense import dense_render
-from core.render.render import project_to_viewport, render
-from core.render.settings import RasterSettings, Viewport
+from dolphinfit.core.render.dense import dense_render
+from dolphinfit.core.render.render import project_to_viewport, render
+from dolphinfit.core.render.settings import RasterSettings, Viewport
 
 from .scenes import appearance, camera, moved, two_ellipsoids
 

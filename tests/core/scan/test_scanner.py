@@ -9,10 +9,10 @@ import cv2
 import numpy as np
 import pytest
 
-from core.io.frame_source import Clip
-from core.scan.clip_scan import ClipTelemetry
-from core.scan.frame_scores import ScanSettings
-from core.scan.scanner import Scanner
+from dolphinfit.core.io.frame_source import Clip
+from dolphinfit.core.scan.clip_scan import ClipTelemetry
+from dolphinfit.core.scan.frame_scores import ScanSettings
+from dolphinfit.core.scan.scanner import Scanner
 
 FPS, SECONDS, WIDTH, HEIGHT = 2.0, 20, 480, 320
 ARRIVES_S = 7.0   # the second animal comes into view then
@@ -65,7 +65,7 @@ def test_the_fits_automatic_seed_takes_the_animal_seen_longest_in_its_window():
     the fit takes the first, at its centre in one of its frames, and the line names both.
     From 12 to 16 s both are seen in all 4 samples: the tie goes to the one the search ranked
     first (the larger). Plain water: no pick (the fit falls back on the one-frame seed)."""
-    from core.scan.fit_seed import scan_pick
+    from dolphinfit.core.scan.fit_seed import scan_pick
 
     frames = DrawnClip()
     nothing = np.full(frames.clip.num_frames, np.nan)

@@ -8,14 +8,14 @@ import cv2
 import numpy as np
 import pytest
 
-from core.io.srt import gimbal_pitch_at, parse_srt
-from core.scan.clip_scan import ClipScan
-from core.scan.frame_scores import (
+from dolphinfit.core.io.srt import gimbal_pitch_at, parse_srt
+from dolphinfit.core.scan.clip_scan import ClipScan
+from dolphinfit.core.scan.frame_scores import (
     EDGE_MARGIN_PX, ScanSettings, best_frames, frame_faults, share_of_best, track_scores,
 )
-from core.scan.scan_files import read_scan_json, write_scan_csv, write_scan_json
-from core.scan.sighting import Sighting, sighting
-from core.scan.tracks import MAX_UNSEEN_S, Track, Tracker
+from dolphinfit.core.scan.scan_files import read_scan_json, write_scan_csv, write_scan_json
+from dolphinfit.core.scan.sighting import Sighting, sighting
+from dolphinfit.core.scan.tracks import MAX_UNSEEN_S, Track, Tracker
 
 FPS = 10.0
 
@@ -153,7 +153,7 @@ def test_gimbal_pitch_comes_from_the_latest_cue_that_records_it(tmp_path):
 def test_a_short_track_must_keep_its_length_to_be_an_animal():
     """Glitter is seen now and then and changes shape; an animal keeps its length (two of a
     short track's sightings agree within 1.5×)."""
-    from core.scan.scanner import persists
+    from dolphinfit.core.scan.scanner import persists
 
     samples = [0, 10, 20, 30, 40]
 

@@ -16,7 +16,7 @@ import cv2
 import numpy as np
 import pytest
 
-from core.io.masks import MaskTrack, write_masks
+from dolphinfit.core.io.masks import MaskTrack, write_masks
 
 WIDTH_PX, HEIGHT_PX, NUM_FRAMES, FPS = 320, 240, 48, 25.0
 SUPERSAMPLE = 4

@@ -5,7 +5,7 @@ import cv2
 import numpy as np
 import pytest
 
-from core.segment.auto_seed import (
+from dolphinfit.core.segment.auto_seed import (
     COLOUR, LONE, MIN_TILE_PX, PART, Candidate, describe, distinct, extent_px, fits_length,
     scan_order, tile_side_px,
 )

@@ -7,25 +7,25 @@ import numpy as np
 import pytest
 import torch
 
-from core.bench.suites import SUITE
-from core.errors import InputError
-from core.iou import mask_iou
-from core.segment.edge_data import (
+from dolphinfit.core.bench.suites import SUITE
+from dolphinfit.core.errors import InputError
+from dolphinfit.core.iou import mask_iou
+from dolphinfit.core.segment.edge_data import (
     FIRST_SEED, Window, clip_windows, load_windows, save_windows, training_configs,
 )
-from core.segment.edge_net import (
+from dolphinfit.core.segment.edge_net import (
     MAX_SIDE_PX, WEIGHTS_PATH, EdgeNet, EdgeWeights, LearnedEdges, load_weights, net_input,
     padded_to_multiple, save_weights,
 )
-from core.segment.edge_training import (
+from dolphinfit.core.segment.edge_training import (
     PRIOR_CUT_KEEP, TrainSettings, cut_prior, loss_of, train, training_patch,
 )
-from core.segment.edge_steps import ColourEdges, make_edge_step
-from core.segment.net_settings import NetSettings
-from core.segment.salient import SalientNet
-from core.synth.clip import make_clip
-from core.synth.config import SynthConfig
-from core.synth.water import with_water
+from dolphinfit.core.segment.edge_steps import ColourEdges, make_edge_step
+from dolphinfit.core.segment.net_settings import NetSettings
+from dolphinfit.core.segment.salient import SalientNet
+from dolphinfit.core.synth.clip import make_clip
+from dolphinfit.core.synth.config import SynthConfig
+from dolphinfit.core.synth.water import with_water
 
 
 def _ellipse_window(side: int = 120, half_length: float = 0.35,

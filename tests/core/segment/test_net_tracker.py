@@ -11,24 +11,24 @@ import cv2
 import numpy as np
 import pytest
 
-from core.bench.mask_bench import click_seed
-from core.errors import InputError
-from core.io.masks import read_png_folder
-from core.io.video import VideoReader, open_clip
-from core.iou import mask_iou
-from core.progress import Cancelled
-from core.segment.backends import make_segmenter
-from core.segment.colour import separation
-from core.segment.evaluate import box_seed_from
-from core.segment.net_tracker import BACKEND_NAME, NetTracker, _State
-from core.segment.windows import faded, square_window
-from core.segment.regions import models_near
-from core.segment.salient import SalientNet
-from core.segment.segmenter import AutoSeed, PointSeed
-from core.segment.weights import U2NETP
-from core.synth.clip import make_clip
-from core.synth.config import SynthConfig
-from core.synth.water import with_water
+from dolphinfit.core.bench.mask_bench import click_seed
+from dolphinfit.core.errors import InputError
+from dolphinfit.core.io.masks import read_png_folder
+from dolphinfit.core.io.video import VideoReader, open_clip
+from dolphinfit.core.iou import mask_iou
+from dolphinfit.core.progress import Cancelled
+from dolphinfit.core.segment.backends import make_segmenter
+from dolphinfit.core.segment.colour import separation
+from dolphinfit.core.segment.evaluate import box_seed_from
+from dolphinfit.core.segment.net_tracker import BACKEND_NAME, NetTracker, _State
+from dolphinfit.core.segment.windows import faded, square_window
+from dolphinfit.core.segment.regions import models_near
+from dolphinfit.core.segment.salient import SalientNet
+from dolphinfit.core.segment.segmenter import AutoSeed, PointSeed
+from dolphinfit.core.segment.weights import U2NETP
+from dolphinfit.core.synth.clip import make_clip
+from dolphinfit.core.synth.config import SynthConfig
+from dolphinfit.core.synth.water import with_water
 
 from .conftest import SEAS, render_clip
 
@@ -127,8 +127,8 @@ def test_square_windows_stay_inside_the_frame():
 
 
 def test_missing_or_altered_weights_say_how_to_install(tmp_path, monkeypatch):
-    monkeypatch.setattr("core.segment.weights.MODELS_DIR", tmp_path)
-    with pytest.raises(InputError, match="python -m core.segment.weights"):
+    monkeypatch.setattr("dolphinfit.core.segment.weights.MODELS_DIR", tmp_path)
+    with pytest.raises(InputError, match="python -m dolphinfit.core.segment.weights"):
         SalientNet(U2NETP)
     (tmp_path / U2NETP.file_name).write_bytes(b"not the network")
     with pytest.raises(InputError, match="altered"):

@@ -14,13 +14,13 @@ import cv2
 import numpy as np
 import pytest
 
-from core.errors import InputError
-from core.io.masks import read_png_folder
-from core.io.video import VideoReader, open_clip
-from core.iou import mask_iou
-from core.progress import Cancelled
-from core.segment.backends import SAM2, make_segmenter
-from core.segment.sam2_backend import (
+from dolphinfit.core.errors import InputError
+from dolphinfit.core.io.masks import read_png_folder
+from dolphinfit.core.io.video import VideoReader, open_clip
+from dolphinfit.core.iou import mask_iou
+from dolphinfit.core.progress import Cancelled
+from dolphinfit.core.segment.backends import SAM2, make_segmenter
+from dolphinfit.core.segment.sam2_backend import (
     JPEG_NAME,
     Sam2Segmenter,
     check_checkpoint,
@@ -29,7 +29,7 @@ from core.segment.sam2_backend import (
     prompt,
     write_jpeg_folder,
 )
-from core.segment.segmenter import AutoSeed, BoxSeed, PointSeed
+from dolphinfit.core.segment.segmenter import AutoSeed, BoxSeed, PointSeed
 
 HAS_SAM2 = importlib.util.find_spec("sam2") is not None
 CHECKPOINT = os.environ.get("DOLPHINFIT_SAM2_CHECKPOINT")

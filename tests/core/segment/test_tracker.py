@@ -6,15 +6,15 @@ import threading
 import numpy as np
 import pytest
 
-from core.errors import InputError
-from core.io.masks import MaskTrack, read_png_folder
-from core.io.video import VideoReader, open_clip
-from core.progress import Cancelled
-from core.segment.evaluate import (
+from dolphinfit.core.errors import InputError
+from dolphinfit.core.io.masks import MaskTrack, read_png_folder
+from dolphinfit.core.io.video import VideoReader, open_clip
+from dolphinfit.core.progress import Cancelled
+from dolphinfit.core.segment.evaluate import (
     box_seed_from, mask_iou, measure_tracker, outline_offset_px, track_iou,
 )
-from core.segment.segmenter import AutoSeed, PointSeed, TrackingCancelled
-from core.segment.tracker import MaskTracker
+from dolphinfit.core.segment.segmenter import AutoSeed, PointSeed, TrackingCancelled
+from dolphinfit.core.segment.tracker import MaskTracker
 
 CALM_MIN_MEAN_IOU = 0.85  # the aim for calm water
 ROUGH_MIN_MEAN_IOU = 0.80

@@ -9,22 +9,22 @@ import numpy as np
 import pytest
 import torch
 
-from app.cli import main
-from core.camera import NadirCamera
-from core.errors import InputError
-from core.intrinsics import CameraIntrinsics
-from core.io.telemetry import load_telemetry
-from core.io.video import open_clip
-from core.measure.condition import body_condition
-from core.model.model import DolphinModel
-from core.model.template import load_template
-from core.progress import Cancelled
-from core.render.rasterize import rasterize
-from core.render.render import project_to_viewport
-from core.render.settings import Viewport
-from core.synth import sample
-from core.synth.clip import make_clip
-from core.synth.config import Effects, SynthConfig
+from dolphinfit.app.cli import main
+from dolphinfit.core.camera import NadirCamera
+from dolphinfit.core.errors import InputError
+from dolphinfit.core.intrinsics import CameraIntrinsics
+from dolphinfit.core.io.telemetry import load_telemetry
+from dolphinfit.core.io.video import open_clip
+from dolphinfit.core.measure.condition import body_condition
+from dolphinfit.core.model.model import DolphinModel
+from dolphinfit.core.model.template import load_template
+from dolphinfit.core.progress import Cancelled
+from dolphinfit.core.render.rasterize import rasterize
+from dolphinfit.core.render.render import project_to_viewport
+from dolphinfit.core.render.settings import Viewport
+from dolphinfit.core.synth import sample
+from dolphinfit.core.synth.clip import make_clip
+from dolphinfit.core.synth.config import Effects, SynthConfig
 
 SMALL = SynthConfig(seed=3, width_px=320, height_px=240, fps=5.0, duration_s=1.2,
                     altitude_m=6.0, length_m=2.3, heading_deg=30.0, speed_m_s=1.0)

@@ -5,8 +5,8 @@ from dataclasses import replace
 
 import pytest
 
-from core.synth.config import SynthConfig
-from core.synth.files import clip_files, made_from
+from dolphinfit.core.synth.config import SynthConfig
+from dolphinfit.core.synth.files import clip_files, made_from
 
 CONFIG = SynthConfig(seed=3, width_px=320, height_px=240)
 
@@ -45,8 +45,8 @@ def test_unreadable_or_foreign_truths_are_stale(tmp_path):
 
 def test_a_cache_folder_under_a_file_is_an_input_error_naming_it(tmp_path):
     """`dolphinfit demo` with its cache under a file said NotADirectoryError in a traceback."""
-    from core.errors import InputError
-    from core.synth.sample import CACHE_DIR_ENV, SAMPLE_CONFIG, ensure_clip
+    from dolphinfit.core.errors import InputError
+    from dolphinfit.core.synth.sample import CACHE_DIR_ENV, SAMPLE_CONFIG, ensure_clip
 
     blocker = tmp_path / "a_file"
     blocker.write_text("not a folder")

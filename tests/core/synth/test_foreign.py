@@ -8,21 +8,21 @@ import pytest
 import torch
 from scipy.interpolate import PchipInterpolator
 
-from app.cli import main
-from core.bench.held_out import HELD_OUT
-from core.bench.suites import scenarios
-from core.errors import InputError
-from core.intrinsics import CameraIntrinsics
-from core.io.masks import read_png_folder
-from core.io.video import VideoReader, open_clip
-from core.iou import mask_iou
-from core.model.hw_from_model import station_extents
-from core.measure.mesh import body_length
-from core.measure.stations import STATION_FRACTIONS
-from core.model.template import load_template
-from core.synth.clip import make_clip, synth_animal
-from core.synth.config import BODIES, Effects, SynthConfig
-from core.synth.foreign import FOREIGN_BODIES, foreign_template
+from dolphinfit.app.cli import main
+from dolphinfit.core.bench.held_out import HELD_OUT
+from dolphinfit.core.bench.suites import scenarios
+from dolphinfit.core.errors import InputError
+from dolphinfit.core.intrinsics import CameraIntrinsics
+from dolphinfit.core.io.masks import read_png_folder
+from dolphinfit.core.io.video import VideoReader, open_clip
+from dolphinfit.core.iou import mask_iou
+from dolphinfit.core.model.hw_from_model import station_extents
+from dolphinfit.core.measure.mesh import body_length
+from dolphinfit.core.measure.stations import STATION_FRACTIONS
+from dolphinfit.core.model.template import load_template
+from dolphinfit.core.synth.clip import make_clip, synth_animal
+from dolphinfit.core.synth.config import BODIES, Effects, SynthConfig
+from dolphinfit.core.synth.foreign import FOREIGN_BODIES, foreign_template
 
 SMALL = SynthConfig(seed=3, width_px=320, height_px=240, fps=5.0, duration_s=0.4,
                     altitude_m=6.0, length_m=2.3, heading_deg=30.0, speed_m_s=1.0,

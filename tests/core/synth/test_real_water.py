@@ -8,12 +8,12 @@ import cv2
 import numpy as np
 import pytest
 
-from app.cli import main
-from core.io.video import open_clip
-from core.synth.clip import make_clip
-from core.synth.config import Effects, SynthConfig
-from core.synth.files import read_part_masks
-from core.synth.water import with_water
+from dolphinfit.app.cli import main
+from dolphinfit.core.io.video import open_clip
+from dolphinfit.core.synth.clip import make_clip
+from dolphinfit.core.synth.config import Effects, SynthConfig
+from dolphinfit.core.synth.files import read_part_masks
+from dolphinfit.core.synth.water import with_water
 
 SMALL = SynthConfig(seed=5, width_px=320, height_px=240, fps=5.0, duration_s=0.6,
                     altitude_m=6.0, length_m=2.3, heading_deg=30.0, speed_m_s=1.0,

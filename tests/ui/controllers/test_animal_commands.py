@@ -5,12 +5,12 @@ from types import SimpleNamespace
 
 from PySide6.QtWidgets import QWidget
 
-from core.camera_presets import CameraPreset
-from core.project.model import ClipEntry, Project
-from ui.controllers.animal_commands import AnimalCommands
-from ui.dialogs.questions import Questions
-from ui.state.project_model import ProjectModel
-from ui.state.viewer_state import Notifier, ViewerState
+from dolphinfit.core.camera_presets import CameraPreset
+from dolphinfit.core.project.model import ClipEntry, Project
+from dolphinfit.ui.controllers.animal_commands import AnimalCommands
+from dolphinfit.ui.dialogs.questions import Questions
+from dolphinfit.ui.state.project_model import ProjectModel
+from dolphinfit.ui.state.viewer_state import Notifier, ViewerState
 
 CAMERA = CameraPreset("test", "", 12.29, 17.27, 1280, 720, "test", False)
 

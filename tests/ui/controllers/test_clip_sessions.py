@@ -7,14 +7,14 @@ from pathlib import Path
 import pytest
 from PySide6.QtWidgets import QWidget
 
-from core.project.model import AltitudeSpec
-from core.project.project_file import read_project
-from core.project.sample import ensure_sample_project
-from ui.controllers.clip_sessions import ClipSessions
-from ui.dialogs.questions import Questions
-from ui.state.project_model import ProjectModel
-from ui.state.viewer_state import Notifier, ViewerState
-from ui.workers.background import BackgroundJobs
+from dolphinfit.core.project.model import AltitudeSpec
+from dolphinfit.core.project.project_file import read_project
+from dolphinfit.core.project.sample import ensure_sample_project
+from dolphinfit.ui.controllers.clip_sessions import ClipSessions
+from dolphinfit.ui.dialogs.questions import Questions
+from dolphinfit.ui.state.project_model import ProjectModel
+from dolphinfit.ui.state.viewer_state import Notifier, ViewerState
+from dolphinfit.ui.workers.background import BackgroundJobs
 
 TIMEOUT_MS = 30_000
 
@@ -76,7 +76,7 @@ def test_a_new_altitude_is_read_again_and_its_undo_too(qtbot, sessions):
 def test_a_lens_model_of_the_clips_size_is_taken_and_undone(qtbot, sessions, tmp_path):
     from dataclasses import replace
 
-    from core.measure.lens import LensModel, write_lens
+    from dolphinfit.core.measure.lens import LensModel, write_lens
 
     controller, errors = sessions
     controller.model.select(0)

@@ -6,7 +6,7 @@ from PySide6.QtCore import QPoint, QPointF, QRectF, Qt
 from PySide6.QtGui import QWheelEvent
 from PySide6.QtWidgets import QApplication, QGraphicsItem, QGraphicsRectItem
 
-from ui.widgets.canvas import MAX_SCALE, MIN_ZOOM_OF_FIT, ZOOM_STEP, FrameCanvas
+from dolphinfit.ui.widgets.canvas import MAX_SCALE, MIN_ZOOM_OF_FIT, ZOOM_STEP, FrameCanvas
 
 WIDTH, HEIGHT = 640, 480
 VIEW_W, VIEW_H = 800, 600

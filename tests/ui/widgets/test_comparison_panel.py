@@ -2,9 +2,9 @@
 
 import numpy as np
 
-from core.measure.stations import STATION_PCT
-from core.project.comparison import ComparisonRow, MethodValue
-from ui.widgets.comparison_panel import ComparisonPanel
+from dolphinfit.core.measure.stations import STATION_PCT
+from dolphinfit.core.project.comparison import ComparisonRow, MethodValue
+from dolphinfit.ui.widgets.comparison_panel import ComparisonPanel
 
 
 def test_table_and_profiles(qtbot):

@@ -5,8 +5,10 @@ import pytest
 from PySide6.QtCore import QPoint, Qt
 from PySide6.QtGui import QColor
 
-from core.project.mask_store import Coverage
-from ui.widgets.coverage_strip import BORDER, COLOURS, LOST, NO_MASKS, VISIBLE, CoverageStrip
+from dolphinfit.core.project.mask_store import Coverage
+from dolphinfit.ui.widgets.coverage_strip import (
+    BORDER, COLOURS, LOST, NO_MASKS, VISIBLE, CoverageStrip,
+)
 
 NUM_FRAMES, WIDTH_PX = 11, 400  # frame k at x = 40 k with no inset
 

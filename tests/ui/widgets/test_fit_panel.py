@@ -1,8 +1,8 @@
 """The fit panel: settings in and out, Start/Cancel, progress shown in words and numbers."""
 
-from core.progress import Progress
-from core.project.fit_settings import FitSettings
-from ui.widgets.fit_panel import FitPanel, format_eta
+from dolphinfit.core.progress import Progress
+from dolphinfit.core.project.fit_settings import FitSettings
+from dolphinfit.ui.widgets.fit_panel import FitPanel, format_eta
 
 
 def test_settings_round_trip_and_start(qtbot):

@@ -2,7 +2,7 @@
 
 from PySide6.QtWidgets import QLabel
 
-from ui.widgets.lazy_widget import LazyWidget
+from dolphinfit.ui.widgets.lazy_widget import LazyWidget
 
 
 def test_built_once_on_first_show(qtbot):

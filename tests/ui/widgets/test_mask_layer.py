@@ -7,9 +7,9 @@ from PySide6.QtCore import QPoint, QPointF, Qt
 from PySide6.QtGui import QPainterPath
 from PySide6.QtWidgets import QGraphicsPathItem
 
-from core.project.mask_store import outlines
-from ui.widgets.canvas import FrameCanvas
-from ui.widgets.mask_layer import MaskLayer
+from dolphinfit.core.project.mask_store import outlines
+from dolphinfit.ui.widgets.canvas import FrameCanvas
+from dolphinfit.ui.widgets.mask_layer import MaskLayer
 
 WIDTH, HEIGHT = 200, 150
 VIEW_SIZE = (440, 330)  # the frame fits at 2 screen px per image px

@@ -7,15 +7,15 @@ from PySide6.QtCore import QPoint, QPointF, QRectF, Qt
 from PySide6.QtGui import QAction, QKeySequence
 from PySide6.QtWidgets import QGraphicsEllipseItem
 
-from core.camera_presets import CameraPreset
-from core.errors import InputError
-from core.measure.annotation import pixel_measurements, place_stations
-from core.measure.stations import NUM_STATIONS
-from core.project.model import Animal, ClipEntry, Measurement, Project
-from ui.widgets.canvas import FrameCanvas
-from ui.widgets.measure_overlay import MeasureOverlay, handle_order
-from ui.widgets.overlay_items import HandleItem, LabelItem
-from ui.state.project_model import ProjectModel
+from dolphinfit.core.camera_presets import CameraPreset
+from dolphinfit.core.errors import InputError
+from dolphinfit.core.measure.annotation import pixel_measurements, place_stations
+from dolphinfit.core.measure.stations import NUM_STATIONS
+from dolphinfit.core.project.model import Animal, ClipEntry, Measurement, Project
+from dolphinfit.ui.widgets.canvas import FrameCanvas
+from dolphinfit.ui.widgets.measure_overlay import MeasureOverlay, handle_order
+from dolphinfit.ui.widgets.overlay_items import HandleItem, LabelItem
+from dolphinfit.ui.state.project_model import ProjectModel
 
 from ..ellipse_scene import (
     AXIS_ENDS, CENTRE, HEIGHT, LEFT, MIDLINE, SEMI_AXES, VIEW_SIZE, WIDTH, analytic_widths, chord,

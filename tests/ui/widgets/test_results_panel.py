@@ -9,18 +9,18 @@ import pytest
 from PySide6.QtCore import QTimer
 from PySide6.QtWidgets import QLabel
 
-from core.camera_presets import CameraPreset
-from core.errors import InputError
-from core.measure.annotation import pixel_measurements, place_stations
-from core.measure.baseline import BaselineEstimate, BaselineSettings, estimate_baseline
-from core.measure.hw_ratios import load_hw_preset
-from core.measure.records import default_error_model
-from core.project.model import Animal, ClipEntry, Measurement, MeasurementKey, Project
-from core.project.results import measure_length
-from ui.state.commands import edit_measurement
-from ui.state.project_model import ProjectModel
-from ui.widgets.results_panel import ResultsPanel
-from ui.workers.results_worker import ResultsWorker
+from dolphinfit.core.camera_presets import CameraPreset
+from dolphinfit.core.errors import InputError
+from dolphinfit.core.measure.annotation import pixel_measurements, place_stations
+from dolphinfit.core.measure.baseline import BaselineEstimate, BaselineSettings, estimate_baseline
+from dolphinfit.core.measure.hw_ratios import load_hw_preset
+from dolphinfit.core.measure.records import default_error_model
+from dolphinfit.core.project.model import Animal, ClipEntry, Measurement, MeasurementKey, Project
+from dolphinfit.core.project.results import measure_length
+from dolphinfit.ui.state.commands import edit_measurement
+from dolphinfit.ui.state.project_model import ProjectModel
+from dolphinfit.ui.widgets.results_panel import ResultsPanel
+from dolphinfit.ui.workers.results_worker import ResultsWorker
 
 TIMEOUT_MS = 10_000
 CAMERA = CameraPreset("test-4k", "", 8.8, 13.2, 3840, 2160, "test", False)

@@ -5,8 +5,8 @@ import pytest
 from PySide6.QtCore import QPoint, Qt
 from PySide6.QtWidgets import QLabel, QSlider
 
-from ui.controllers.playback import Playback
-from ui.widgets.timeline import MISSING_COLOUR, Timeline, _AltitudeStrip, _MarkStrip
+from dolphinfit.ui.controllers.playback import Playback
+from dolphinfit.ui.widgets.timeline import MISSING_COLOUR, Timeline, _AltitudeStrip, _MarkStrip
 
 NUM_FRAMES, FPS = 1500, 10.0
 TIMEOUT_MS = 2000

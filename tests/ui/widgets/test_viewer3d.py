@@ -6,8 +6,8 @@ import pytest
 import trimesh
 from PySide6.QtGui import QGuiApplication
 
-from core.measure.elliptical_solid import elliptical_solid
-from ui.widgets.viewer3d import Viewer3D
+from dolphinfit.core.measure.elliptical_solid import elliptical_solid
+from dolphinfit.ui.widgets.viewer3d import Viewer3D
 
 LENGTH_M = 2.5
 SEMI_AXES_M = (LENGTH_M / 2, 0.25, 0.2)

@@ -7,12 +7,12 @@ import cv2
 import numpy as np
 import pytest
 
-from core.camera_presets import CameraPreset
-from core.measure.annotation import place_stations
-from core.project.model import (
+from dolphinfit.core.camera_presets import CameraPreset
+from dolphinfit.core.measure.annotation import place_stations
+from dolphinfit.core.project.model import (
     AltitudeSpec, Animal, ClipEntry, Measurement, MeasurementKey, Project,
 )
-from ui.workers.export_worker import ExportWorker
+from dolphinfit.ui.workers.export_worker import ExportWorker
 
 TIMEOUT_MS = 30_000
 CAMERA = CameraPreset("test-720p", "", 8.8, 13.2, 1280, 720, "test", False)

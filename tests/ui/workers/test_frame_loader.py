@@ -8,8 +8,8 @@ import numpy as np
 import pytest
 from PySide6.QtCore import QThread
 
-from core.io.video import Clip
-from ui.workers.frame_loader import FrameLoader, rgb_to_qimage
+from dolphinfit.core.io.video import Clip
+from dolphinfit.ui.workers.frame_loader import FrameLoader, rgb_to_qimage
 
 TIMEOUT_MS = 5000
 

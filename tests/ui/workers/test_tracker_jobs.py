@@ -8,12 +8,12 @@ import cv2
 import numpy as np
 import pytest
 
-from core.io.masks import MaskTrack
-from core.progress import Cancelled, Progress
-from core.segment.evaluate import track_iou
-from core.segment.segmenter import PointSeed
-from ui.workers import tracker_jobs
-from ui.workers.tracker_jobs import track_job
+from dolphinfit.core.io.masks import MaskTrack
+from dolphinfit.core.progress import Cancelled, Progress
+from dolphinfit.core.segment.evaluate import track_iou
+from dolphinfit.core.segment.segmenter import PointSeed
+from dolphinfit.ui.workers import tracker_jobs
+from dolphinfit.ui.workers.tracker_jobs import track_job
 
 NUM_FRAMES, WIDTH, HEIGHT, FPS = 12, 320, 240, 25.0
 SEED_FRAME = 6
