@@ -6,14 +6,18 @@
 #   make docs   the manual (mkdocs-material) into resources/manual/, warnings as errors; Help → Manual opens it
 #   make dist   the wheel and sdist into dist/ (the wheel carries the resources, the network weights and the manual)
 #   make check-dist   the wheel installed into a fresh venv, then `dolphinfit --help` and `dolphinfit demo --quick`
+#   make bundle   a one-folder desktop program (PyInstaller) in bundle/dolphinfit/, from the wheel
+#   make check-bundle   the bundle's --help, then the app on the sample under Xvfb (opens, quits)
 VENV ?= .venv
 PY := $(VENV)/bin/python
 STAMP := $(VENV)/.installed
 THREADS ?= 2
 TEST_WORKERS ?= 2   # pytest-xdist processes, one torch thread each
 
-.PHONY: run test demo screenshot docs dist check-dist clean-venv
+.PHONY: run test demo screenshot docs dist check-dist bundle check-bundle clean-venv
 DIST_VENV ?= /tmp/dolphinfit-dist-venv
+BUNDLE_VENV ?= /tmp/dolphinfit-bundle-venv
+BUNDLE_HOME := $(abspath build/bundle-home)
 DOCS_STAMP := $(VENV)/.docs-installed
 
 $(STAMP): pyproject.toml constraints.txt
@@ -58,6 +62,24 @@ check-dist: dist
 	cd $(DIST_VENV) && ! bin/python -c "import core" 2> /dev/null   # no top-level core, app, ui
 	cd $(DIST_VENV) && DOLPHINFIT_CACHE_DIR=$(DIST_VENV)/cache bin/dolphinfit --threads $(THREADS) \
 	  demo --quick --out $(DIST_VENV)/demo
+
+# PyInstaller runs in a venv of the wheel (not the editable install, whose import hook it
+# cannot follow); the commands are imported by name, so every submodule is collected.
+bundle: dist
+	rm -rf $(BUNDLE_VENV) bundle build/pyinstaller && python3 -m venv $(BUNDLE_VENV)
+	$(BUNDLE_VENV)/bin/pip install --quiet torch==2.13.0
+	$(BUNDLE_VENV)/bin/pip install --quiet -c constraints.txt dist/*.whl "pyinstaller>=6.10"
+	$(BUNDLE_VENV)/bin/pyinstaller --noconfirm --onedir --name dolphinfit --distpath bundle \
+	  --workpath build/pyinstaller --specpath build/pyinstaller --log-level ERROR \
+	  --collect-submodules dolphinfit --collect-data dolphinfit packaging/bundle_main.py
+	cp packaging/dolphinfit.desktop resources/ui/dolphinfit.svg bundle/dolphinfit/
+
+check-bundle: bundle
+	cd /tmp && $(abspath bundle)/dolphinfit/dolphinfit --help > /dev/null
+	rm -rf $(BUNDLE_HOME) && mkdir -p $(BUNDLE_HOME)
+	$(if $(DISPLAY),,xvfb-run -a -s "-screen 0 1600x1000x24") env \
+	  DOLPHINFIT_CACHE_DIR=$(BUNDLE_HOME)/cache DOLPHINFIT_CONFIG_DIR=$(BUNDLE_HOME)/config \
+	  bundle/dolphinfit/dolphinfit gui --sample --quit-when-shown
 
 clean-venv:
 	rm -rf $(VENV)

@@ -3,7 +3,10 @@ on its thread."""
 
 import sys
 
+from PySide6.QtGui import QIcon
 from PySide6.QtWidgets import QApplication
+
+from dolphinfit.core.resources import resource_path
 
 from dolphinfit.ui.gc_guard import GuiThreadGarbageCollector
 
@@ -18,5 +21,6 @@ def application() -> QApplication:
         app = QApplication(sys.argv[:1])
         app.setApplicationName(APP_NAME)
         app.setOrganizationName(APP_NAME)
+        app.setWindowIcon(QIcon(str(resource_path("ui", "dolphinfit.svg"))))
         GuiThreadGarbageCollector(app)
     return app

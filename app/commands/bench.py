@@ -6,7 +6,7 @@
   dolphinfit bench masks [--split P] [--clips N | --only NAME,…] [--shapes S] [--frame-size F]
                          [--backends B,…] [--seeds S,…] [--sam2-checkpoint PATH] [--stride K]
                          [--json]
-  dolphinfit bench app [--parts startup,click,scan] [--repeats N] [--json]
+  dolphinfit bench app [--parts startup,click,scan] [--repeats N] [--bundle PROGRAM] [--json]
   dolphinfit bench batch [--clips N] [--quick] [--json]
   dolphinfit bench real [--data DIR] [--seeds S,…] [--backend B] [--outlines N] [--json]
   dolphinfit bench scan [--splits tuning,held-out] [--clips N] [--no-speed] [--json]
@@ -71,6 +71,7 @@ import argparse
 import os
 import statistics
 import sys
+from pathlib import Path
 
 from dolphinfit.app.commands import bench_real, bench_scan
 from dolphinfit.app.commands.bench_output import emit
@@ -147,6 +148,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     app.add_argument("--parts", default=",".join(APP_PARTS),
                      help=f"comma-separated, of {', '.join(APP_PARTS)} (default all)")
     app.add_argument("--repeats", type=int, default=5, help="timed start-ups of each command")
+    app.add_argument("--bundle", type=Path, default=None, metavar="PROGRAM",
+                     help="also time the desktop bundle's start-up (bundle/dolphinfit/"
+                          "dolphinfit, from make bundle) and report its size")
     app.add_argument("--json", action="store_true", help="one JSON object on stdout")
     batch = suites.add_parser("batch", help="batch throughput on 1 and 2 Dask workers")
     batch.add_argument("--clips", type=int, default=4, help="synthetic clips (default 4)")
@@ -170,7 +174,7 @@ def run(args: argparse.Namespace) -> int:
             one_of(part, APP_PARTS, "--parts")
         figures = {}
         if "startup" in parts:
-            figures["startup"] = bench_app(max(1, args.repeats))
+            figures["startup"] = bench_app(max(1, args.repeats), args.bundle)
         if "click" in parts:
             figures["click"] = bench_click()
         if "scan" in parts:
@@ -215,8 +219,10 @@ def _first_clips(args: argparse.Namespace) -> tuple[Scenario, ...]:
     return scenarios(args.shapes, args.frame_size, args.split)[:count(args.clips, 1, "--clips")]
 
 
-def bench_app(repeats: int) -> dict:
-    """Start-up seconds of the app on the sample and of an empty window, and their ratio."""
+def bench_app(repeats: int, bundle: Path | None = None) -> dict:
+    """Start-up seconds of the app on the sample and of an empty window, and their ratio;
+    with ``bundle`` (the desktop bundle's program, `make bundle`) its start-up on the sample
+    too and its folder's size."""
     if not (os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY")):
         raise InputError("bench app needs a display: run it under xvfb-run -a")
     from dolphinfit.core.project.sample import ensure_sample_project
@@ -227,6 +233,14 @@ def bench_app(repeats: int) -> dict:
         "empty_window_s": [sys.executable, "-c", EMPTY_WINDOW],
     }
     figures: dict = {"repeats": repeats}
+    if bundle is not None:
+        if not bundle.is_file():
+            raise InputError(f"--bundle {bundle}: no such program (make bundle builds "
+                             f"bundle/dolphinfit/dolphinfit)")
+        commands["bundle_to_first_frame_s"] = [str(bundle), "gui", "--sample",
+                                               "--quit-when-shown"]
+        figures["bundle_size_mb"] = sum(f.stat().st_size for f in bundle.parent.rglob("*")
+                                        if f.is_file() and not f.is_symlink()) / 1e6
     for name, argv in commands.items():
         times = command_seconds(argv, repeats)
         figures[name] = {"min": min(times), "median": statistics.median(times),
@@ -245,6 +259,8 @@ def format_app(figures: dict) -> str:
                   f"max {t['max']:.2f} s" for name, t in startup.items() if isinstance(t, dict)]
         lines.append(f"app / empty window: {startup['ratio_vs_empty_window']:.1f}× "
                      f"({startup['repeats']} runs each)")
+        if "bundle_size_mb" in startup:
+            lines.append(f"the desktop bundle: {startup['bundle_size_mb']:.0f} MB")
     if "click" in figures:
         click = figures["click"]
         aims = click["aims_s"]
