@@ -1,6 +1,7 @@
 """A small project built in code: a 1280×720 clip entry with one animal and an elliptical
 dolphin measured on frame 3 (midline along the major axis, edges on the outline)."""
 
+import cv2
 import numpy as np
 import pytest
 
@@ -25,6 +26,16 @@ def ellipse_measurement(frame_idx: int = 3, scale: float = 1.0) -> Measurement:
     half = SEMI_MINOR * scale * np.sqrt(1 - (along / a) ** 2)
     return Measurement(frame_idx=frame_idx, midline_px=midline,
                        offsets_px=np.stack([half, -half], axis=1))
+
+
+def write_black_clip(folder) -> None:
+    """The project's clip (``clip.mp4``, 10 black 1280×720 frames at 10 fps) in ``folder``."""
+    folder.mkdir()
+    writer = cv2.VideoWriter(str(folder / "clip.mp4"), cv2.VideoWriter_fourcc(*"mp4v"), 10.0,
+                             (1280, 720))
+    for _ in range(10):
+        writer.write(np.zeros((720, 1280, 3), np.uint8))
+    writer.release()
 
 
 @pytest.fixture

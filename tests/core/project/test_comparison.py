@@ -8,7 +8,6 @@ are the template's, and the row must carry them."""
 import csv
 from dataclasses import replace
 
-import cv2
 import numpy as np
 import pytest
 import torch
@@ -23,6 +22,8 @@ from dolphinfit.core.model.template import load_template
 from dolphinfit.core.project.comparison import project_comparison_rows, write_comparison_csv
 from dolphinfit.core.project.evaluate import frame_results
 from dolphinfit.core.project.model import MeasurementKey
+
+from .conftest import write_black_clip
 
 NUM_DRAWS = 200
 
@@ -52,13 +53,7 @@ def _template_fit() -> FitResult:
 def _survey(tmp_path, project):
     """The project's clip as a 10-frame video beside its file and dolphin 1's fit saved where
     its ``fit_path`` says; the project's path."""
-    media = tmp_path / "media"
-    media.mkdir()
-    writer = cv2.VideoWriter(str(media / "clip.mp4"), cv2.VideoWriter_fourcc(*"mp4v"), 10.0,
-                             (1280, 720))
-    for _ in range(10):
-        writer.write(np.zeros((720, 1280, 3), np.uint8))
-    writer.release()
+    write_black_clip(tmp_path / "media")
     path = tmp_path / "p.dolphinfit"
     write_fit_result(_template_fit(), path.parent / project.clips[0].animals[0].fit_path)
     return path

@@ -20,6 +20,8 @@ from dolphinfit.core.project.results import (
     animal_summary, frame_altitude, image_id, measure_frame, measure_length, spread,
 )
 
+from .conftest import write_black_clip
+
 
 def test_frame_result_equals_the_engine_on_the_same_pixels(project):
     hw = load_hw_preset()
@@ -90,13 +92,7 @@ def test_frames_without_length_or_altitude_say_why(project):
 
 
 def test_project_results_open_each_clip_and_report_unmeasurable_frames(tmp_path, project):
-    media = tmp_path / "media"
-    media.mkdir()
-    writer = cv2.VideoWriter(str(media / "clip.mp4"), cv2.VideoWriter_fourcc(*"mp4v"), 10.0,
-                             (1280, 720))
-    for _ in range(10):
-        writer.write(np.zeros((720, 1280, 3), np.uint8))
-    writer.release()
+    write_black_clip(tmp_path / "media")
     path = tmp_path / "p.dolphinfit"
     write_project(path, project)
     done = []
