@@ -93,14 +93,15 @@ def tiny_scenario(tmp_path_factory):
 
 
 def test_fit_suite_scores_clips_against_their_truth(tiny_scenario):
-    """A one-clip suite with true masks and with the product's own masks, from a click and
-    from the automatic seed, reports per-clip errors, per-frame IoU and a summary per
-    variant."""
+    """A one-clip suite with true masks and with the product's own masks from the automatic
+    seed reports per-clip errors, per-frame IoU and a summary per variant. (The automatic
+    seed ends in a click at the animal its scan picked, so it also runs the click variant's
+    path.)"""
     from dolphinfit.core.bench import fit_bench
     from dolphinfit.core.fit.config import FitConfig
 
     quick = FitConfig(heading_trial_steps=2, steps_global=3, steps_body=2, steps_shape=4)
-    variants = ("true_masks", "product_masks", "product_masks_auto_seed")
+    variants = ("true_masks", "product_masks_auto_seed")
     figures = fit_bench.bench_suite((tiny_scenario,), variants=variants, base=quick)
     assert [c["variant"] for c in figures["clips"]] == list(variants)
     for clip in figures["clips"]:
