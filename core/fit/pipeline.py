@@ -150,11 +150,12 @@ def run_fit(clip_path: Path, altitude: str | Path | float | None, masks_path: Pa
         else:
             fit_frames = frames_at_fps(clip, config.fps, config.start_s, config.end_s)
             tracked = sorted({*map(int, fit_frames), *map(int, also_frames)})
-            note = ""
+            note = None
             if isinstance(seed, AutoSeed):
                 seed, note = scanned_seed(frames, telemetry, intrinsics, config, seed,
                                           progress, cancel)
             masks = make_segmenter(backend, only_frames=tracked).segment(
                 frames, seed, progress=progress, cancel=cancel)
-            masks = replace(masks, source=f"{masks.source}; {note}")
+            if note is not None:
+                masks = replace(masks, source=f"{masks.source}; {note}")
         return fit_clip(frames, telemetry, masks, intrinsics, config, progress, cancel)
