@@ -33,15 +33,18 @@ def log_dir() -> Path:
     return folder
 
 
+def installed_version(package: str) -> str | None:
+    """The installed distribution's version; None where it is not installed."""
+    try:
+        return version(package)
+    except PackageNotFoundError:
+        return None
+
+
 def versions() -> dict[str, str]:
     """Python's, the platform's and each of ``PACKAGES``' version ("not installed")."""
     found = {"python": platform.python_version(), "platform": platform.platform()}
-    for name in PACKAGES:
-        try:
-            found[name] = version(name)
-        except PackageNotFoundError:
-            found[name] = "not installed"
-    return found
+    return found | {name: installed_version(name) or "not installed" for name in PACKAGES}
 
 
 def report_text(error: BaseException, where: str, recent_actions: Sequence[str]) -> str:

@@ -3,8 +3,6 @@ asking apart from the doing, as SLEAP's commands): each method opens one dialog 
 the answer, or None (False, "cancel") when the user cancels. The window's handlers ask here,
 then act; tests answer by replacing a method, with no dialog shown."""
 
-from importlib.metadata import PackageNotFoundError
-from importlib.metadata import version as package_version
 from pathlib import Path
 
 from PySide6.QtCore import QUrl
@@ -12,6 +10,7 @@ from PySide6.QtGui import QDesktopServices
 from PySide6.QtWidgets import QFileDialog, QInputDialog, QMessageBox, QWidget
 
 from dolphinfit.core.camera_presets import CameraPreset
+from dolphinfit.core.crash_report import installed_version
 from dolphinfit.core.errors import InputError
 from dolphinfit.core.io.frame_source import Clip
 from dolphinfit.core.io.media import MEDIA_SUFFIXES, VIDEO_SUFFIXES
@@ -41,10 +40,7 @@ MANUAL_INDEX = RESOURCES_DIR / "manual" / "index.html"
 
 def version() -> str:
     """The installed dolphinfit's version ("unknown" outside an installed package)."""
-    try:
-        return package_version("dolphinfit")
-    except PackageNotFoundError:
-        return "unknown"
+    return installed_version("dolphinfit") or "unknown"
 
 
 def _path(name: str) -> Path | None:
