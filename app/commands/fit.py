@@ -1,11 +1,12 @@
 """Fit the 3D dolphin model to a clip: metric shape, motion, volume, condition and mass.
 
   dolphinfit fit CLIP --altitude (METRES | FILE.csv | FILE.srt | LASER_LOG) [--launch-height M]
+                 [--time-offset S]
                  [--masks DIR|VIDEO|NPZ] [--camera PRESET | --sensor-width-mm X --focal-mm Y]
                  [--start S] [--end S] [--fps N] [--out DIR] [--no-roi] [--refraction]
                  [--vertical-prior] [--hw PRESET|CSV|model] [--config FILE.json]
                  [--altitude-source laser|barometer|manual] [--altitude-calibration CAL.json]
-                 [--outline-sd-px PX]
+                 [--outline-sd-px PX] [--lens LENS.json]
 
 Without --masks the built-in tracker finds the dolphin by itself (automatic seed). Writes
 DIR/result.json (volume_m3, length_m, mass_kg, bci, frames, timings, status, …), DIR/result.npz
@@ -20,8 +21,11 @@ heights); --altitude-source sets the altitude error (default: barometer for a DJ
 for a laser log, manual for a number or an altitude CSV); --altitude-calibration corrects the
 altitudes by a calibration of the clip's camera (`dolphinfit calibrate altitude`) and takes the
 altitude error from its spread; --outline-sd-px how far the masks'
-outline may lie off the animal's (default 0.36 px at 1920 px wide, 0.73 at 3840: measured on
-the bench suite's clips).
+outline may lie off the animal's (default: the larger of 0.36 px at 1920 px wide, in
+proportion to the width, and 0.35 × the blur of the animal's edge: measured on the bench
+suite's clips). --lens (a `dolphinfit calibrate lens` file of the clip's video mode) undistorts
+the frames and masks the fit sees; without one, a fit whose animal reaches past half-way to
+the frame's corner is warned about.
 
 Exit codes: 0 the fit completed; 2 bad input; 1 an internal error, or a fit that ended early
 (status "diverged": the loss turned non-finite; "cancelled" comes only from callers of
@@ -34,6 +38,7 @@ import sys
 from dataclasses import replace
 from pathlib import Path
 
+from dolphinfit.app.commands.altitude_options import add_altitude_offsets, check_altitude_offsets
 from dolphinfit.app.progress import terminal_progress
 from dolphinfit.core.errors import InputError
 from dolphinfit.core.fit.config import FitConfig, fit_hw_table
@@ -44,6 +49,8 @@ from dolphinfit.core.fit.result import STATUS_COMPLETE, FitResult
 from dolphinfit.core.io.json_file import read_json, write_json
 from dolphinfit.core.measure.annotation import ALTITUDE_SOURCE_OF_KIND, ALTITUDE_SOURCES
 from dolphinfit.core.measure.fit_uncertainty import FitInterval
+from dolphinfit.core.measure.lens import read_lens
+from dolphinfit.core.io.video import open_clip
 from dolphinfit.core.model.hw_spec import resolve_hw
 from dolphinfit.core.measure.altitude_calibration import (
     AltitudeCalibration, read_altitude_calibration,
@@ -51,7 +58,7 @@ from dolphinfit.core.measure.altitude_calibration import (
 from dolphinfit.core.measure.records import default_error_model
 from dolphinfit.core.measure.uncertainty import ErrorModel
 from dolphinfit.core.limits import (
-    ALTITUDE_M, FOCAL_MM, FPS, LAUNCH_HEIGHT_M, MASK_OUTLINE_SD_PX, SENSOR_WIDTH_MM, in_range,
+    ALTITUDE_M, FOCAL_MM, FPS, MASK_OUTLINE_SD_PX, SENSOR_WIDTH_MM, in_range,
     result_figures, time_window,
 )
 from dolphinfit.core.model.template import load_template
@@ -66,8 +73,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("clip", type=Path, help="the drone clip")
     parser.add_argument("--altitude", required=True,
                         help="metres above the water, or an altitude CSV, DJI SRT or laser log")
-    parser.add_argument("--launch-height", type=float, default=0.0, metavar="M",
-                        help="take-off height above the water, added to relative SRT altitudes")
+    add_altitude_offsets(parser)
     parser.add_argument("--masks", type=Path, default=None,
                         help="mask PNG folder, mask video or .npz (default: the built-in tracker)")
     parser.add_argument("--camera", default=None, metavar="PRESET", help="camera preset name")
@@ -96,8 +102,12 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                              "barometer for an SRT, laser for a laser log, else manual)")
     parser.add_argument("--outline-sd-px", type=float, default=None, metavar="PX",
                         help="one SD of the masks' outline offset in the clip's pixels, for "
-                             "the intervals (default: 0.36 px at 1920 px wide, in proportion "
-                             "to the width; 0: masks taken as exact)")
+                             "the intervals (default: the larger of 0.36 px at 1920 px wide, "
+                             "in proportion to the width, and 0.35 × the edge's blur index; "
+                             "0: masks taken as exact)")
+    parser.add_argument("--lens", type=Path, default=None, metavar="LENS.json",
+                        help="fit through this lens model (`dolphinfit calibrate lens`, same "
+                             "video mode)")
 
 
 def fit_config(args: argparse.Namespace) -> FitConfig:
@@ -130,7 +140,7 @@ def fit_config(args: argparse.Namespace) -> FitConfig:
 
 def check_options(args: argparse.Namespace) -> None:
     """InputError naming the option whose value is outside its plausible range."""
-    in_range(args.launch_height, LAUNCH_HEIGHT_M, "--launch-height")
+    check_altitude_offsets(args)
     if args.outline_sd_px is not None:
         in_range(args.outline_sd_px, MASK_OUTLINE_SD_PX, "--outline-sd-px")
     for value, limits, option in ((args.sensor_width_mm, SENSOR_WIDTH_MM, "--sensor-width-mm"),
@@ -154,9 +164,14 @@ def run(args: argparse.Namespace) -> int:
             raise InputError(f"--altitude {altitude!r}: neither a number of metres nor a file")
     calibration = (None if args.altitude_calibration is None
                    else read_altitude_calibration(args.altitude_calibration))
+    lens = None if args.lens is None else read_lens(args.lens)
+    if lens is not None:
+        clip = open_clip(args.clip)
+        lens.check_image_size(clip.width_px, clip.height_px, f"--lens {args.lens}")
     fit_run = run_fit(args.clip, altitude, args.masks, camera, fit_config(args),
                       args.launch_height, progress=terminal_progress(),
-                      altitude_calibration=calibration)
+                      time_offset_s=args.time_offset, altitude_calibration=calibration,
+                      lens=lens)
     return report(fit_run, args.out, camera, args.altitude_source, args.outline_sd_px,
                   calibration)
 

@@ -1,6 +1,7 @@
 """Find the animals in clips and the frames worth measuring each of them in.
 
-  dolphinfit scan CLIP|FOLDER --out DIR [--altitude M|FILE] [--camera PRESET |
+  dolphinfit scan CLIP|FOLDER --out DIR [--altitude M|FILE] [--launch-height M]
+                  [--time-offset S] [--camera PRESET |
                   --sensor-width-mm W --focal-mm F] [--fps F] [--search-every S]
                   [--tile-search-every S] [--best N] [--altitude-range LOW,HIGH]
                   [--max-gimbal-off DEG]
@@ -26,6 +27,7 @@ import argparse
 import sys
 from pathlib import Path
 
+from dolphinfit.app.commands.altitude_options import add_altitude_offsets, check_altitude_offsets
 from dolphinfit.app.progress import is_tenth
 from dolphinfit.core.errors import InputError
 from dolphinfit.core.fit.pipeline import CameraChoice
@@ -50,6 +52,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--altitude", default=None, metavar="M|FILE",
                         help="metres above the water, or an altitude file, for every clip "
                              "(default: each clip's SRT)")
+    add_altitude_offsets(parser)
     parser.add_argument("--camera", default=None, metavar="PRESET", help="camera preset name")
     parser.add_argument("--sensor-width-mm", type=float, default=None)
     parser.add_argument("--focal-mm", type=float, default=None)
@@ -95,13 +98,13 @@ def scan_settings(args: argparse.Namespace) -> ScanSettings:
                         best_count=count(args.best, 1, "--best"))
 
 
-def clip_telemetry(path: Path, altitude: str | None, camera: CameraChoice,
+def clip_telemetry(path: Path, args: argparse.Namespace, camera: CameraChoice,
                    warnings: list[str]) -> tuple[ClipTelemetry, Clip]:
     """The clip (opened and checked) and what the scan knows of its camera: altitude per
     frame, focal length in pixels, and the gimbal's pitch where the SRT records it;
     InputError naming the clip when it cannot be used."""
     clip = open_clip(path)
-    telemetry = load_telemetry(clip, altitude)
+    telemetry = load_telemetry(clip, args.altitude, args.launch_height, args.time_offset)
     warnings.extend(telemetry.warnings)
     return scan_telemetry(clip, telemetry, camera.intrinsics(clip).focal_px), clip
 
@@ -132,6 +135,7 @@ def summary_lines(scan: ClipScan) -> list[str]:
 
 def run(args: argparse.Namespace) -> int:
     """Scan each clip and write its files; exit 2 when no clip could be scanned."""
+    check_altitude_offsets(args)
     settings = scan_settings(args)
     out = check_output_folder(args.out, "--out ")
     camera = CameraChoice(args.camera, args.sensor_width_mm, args.focal_mm)
@@ -140,7 +144,7 @@ def run(args: argparse.Namespace) -> int:
     for path in paths:
         warnings: list[str] = []
         try:
-            telemetry, clip = clip_telemetry(path, args.altitude, camera, warnings)
+            telemetry, clip = clip_telemetry(path, args, camera, warnings)
         except InputError as exc:
             failed.append(str(exc))
             continue

@@ -29,7 +29,7 @@ from dolphinfit.core.io.telemetry import (
     Telemetry, align_to_frames, read_altitude, summarize_samples,
 )
 from dolphinfit.core.io.video import open_clip
-from dolphinfit.core.limits import LAUNCH_HEIGHT_M, in_range, number
+from dolphinfit.app.commands.altitude_options import add_altitude_offsets, check_altitude_offsets
 
 SOURCE_NAMES = {"srt": "DJI SRT", "csv": "altitude CSV", "laser": "laser log"}
 LOGGER_NAMES = {"lidarbox": "LidarBoX", "freefly-astro": "Freefly Astro"}  # by source.family
@@ -38,10 +38,7 @@ LOGGER_NAMES = {"lidarbox": "LidarBoX", "freefly-astro": "Freefly Astro"}  # by 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     """The file, the launch height, the time offset, the clip and the output."""
     parser.add_argument("file", type=Path, help="a DJI .SRT, an altitude .csv or a laser log")
-    parser.add_argument("--launch-height", type=float, default=0.0, metavar="M",
-                        help="take-off point's height above the water, metres (default 0)")
-    parser.add_argument("--time-offset", type=float, default=0.0, metavar="S",
-                        help="laser logs: log time (s) at the clip's first frame (default 0)")
+    add_altitude_offsets(parser)
     parser.add_argument("--clip", type=Path, default=None, help="align to this video's frames")
     parser.add_argument("--out", type=Path, default=None, metavar="FILE.csv",
                         help="write the altitudes as CSV")
@@ -49,8 +46,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Read, summarise, and write the CSV if asked."""
-    in_range(args.launch_height, LAUNCH_HEIGHT_M, "--launch-height")
-    number(args.time_offset, "--time-offset")
+    check_altitude_offsets(args)
     if args.out is not None:
         check_output_file(args.out, "--out ")
     samples = read_altitude(args.file, args.launch_height, args.time_offset)

@@ -51,6 +51,8 @@ def _fit_inputs(fit: FitInputs) -> tuple[dict[str, Path], dict[str, Any]]:
                else {"kind": type(fit.seed).__name__, **asdict(fit.seed)}}
     if fit.also_frames:  # a scan's best frames (absent: as before scans existed)
         options["also_frames"] = list(fit.also_frames)
+    if fit.lens is not None:  # absent: as before the fit took a lens
+        options["lens"] = asdict(fit.lens)
     return files, options
 
 

@@ -7,12 +7,12 @@ Columns (header names; only ``clip`` is required; paths are relative to the mani
 - ``altitude``: metres above the water, or an altitude CSV, DJI SRT or laser log (empty: the
   clip's SRT beside it). ``launch_height_m`` (added to relative SRT altitudes),
   ``time_offset_s`` (laser logs), ``altitude_source``: laser, barometer or manual (default
-  barometer for an SRT, else manual), which sets the elliptical method's altitude error.
+  barometer for an SRT, laser for a laser log, else manual), which sets the elliptical method's altitude error.
   ``altitude_calibration``: a `dolphinfit calibrate altitude` file of the clip's camera: the
   altitudes are corrected by it and both methods' intervals take its spread as their error.
 - ``camera``: a preset name, or ``sensor_width_mm`` and ``focal_mm``. ``lens``: a `dolphinfit
-  calibrate lens` file of its video mode: the elliptical method takes its mask's midline and
-  widths through it (the fit does not yet).
+  calibrate lens` file of its video mode: the fit sees its frames and masks undistorted, the
+  elliptical method takes its mask's midline and widths through it.
 - ``masks``: a mask PNG folder, mask video or .npz; or ``seed`` for the built-in tracker:
   ``auto``, a click ``X,Y`` or a box ``X,Y,W,H`` in pixels of frame ``seed_frame`` (default
   0). Neither: ``auto``.
@@ -41,7 +41,7 @@ from dolphinfit.core.errors import InputError
 from dolphinfit.core.fit.config import FitConfig
 from dolphinfit.core.fit.pipeline import CameraChoice
 from dolphinfit.core.io.json_file import read_json
-from dolphinfit.core.io.telemetry import find_srt_sidecar
+from dolphinfit.core.io.telemetry import altitude_file_kind, find_srt_sidecar
 from dolphinfit.core.io.text_input import read_text
 from dolphinfit.core.limits import (
     ALTITUDE_M, FOCAL_MM, FPS, LAUNCH_HEIGHT_M, SENSOR_WIDTH_MM, Limits, count, in_range,
@@ -206,9 +206,11 @@ def _fit_config(row: Row) -> FitConfig:
 
 
 def _altitude_source(row: Row, altitude: float | Path | None) -> str:
-    default = (SRT_SOURCE if altitude is None
-               or (isinstance(altitude, Path) and altitude.suffix.lower() == ".srt")
-               else "manual")
+    """The row's altitude source, by default that of its altitude: a DJI SRT's barometer,
+    a laser log's laser, else "manual"."""
+    kind = "srt" if altitude is None else (
+        altitude_file_kind(altitude) if isinstance(altitude, Path) else None)
+    default = {"srt": SRT_SOURCE, "laser": "laser", "astro": "laser"}.get(kind, "manual")
     source = row.text("altitude_source") or default
     if source not in ALTITUDE_SOURCES:
         raise InputError(f"{row.where('altitude_source')}: {source!r}, expected one of "
@@ -261,18 +263,20 @@ def task_from_row(row: Row, num_draws: int = DEFAULT_NUM_DRAWS) -> BatchTask:
     seed = (seed_at(picks[0]) if picks
             else row.parsed("seed", lambda text: _seed(text, seed_frame), AutoSeed(seed_frame)))
     frames = tuple(sorted(pick.frame_idx for pick in picks))
+    lens = _read_cell_file(row, "lens", read_lens)
     fit = FitInputs(clip=clip, altitude=altitude,
                     launch_height_m=row.number("launch_height_m", LAUNCH_HEIGHT_M, 0.0),
                     time_offset_s=row.number("time_offset_s", default=0.0),
                     camera=_camera(row), masks=masks, seed=seed, config=_fit_config(row),
                     altitude_calibration=_read_cell_file(row, "altitude_calibration",
-                                                         read_altitude_calibration), also_frames=frames)
+                                                         read_altitude_calibration),
+                    also_frames=frames, lens=lens)
     return BatchTask(name=fit_dir(row.manifest, row.text("clip"), animal).name,
                      clip=row.text("clip"), animal_id=animal,
                      where=f"{row.manifest}: row {row.row}", fit=fit,
                      measurement=MaskMeasurement(_altitude_source(row, altitude),
                                                  num_draws=num_draws, frames=frames,
-                                                 lens=_read_cell_file(row, "lens", read_lens)))
+                                                 lens=lens))
 
 
 def _whole(minimum: int) -> Callable[[str], int]:

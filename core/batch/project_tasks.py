@@ -30,7 +30,8 @@ def _fit_inputs(project_path: Path, project: Project, clip: ClipEntry,
         masks=None if clip.masks_path is None else (project_dir / clip.masks_path).resolve(),
         config=project_fit_config(animal.fit_settings, project, project_dir),
         altitude_calibration=(None if clip.altitude_calibration is None else
-                              fitted_calibration(project.calibration(clip.altitude_calibration))))
+                              fitted_calibration(project.calibration(clip.altitude_calibration))),
+        lens=clip.lens)
 
 
 def project_tasks(project_path: Path, num_draws: int = DEFAULT_NUM_DRAWS) -> list[BatchTask]:

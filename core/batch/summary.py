@@ -13,7 +13,7 @@ from dolphinfit.core.measure.baseline import BaselineEstimate
 from dolphinfit.core.project.comparison import QUANTITIES, fit_interval_of, interval_of
 
 SUMMARY_CSV = "summary.csv"
-COLUMNS = ("clip", "animal_id", "status", "error", "notes", "folder", "reused", "Image",
+COLUMNS = ("clip", "animal_id", "status", "error", "notes", "folder", "reused", "Image_ID",
            "ell_frame",
            *(f"{key}_{suffix}" for key, _, _ in QUANTITIES
              for suffix in ("ell", "ell_lo95", "ell_hi95", "fit", "fit_lo95", "fit_hi95")),
@@ -23,7 +23,7 @@ COLUMNS = ("clip", "animal_id", "status", "error", "notes", "folder", "reused", 
 def elliptical_values(estimate: BaselineEstimate, record: dict, image_id: str,
                       frame_idx: int) -> dict[str, Any]:
     """The elliptical columns of one measured frame (``record``: its result JSON)."""
-    values: dict[str, Any] = {"Image": image_id, "ell_frame": frame_idx}
+    values: dict[str, Any] = {"Image_ID": image_id, "ell_frame": frame_idx}
     for key, _, _ in QUANTITIES:
         summary = interval_of(estimate, key)
         values[f"{key}_ell"] = float(record[key])

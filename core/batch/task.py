@@ -20,8 +20,9 @@ from dolphinfit.core.segment.segmenter import AutoSeed, Seed
 class FitInputs:
     """What ``core.fit.pipeline.run_fit`` needs: the clip, its altitude (metres, an altitude
     CSV, DJI SRT or laser log, or None for the clip's SRT sidecar) and its calibration, the
-    camera, and the masks or, without them, the tracker's seed and the frames it tracks
-    besides the fit's (``also_frames``: those the elliptical method measures)."""
+    camera and its lens model, and the masks or, without them, the tracker's seed and the
+    frames it tracks besides the fit's (``also_frames``: those the elliptical method
+    measures)."""
 
     clip: Path
     altitude: float | Path | None
@@ -33,6 +34,7 @@ class FitInputs:
     config: FitConfig = FitConfig()
     altitude_calibration: AltitudeCalibration | None = None
     also_frames: tuple[int, ...] = ()
+    lens: LensModel | None = None
 
 
 @dataclass(frozen=True)

@@ -102,7 +102,8 @@ def _fit(task: BatchTask, folder: Path) -> FitRun:
     fit = task.fit
     run = run_fit(fit.clip, fit.altitude, fit.masks, fit.camera, fit.config,
                   fit.launch_height_m, seed=fit.seed, time_offset_s=fit.time_offset_s,
-                  altitude_calibration=fit.altitude_calibration, also_frames=fit.also_frames)
+                  altitude_calibration=fit.altitude_calibration, also_frames=fit.also_frames,
+                  lens=fit.lens)
     write_outputs(run.result, run.data, load_template(), folder)
     return run
 

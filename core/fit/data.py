@@ -25,6 +25,7 @@ from dolphinfit.core.io.masks import MaskTrack
 from dolphinfit.core.io.report import list_some
 from dolphinfit.core.io.telemetry import Telemetry
 from dolphinfit.core.io.video import Clip, crop_roi, frames_at_fps
+from dolphinfit.core.measure.lens import LensModel, masks_off_centre_warning
 from dolphinfit.core.progress import Progress, ProgressCallback, check_cancel
 from dolphinfit.core.render.settings import Viewport
 from dolphinfit.core.segment.regions import touches_border
@@ -143,13 +144,24 @@ def frame_altitudes(telemetry: Telemetry, frame_idx: np.ndarray) -> tuple[np.nda
 def prepare_data(clip: Clip, read_frame: Callable[[int], np.ndarray], masks: MaskTrack,
                  telemetry: Telemetry, intrinsics: CameraIntrinsics, config: FitConfig,
                  progress: ProgressCallback | None = None,
-                 cancel: threading.Event | None = None) -> FitData:
+                 cancel: threading.Event | None = None,
+                 lens: LensModel | None = None) -> FitData:
     """Cut the chosen frames and masks for the fit; ``read_frame`` gives (H, W, 3) uint8 RGB.
+    With a ``lens``, frames and masks are first undistorted (as its own pinhole camera would
+    have seen them, so the fit's pinhole camera projects as the lens did); without one, a
+    warning when the animal reaches far off-centre.
 
     Reports each frame read as the fit's "prepare" stage (step 0 of the fit's steps,
     core.fit.reporter) and raises core.progress.Cancelled between frames once ``cancel`` is set.
     """
     frame_idx, masks_np, warnings = select_frames(clip, masks, config)
+    if lens is None:
+        warnings += [w for w in [masks_off_centre_warning(masks_np, intrinsics)] if w]
+    else:
+        lens.check_image_size(clip.width_px, clip.height_px, "the lens model")
+        masks_np = np.stack([lens.undistort_mask(mask) for mask in masks_np])
+        warnings += [w for w in [lens.focal_warning(intrinsics)] if w]
+        read_frame = _through_lens(read_frame, lens)
     warnings += narrow_animal_warnings(masks_np)
     altitude, altitude_warnings = frame_altitudes(telemetry, frame_idx)
     frames = _read_frames(read_frame, frame_idx, config.total_steps, progress, cancel)
@@ -175,6 +187,11 @@ def prepare_data(clip: Clip, read_frame: Callable[[int], np.ndarray], masks: Mas
                    images=torch.as_tensor(images, dtype=torch.float32) / 255.0,
                    masks=torch.as_tensor(cut, dtype=torch.float32), camera=camera,
                    viewport=viewport, warnings=tuple(warnings + altitude_warnings))
+
+
+def _through_lens(read_frame: Callable[[int], np.ndarray],
+                  lens: LensModel) -> Callable[[int], np.ndarray]:
+    return lambda idx: lens.undistort_image(read_frame(idx))
 
 
 def _read_frames(read_frame: Callable[[int], np.ndarray], frame_idx: np.ndarray,

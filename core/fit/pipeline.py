@@ -27,6 +27,7 @@ from dolphinfit.core.io.telemetry import Telemetry, load_telemetry
 from dolphinfit.core.io.video import Clip, VideoReader, frames_at_fps, open_clip
 from dolphinfit.core.measure.altitude_calibration import AltitudeCalibration, calibrated_telemetry
 from dolphinfit.core.measure.edge_blur import edge_blur_px
+from dolphinfit.core.measure.lens import LensModel
 from dolphinfit.core.progress import ProgressCallback
 from dolphinfit.core.scan.clip_scan import scan_telemetry
 from dolphinfit.core.scan.fit_seed import scan_pick
@@ -79,10 +80,11 @@ class FitRun:
 def fit_clip(frames: FrameSource, telemetry: Telemetry, masks: MaskTrack,
              intrinsics: CameraIntrinsics, config: FitConfig,
              progress: ProgressCallback | None = None,
-             cancel: threading.Event | None = None) -> FitRun:
-    """Fit the clip of ``frames`` (full-frame ``intrinsics``) to its masks."""
+             cancel: threading.Event | None = None, lens: LensModel | None = None) -> FitRun:
+    """Fit the clip of ``frames`` (full-frame ``intrinsics``) to its masks, through ``lens``
+    where given (the run keeps the masks as they were tracked)."""
     data = prepare_data(frames.clip, frames.frame, masks, telemetry, intrinsics, config,
-                        progress=progress, cancel=cancel)
+                        progress=progress, cancel=cancel, lens=lens)
     result = fit(data, config, progress=progress, cancel=cancel)
     result = replace(result, edge_blur_px=fitted_edge_blur(data, frames.clip.width_px))
     return FitRun(clip=frames.clip, telemetry=telemetry, masks=masks, data=data, result=result)
@@ -129,13 +131,14 @@ def run_fit(clip_path: Path, altitude: str | Path | float | None, masks_path: Pa
             cancel: threading.Event | None = None, seed: Seed = AutoSeed(frame_idx=0),
             time_offset_s: float = 0.0, backend: str = DEFAULT_BACKEND,
             altitude_calibration: AltitudeCalibration | None = None,
-            also_frames: Sequence[int] = ()) -> FitRun:
+            also_frames: Sequence[int] = (), lens: LensModel | None = None) -> FitRun:
     """Fit the clip; without ``masks_path`` the mask ``backend`` (core.segment.backends)
     finds the dolphin from ``seed`` on the frames the fit will look at and on
     ``also_frames`` (e.g. the frames measured by the elliptical method), reporting its own
     "track" stage first. An automatic seed is the animal a scan of the fit's window follows
     longest (``scanned_seed``), the masks' source naming it. An ``altitude_calibration`` of
-    the clip's camera corrects the altitudes first."""
+    the clip's camera corrects the altitudes first; a ``lens`` of its video mode undistorts
+    the frames and masks the fit sees."""
     clip = open_clip(clip_path)
     telemetry = load_telemetry(clip, altitude, launch_height_m, time_offset_s)
     intrinsics = camera.intrinsics(clip)
@@ -158,4 +161,4 @@ def run_fit(clip_path: Path, altitude: str | Path | float | None, masks_path: Pa
                 frames, seed, progress=progress, cancel=cancel)
             if note is not None:
                 masks = replace(masks, source=f"{masks.source}; {note}")
-        return fit_clip(frames, telemetry, masks, intrinsics, config, progress, cancel)
+        return fit_clip(frames, telemetry, masks, intrinsics, config, progress, cancel, lens)

@@ -104,6 +104,13 @@ READER_KINDS = {SRT_SUFFIX: "srt", ".csv": "csv", ".txt": "laser", ".tsv": "lase
                 ".log": "laser"}
 
 
+def altitude_file_kind(path: Path) -> str | None:
+    """Which reader an existing altitude file needs: "astro", "laser" (by their headers),
+    "srt" or "csv" (by the suffix); None when none does."""
+    return ("astro" if is_astro_log(path) else "laser" if is_laser_log(path)
+            else READER_KINDS.get(path.suffix.lower()))
+
+
 def read_altitude(path: Path | str, launch_height_m: float = 0.0,
                   time_offset_s: float = 0.0) -> AltitudeSamples:
     """Altitude samples of a DJI SRT, an altitude CSV or a laser log, chosen by the file.
@@ -116,8 +123,7 @@ def read_altitude(path: Path | str, launch_height_m: float = 0.0,
     number(time_offset_s, "time offset")
     if not path.is_file():
         raise InputError(f"{path}: no such file")
-    kind = ("astro" if is_astro_log(path) else "laser" if is_laser_log(path)
-            else READER_KINDS.get(path.suffix.lower()))
+    kind = altitude_file_kind(path)
     if kind == "astro":
         samples = read_astro_log(path, time_offset_s)
     elif kind == "srt":

@@ -19,6 +19,7 @@ calibrated focal length that differs from the camera's by more than 2 % is warne
 
 from collections.abc import Iterable
 from dataclasses import asdict, dataclass, replace
+from functools import lru_cache
 from pathlib import Path
 
 import cv2
@@ -71,6 +72,17 @@ class LensModel:
                                               P=self.matrix()).reshape(-1, 2)
         return out
 
+    def undistort_image(self, image: np.ndarray) -> np.ndarray:
+        """An (H, W[, C]) image of the calibrated size as this lens's own pinhole camera would
+        have seen it (bilinear; 0 where the lens saw nothing)."""
+        self.check_image_size(image.shape[1], image.shape[0], "the image")
+        map_x, map_y = _undistortion_maps(self)
+        return cv2.remap(image, map_x, map_y, cv2.INTER_LINEAR, borderMode=cv2.BORDER_CONSTANT)
+
+    def undistort_mask(self, mask: np.ndarray) -> np.ndarray:
+        """An (H, W) bool mask as the pinhole camera would have seen it."""
+        return self.undistort_image(mask.astype(np.uint8) * 255) >= 128
+
     def focal_warning(self, camera: CameraIntrinsics) -> str | None:
         """A warning when the calibrated focal length is not the camera's (the lens only
         straightens the clicks; metres still come from the camera's focal length)."""
@@ -90,6 +102,15 @@ class LensModel:
 
     def to_json(self) -> dict:
         return {"format": FORMAT, "version": VERSION, **asdict(self)}
+
+
+@lru_cache(maxsize=4)
+def _undistortion_maps(lens: LensModel) -> tuple[np.ndarray, np.ndarray]:
+    """For each pixel of the pinhole image, where the image seen through ``lens`` shows it
+    (OpenCV's remap tables, float32 x and y)."""
+    matrix = lens.matrix()
+    return cv2.initUndistortRectifyMap(matrix, np.array(lens.distortion), None, matrix,
+                                       (lens.width_px, lens.height_px), cv2.CV_32FC1)
 
 
 def undistorted_annotation(annotation: Annotation, lens: LensModel) -> Annotation:
@@ -116,24 +137,41 @@ def through_lens(doc: AnnotationFile, lens: LensModel | None,
             [f"clicks taken through {lens_name}"], [] if warning is None else [warning])
 
 
-def off_centre_share(annotation: Annotation, camera: CameraIntrinsics) -> float:
-    """How far the annotation's farthest point lies from the image centre, as a share of the
+def _share_to_corner(points: np.ndarray, camera: CameraIntrinsics) -> float:
+    """How far the farthest of (N, 2) points lies from the image centre, as a share of the
     distance to the corner (0 at the centre, 1 in a corner)."""
-    points = np.concatenate([annotation.midline_px, annotation.edges_px.reshape(-1, 2)])
-    points = points[np.isfinite(points).all(axis=1)]
     centre = np.array([camera.cx_px, camera.cy_px])
     corner = np.hypot(camera.width_px / 2, camera.height_px / 2)
     return float(np.max(np.linalg.norm(points - centre, axis=1)) / corner)
 
 
-def off_centre_warning(annotation: Annotation, camera: CameraIntrinsics) -> str | None:
-    """A warning for a measurement made far off-centre without a lens model."""
-    share = off_centre_share(annotation, camera)
+def off_centre_share(annotation: Annotation, camera: CameraIntrinsics) -> float:
+    """``_share_to_corner`` of the annotation's clicks and edge points."""
+    points = np.concatenate([annotation.midline_px, annotation.edges_px.reshape(-1, 2)])
+    return _share_to_corner(points[np.isfinite(points).all(axis=1)], camera)
+
+
+def _off_centre_warning(share: float, done: str) -> str | None:
     if share <= OFF_CENTRE_SHARE:
         return None
-    return (f"measured {100 * share:.0f} % of the way from the frame's centre to its corner "
+    return (f"{done} {100 * share:.0f} % of the way from the frame's centre to its corner "
             f"without a lens model: lens distortion bends lengths there (`dolphinfit "
             f"calibrate lens`)")
+
+
+def off_centre_warning(annotation: Annotation, camera: CameraIntrinsics) -> str | None:
+    """A warning for a measurement made far off-centre without a lens model."""
+    return _off_centre_warning(off_centre_share(annotation, camera), "measured")
+
+
+def masks_off_centre_warning(masks: np.ndarray, camera: CameraIntrinsics) -> str | None:
+    """A warning for a fit whose (T, H, W) masks reach far off-centre, made without a lens
+    model (the farthest mask pixel of any frame counts)."""
+    rows, cols = np.nonzero(masks.any(axis=0))
+    if rows.size == 0:
+        return None
+    points = np.column_stack([cols, rows]).astype(np.float64)
+    return _off_centre_warning(_share_to_corner(points, camera), "fitted")
 
 
 def board_corners(gray: np.ndarray, board: tuple[int, int]) -> np.ndarray | None:

@@ -6,6 +6,7 @@ well under a millisecond), so a corrected click changes every result that uses i
 measured on image files or on frames of a video (``VIDEO#frame=N``, altitudes from its SRT).
 """
 
+from dataclasses import replace
 from functools import lru_cache
 from pathlib import Path
 
@@ -83,19 +84,30 @@ def read_shot_image(image: str) -> np.ndarray:
         return frames.frame(int(frame))
 
 
-def clip_shots(video: Path, every: int) -> tuple[tuple[ObjectShot, ...], str]:
+def clip_shots(video: Path, every: int) -> tuple[tuple[ObjectShot, ...], str, bool]:
     """Every ``every``-th frame of a video as a shot still to be measured (a length of 1 px
-    until its ends are clicked), at the altitude its SRT sidecar records there; and a note
-    when it has none (the altitudes are then to be typed; 20 m meanwhile)."""
-    note = ""
+    until its ends are clicked), at the altitude its SRT sidecar records there; a note when
+    it has none (the altitudes are then to be typed; 20 m meanwhile); and whether the SRT
+    records height above the take-off point (``with_launch_height`` then adds that point's
+    height above the water, as the clips' altitudes have it)."""
+    note, relative = "", False
     with open_media(video) as frames:
         clip = frames.clip
         try:
-            altitudes = load_telemetry(clip).altitude_m
+            telemetry = load_telemetry(clip)
+            altitudes, relative = telemetry.altitude_m, telemetry.source.is_relative
         except InputError as exc:
             altitudes, note = np.full(clip.num_frames, np.nan), f"{exc}: type the altitudes"
     shots = tuple(ObjectShot(f"{video}{FRAME_MARK}{i}",
                              float(altitudes[i]) if np.isfinite(altitudes[i]) and altitudes[i] > 0
                              else UNKNOWN_ALTITUDE_M, 1.0)
                   for i in range(0, clip.num_frames, every))
-    return shots, note
+    return shots, note, relative
+
+
+def with_launch_height(shots: tuple[ObjectShot, ...],
+                       launch_height_m: float) -> tuple[ObjectShot, ...]:
+    """Shots whose altitudes are heights above the take-off point, made heights above the
+    water."""
+    return tuple(replace(shot, recorded_altitude_m=shot.recorded_altitude_m + launch_height_m)
+                 for shot in shots)

@@ -103,6 +103,11 @@ def paths(tmp_path_factory) -> dict[str, Path]:
     p["synth_config_text"] = _write(root / "synth_text.json", {"altitude_m": "high"})
     p["synth_config_negative"] = _write(root / "synth_negative.json",
                                         {"config": {"width_px": -640}})
+    p["lens_4k"] = _write(root / "lens_4k.json", {
+        "format": "dolphinfit-lens", "version": 1, "width_px": 3840, "height_px": 2160,
+        "fx_px": 2900.0, "fy_px": 2900.0, "cx_px": 1919.5, "cy_px": 1079.5,
+        "distortion": [-0.1, 0.02, 0.0, 0.0, 0.0], "rms_px": 0.3, "num_views": 12,
+        "source": "test"})
     p["mass_nan"] = _write(root / "mass_nan.json", {"density_intercept_kg_m3": math.nan})
     p["mass_text"] = _write(root / "mass_text.json", {"bv_exp_slope": "steep"})
     p["ann"] = _write(root / "ann.json", _annotation(20.0))
@@ -158,6 +163,11 @@ CASES = [
      "alt_1e6.csv: every altitude lies outside the plausible 1–500 m: 1e+06 m at frame 0"),
     ("fit {clip} --masks {masks} --out {out_fit} --altitude 20 --launch-height nan",
      "--launch-height"),
+    ("fit {clip} --masks {masks} --out {out_fit} --altitude 20 --time-offset inf",
+     "--time-offset: expected a finite"),
+    ("scan {clip} --out {folder}/scan --launch-height 1e4", "--launch-height: 10000 m"),
+    ("fit {clip} --masks {masks} --out {out_fit} --altitude 20 --lens {lens_4k}",
+     "lens_4k.json: the lens was calibrated on 3840×2160 px images; these are 64×48"),
     ("fit {clip} --masks {masks} --out {out_fit} --altitude 20 --focal-mm 0 "
      "--sensor-width-mm 17.27", "--focal-mm: 0 mm"),
     ("fit {clip} --masks {masks} --out {out_fit} --altitude 20 --focal-mm 12 "

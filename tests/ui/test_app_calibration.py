@@ -107,8 +107,9 @@ def test_calibrate_the_altimeter_from_five_board_images(qtbot, new_window, still
 
 def test_frames_of_a_clip_come_with_their_srt_altitudes(qtbot, tmp_path):
     """Every 25th frame of the sample video becomes a shot at the altitude its SRT records
-    there; a frame is read when its shot is selected, measured by two clicks, and only
-    measured shots count."""
+    there plus the launch height asked for (the SRT records height above the take-off point);
+    a frame is read when its shot is selected, measured by two clicks, and only measured shots
+    count. Cancelling the launch height adds nothing."""
     import shutil
 
     from dolphinfit.core.camera_presets import get_preset
@@ -127,9 +128,15 @@ def test_frames_of_a_clip_come_with_their_srt_altitudes(qtbot, tmp_path):
     qtbot.addWidget(dialog)
     dialog.show()
     qtbot.waitExposed(dialog)
+    asked = []
+    dialog.ask_launch_height = lambda path: asked.append(path.name)   # cancelled
+    dialog.add_clip_frames(video, every=25)
+    qtbot.waitUntil(lambda: asked == ["clip.mp4"], timeout=SIGNAL_TIMEOUT_MS)
+    assert dialog.table.rowCount() == 0
+    dialog.ask_launch_height = lambda path: 1.5
     dialog.add_clip_frames(video, every=25)
     qtbot.waitUntil(lambda: dialog.table.rowCount() == 2, timeout=SIGNAL_TIMEOUT_MS)
-    altitudes = load_telemetry(clip).altitude_m
+    altitudes = load_telemetry(clip).altitude_m + 1.5
     assert [dialog.table.item(row, 1).text() for row in range(2)] == \
         [f"{altitudes[0]:g}", f"{altitudes[25]:g}"]
     assert dialog.table.item(0, 0).text() == "clip.mp4#frame=0"

@@ -368,7 +368,8 @@ class FitController(QObject):
                                                           session.telemetry),
                       masks=(path.parent / clip.masks_path).resolve(), camera=clip.camera,
                       out_dir=fit_dir(path, clip.media_path, animal.animal_id),
-                      config=project_fit_config(settings, self.model.project, path.parent))
+                      config=project_fit_config(settings, self.model.project, path.parent),
+                      lens=clip.lens)
 
     def _on_progress(self, progress: Progress) -> None:
         self.panel.show_progress(progress)

@@ -30,6 +30,7 @@ from dolphinfit.core.project.calibrations import (
     fitted_calibration,
     read_shot_image,
     shots_from_table,
+    with_launch_height,
 )
 from dolphinfit.core.project.model import AltitudeCalibrationSet, ObjectShot
 from dolphinfit.ui.dialogs.dialog_buttons import ok_cancel_buttons
@@ -186,13 +187,31 @@ class CalibrationDialog(QDialog):
 
     def add_clip_frames(self, video: Path, every: int | None = None) -> None:
         """Every ``every``-th frame of ``video`` as a shot to measure, its altitude from the
-        video's SRT (shots where the object is not seen are removed by the user)."""
+        video's SRT (shots where the object is not seen are removed by the user); an SRT of
+        heights above the take-off point asks for that point's height above the water."""
         step = FRAME_STEP if every is None else every
-        self.jobs.run(lambda: clip_shots(video, step), self._on_clip_shots,
+        self.jobs.run(lambda: clip_shots(video, step),
+                      lambda found: self._on_clip_shots(video, *found),
                       lambda why: self.status.show_message(why, "error"))
 
-    def _on_clip_shots(self, found: tuple[tuple[ObjectShot, ...], str]) -> None:
-        shots, note = found
+    def ask_launch_height(self, video: Path) -> float | None:
+        """The take-off point's height above the water (m) for a video whose SRT records
+        height above it; None when the user cancels."""
+        from PySide6.QtWidgets import QInputDialog
+
+        value, ok = QInputDialog.getDouble(
+            self, "Launch height", f"{video.name} records the height above the take-off "
+            "point.\nHow high was the take-off point above the water (m)?", 0.0, -10.0,
+            100.0, 2)
+        return value if ok else None
+
+    def _on_clip_shots(self, video: Path, shots: tuple[ObjectShot, ...], note: str,
+                       relative: bool) -> None:
+        if relative:
+            launch_m = self.ask_launch_height(video)
+            if launch_m is None:
+                return
+            shots = with_launch_height(shots, launch_m)
         if note:
             self.status.show_message(note, "warning")
         self._pending.update(shot.image for shot in shots)

@@ -15,6 +15,7 @@ from dolphinfit.core.errors import InputError
 from dolphinfit.core.io.masks import read_masks
 from dolphinfit.core.io.media import open_media
 from dolphinfit.core.io.telemetry import Telemetry
+from dolphinfit.core.measure.lens import LensModel
 from dolphinfit.core.progress import Cancelled, ProgressCallback
 from dolphinfit.core.fit.config import FitConfig
 from dolphinfit.ui.workers.job_worker import JobWorker
@@ -31,6 +32,7 @@ class FitJob:
     camera: CameraPreset
     out_dir: Path
     config: FitConfig    # the animal's fit settings and the project's HW table
+    lens: LensModel | None = None   # the clip's: frames and masks undistorted for the fit
 
 
 def run_fit_job(job: FitJob, progress: ProgressCallback, cancel: threading.Event) -> tuple:
@@ -48,7 +50,7 @@ def run_fit_job(job: FitJob, progress: ProgressCallback, cancel: threading.Event
             raise InputError(f"camera: {mismatch}; fix it in Clip → Camera… before fitting")
         masks = read_masks(job.masks, frames.clip)
         run = fit_clip(frames, job.telemetry, masks, job.camera.intrinsics(),
-                       job.config, progress=progress, cancel=cancel)
+                       job.config, progress=progress, cancel=cancel, lens=job.lens)
     if job.discard.is_set():
         raise Cancelled()  # closing: an older complete fit is not replaced by a partial one
     write_outputs(run.result, run.data, load_template(), job.out_dir)

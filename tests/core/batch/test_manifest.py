@@ -50,6 +50,19 @@ def test_rows_become_tasks(folder):
     assert left.where == f"{path}: row 2"
 
 
+def test_a_laser_log_is_a_laser_altitude_unless_the_row_says_otherwise(folder):
+    """The default altitude source follows the altitude file: a LidarBoX log is a laser."""
+    import shutil
+
+    shutil.copy(Path(__file__).parents[2] / "data" / "laser" / "LOG_0007.CSV", folder)
+    header = HEADER + ",altitude_source"
+    default, stated = read_manifest(_manifest(folder, "a.mp4,1,LOG_0007.CSV,,,,,,,,,",
+                                              "b.mp4,1,LOG_0007.CSV,,,,,,,,,barometer",
+                                              header=header))
+    assert default.measurement.altitude_source == "laser"
+    assert stated.measurement.altitude_source == "barometer"
+
+
 def test_no_masks_and_no_seed_is_the_automatic_seed(folder):
     (task,) = read_manifest(_manifest(folder, "a.mp4,1,20,,,,,,,,"))
     assert task.fit.seed == AutoSeed(0) and task.fit.masks is None

@@ -60,7 +60,7 @@ def test_project_batch_measures_the_measured_frames(project_path, tmp_path):
     assert measured.status == "complete" and unmeasured.status == "complete"
     m_per_px = ALTITUDE_M / (12.29 / 17.27 * 320)
     assert measured.values["length_m_ell"] == pytest.approx(100 * m_per_px, rel=1e-9)
-    assert measured.values["Image"] == "still"
+    assert measured.values["Image_ID"] == "still"
     assert (measured.values["volume_m3_ell_lo95"] < measured.values["volume_m3_ell"]
             < measured.values["volume_m3_ell_hi95"])
     assert "length_m_fit" not in measured.values

@@ -1,6 +1,6 @@
 """The comparison CSV (core/project/comparison.py) as File → Export → Comparison writes it: one
 row per animal with a saved 3D fit and a measured frame, both methods' figures with their 95 %
-intervals and their difference, joinable on ``Image``; nothing to compare, no file.
+intervals and their difference, joinable on ``Image_ID``; nothing to compare, no file.
 
 The fit is the template itself, saved as a fit of two frames that stopped early: its figures
 are the template's, and the row must carry them."""
@@ -77,11 +77,11 @@ def test_one_row_per_animal_with_a_fit_and_a_measured_frame(tmp_path, project):
     write_comparison_csv(target, rows)
     columns, (row, *others) = _read_csv(target)
     assert others == []
-    assert columns[:10] == ["Image", "animal_id", "fit_status", "length_m_ell",
+    assert columns[:10] == ["Image_ID", "animal_id", "fit_status", "length_m_ell",
                             "length_m_ell_lo95", "length_m_ell_hi95", "length_m_fit",
                             "length_m_fit_lo95", "length_m_fit_hi95", "length_m_diff_pct"]
     assert len(columns) == 3 + 5 * 7 and "bci_diff" in columns and "bci_diff_pct" not in columns
-    assert (row["Image"], row["animal_id"], row["fit_status"]) == ("clip_f000003", "dolphin 1",
+    assert (row["Image_ID"], row["animal_id"], row["fit_status"]) == ("clip_f000003", "dolphin 1",
                                                                    "cancelled")
     figures = {key: float(value) for key, value in row.items() if key not in columns[:3]}
     for key in ("length_m", "volume_m3", "bci", "density_kg_m3", "mass_kg"):
