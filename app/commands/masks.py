@@ -64,7 +64,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 def add_sam2_argument(parser: argparse.ArgumentParser) -> None:
     """--sam2-checkpoint, for the sam2 back-end."""
     parser.add_argument("--sam2-checkpoint", type=Path, metavar="PATH",
-                        help="the SAM-2 checkpoint (.pt) for --backend sam2, downloaded by you")
+                        help="the SAM-2 checkpoint (.pt) for the sam2 back-end, downloaded by you")
 
 
 def sam2_checkpoint(args: argparse.Namespace, backends: Collection[str]) -> Path | None:
