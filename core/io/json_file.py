@@ -48,9 +48,13 @@ def check_schema_version(data: Any, version: int, where: str) -> None:
     """InputError naming ``where`` unless ``data`` is an object of schema ``version``."""
     if not isinstance(data, dict):
         raise InputError(f"{where}: expected a JSON object")
-    if data.get("schema_version") != version:
-        raise InputError(f"{where}: schema_version {data.get('schema_version')!r} is not "
-                         f"supported (expected {version})")
+    found = data.get("schema_version")
+    if isinstance(found, int) and not isinstance(found, bool) and found > version:
+        raise InputError(f"{where}: schema_version {found} was written by a newer dolphinfit "
+                         f"(this one reads {version}): update dolphinfit to open it")
+    if found != version:
+        raise InputError(f"{where}: schema_version {found!r} is not supported (expected "
+                         f"{version})")
 
 
 def dataclass_from_json(cls: type[T], data: Any, what: str) -> T:

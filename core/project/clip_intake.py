@@ -19,6 +19,7 @@ import numpy as np
 from dolphinfit.core.camera_presets import CameraPreset, load_presets
 from dolphinfit.core.errors import InputError
 from dolphinfit.core.io.media import open_media
+from dolphinfit.core.io.media_fingerprint import media_fingerprint
 from dolphinfit.core.io.srt import SrtFamily, parse_srt, srt_altitude
 from dolphinfit.core.io.telemetry import find_srt_sidecar
 from dolphinfit.core.measure.annotation import ALTITUDE_SOURCE_OF_KIND
@@ -105,7 +106,8 @@ def intake_clip(video: Path, project_dir: Path,
     spec = AltitudeSpec(path=relative_media_path(project_dir, srt_path),
                         source=ALTITUDE_SOURCE_OF_KIND["srt"])
     entry = ClipEntry(media_path=relative_media_path(project_dir, video), kind=kind,
-                      camera=guess.camera, preset_name=guess.preset_name, altitude=spec)
+                      camera=guess.camera, preset_name=guess.preset_name, altitude=spec,
+                      media_fingerprint=media_fingerprint(video))
     return IntakeClip(entry, guess, srt.family.is_relative)
 
 

@@ -186,7 +186,8 @@ class ClipEntry:
     corrected by (None: as recorded). ``scan_path``: the clip's scan (core/scan/scan_files.py),
     relative like the media; ``rejected_frames``: (scan animal number, frame) pairs the user
     put aside in the frame picker. ``lens``: the camera's lens model (`dolphinfit calibrate
-    lens`) measurements are taken through; None: measured as clicked.
+    lens`) measurements are taken through; None: measured as clicked. ``media_fingerprint``:
+    the media's content when it was added (core/io/media_fingerprint.py; None: not taken).
     """
 
     media_path: str
@@ -200,6 +201,7 @@ class ClipEntry:
     scan_path: str | None = None
     rejected_frames: tuple[tuple[int, int], ...] = ()
     lens: LensModel | None = None
+    media_fingerprint: str | None = None
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "rejected_frames", tuple(sorted(

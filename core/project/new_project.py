@@ -9,6 +9,7 @@ from pathlib import Path
 
 from dolphinfit.core.camera_presets import DEFAULT_PRESET, CameraPreset, get_preset
 from dolphinfit.core.io.media import FrameSource
+from dolphinfit.core.io.media_fingerprint import media_fingerprint
 from dolphinfit.core.project.model import ClipEntry, Project, add_clip
 from dolphinfit.core.project.project_file import PROJECT_SUFFIX, relative_media_path
 
@@ -36,7 +37,8 @@ def clip_entry_for(media_path: Path, project_dir: Path, source: FrameSource) -> 
     """A new clip entry for opened media, with the default camera and no altitude yet."""
     camera, preset_name = default_camera(source.clip.width_px, source.clip.height_px)
     return ClipEntry(media_path=relative_media_path(project_dir, media_path),
-                     kind=source.kind, camera=camera, preset_name=preset_name)
+                     kind=source.kind, camera=camera, preset_name=preset_name,
+                     media_fingerprint=media_fingerprint(media_path))
 
 
 def project_with_media(project: Project, media_path: Path, project_dir: Path,

@@ -7,6 +7,7 @@ Schema version 1 (``*.dolphinfit``)::
       "settings": {"hw_ratios": "tursiops-provisional", "tail": "extrapolated"},
       "clips": [{
         "media": "DJI_0042.MP4", "kind": "video", "masks": "DJI_0042_masks",
+        "media_fingerprint": "v1:9f86d0…",
         "scan": "survey.scans/DJI_0042_scan.json", "rejected_frames": [[1, 150]],
         "lens": {"width_px": 5120, "height_px": 2700, "fx_px": …, "distortion": [k1, k2, p1,
                  p2, k3], …},
@@ -214,7 +215,9 @@ def _clip_from_json(data: Any, where: str) -> ClipEntry:
                          scan_path=_get(data, "scan", str, where, optional=True),
                          rejected_frames=_rejected_frames(data.get("rejected_frames"),
                                                           f"{where}: rejected_frames"),
-                         lens=_lens_from_json(data.get("lens"), f"{where}: lens"))
+                         lens=_lens_from_json(data.get("lens"), f"{where}: lens"),
+                         media_fingerprint=_get(data, "media_fingerprint", str, where,
+                                                optional=True))
     except ValueError as exc:
         raise InputError(f"{where}: {exc}") from exc
 
@@ -225,9 +228,11 @@ def _lens_from_json(data: Any, where: str) -> LensModel | None:
 
 
 def _optional_to_json(clip: ClipEntry) -> dict[str, Any]:
-    """The clip's scan, frames put aside and lens model, where it has them (a clip without
-    them is written as before they existed)."""
+    """The clip's scan, frames put aside, lens model and media fingerprint, where it has
+    them (a clip without them is written as before they existed)."""
     written: dict[str, Any] = {}
+    if clip.media_fingerprint is not None:
+        written["media_fingerprint"] = clip.media_fingerprint
     if clip.lens is not None:
         written["lens"] = asdict(clip.lens)
     if clip.scan_path is not None:

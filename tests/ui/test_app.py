@@ -189,6 +189,45 @@ def test_unsaved_work_comes_back_after_a_crash(qtbot, new_window, still):
     assert again.model.current_measurement() is None
 
 
+def test_media_changed_on_disk_is_asked_about_and_kept_until_the_user_agrees(qtbot, new_window,
+                                                                           still):
+    """The still replaced by another picture under its name: opening the project says so;
+    declined, nothing changes (asked again next time); accepted, the clip takes the file as
+    it is now in one undoable step."""
+    import cv2
+
+    window = new_window()
+    open_and_wait(qtbot, window, still)
+    press(qtbot, window, Qt.Key.Key_S, CTRL)
+    path, before = window.model.path, window.model.project.clips[0].media_fingerprint
+    assert before is not None
+    cv2.imwrite(str(still), 255 - cv2.imread(str(still)))
+    for agree in (False, True):
+        again = new_window()
+        asked = []
+        again.ask.media_changed = lambda names, agree=agree: asked.append(names) or agree
+        open_and_wait(qtbot, again, path)
+        qtbot.waitUntil(lambda: asked == [[still.name]], timeout=SIGNAL_TIMEOUT_MS)
+        qtbot.waitUntil(lambda: again.model.is_dirty == agree, timeout=SIGNAL_TIMEOUT_MS)
+        after = again.model.project.clips[0].media_fingerprint
+        assert (after != before) == agree
+    press(qtbot, again, Qt.Key.Key_Z, CTRL)
+    assert again.model.project.clips[0].media_fingerprint == before
+
+
+def test_a_broken_project_file_is_named_and_left_as_it_was(qtbot, new_window, tmp_path):
+    path = tmp_path / "cut.dolphinfit"
+    path.write_text('{"schema_version": 1, "settings": {"hw_ra')   # cut short by a full disk
+    window = new_window()
+    errors = []
+    window.ask.warn = lambda title, text: errors.append(text)   # the dialog the user reads
+    window.files.open_path(path)
+    assert len(errors) == 1 and "cut.dolphinfit: not valid JSON" in errors[0]
+    assert "nothing was changed" in errors[0]
+    assert path.read_text() == '{"schema_version": 1, "settings": {"hw_ra'
+    assert window.model.path != path
+
+
 @pytest.mark.qt_no_exception_capture   # the app's own handler must see the exception
 def test_an_exception_in_a_slot_writes_a_crash_report_and_keeps_the_work(qtbot, new_window,
                                                                           still):

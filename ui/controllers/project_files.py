@@ -10,6 +10,7 @@ from pathlib import Path
 from PySide6.QtCore import QObject, Signal
 
 from dolphinfit.core.errors import InputError
+from dolphinfit.core.project.media_check import changed_media, with_media_accepted
 from dolphinfit.core.project.model import Project
 from dolphinfit.core.project.new_project import project_path_for, project_with_media
 from dolphinfit.core.project.project_file import (
@@ -87,7 +88,9 @@ class ProjectFiles(QObject):
             project = read_project(path)
         except InputError as exc:
             if not (has_newer_autosave(path) and self.ask.restore_autosave(path)):
-                self.notifier.error("Cannot open project", str(exc))
+                self.notifier.error("Cannot open project",
+                                    f"{exc}\n\nNothing was opened and nothing was changed: "
+                                    f"{path.name} is as it was.")
                 return
             project = None
         self.session_closing.emit()
@@ -101,8 +104,28 @@ class ProjectFiles(QObject):
                 push_edit(self.model, restored, "restore unsaved work", Change("structure"))
                 self.model.select_first()
         self._relink_missing()
+        self._check_media()
         self._remember_recent(path)
         self.clip_chosen.emit()
+
+    def _check_media(self) -> None:
+        """In the background: whether any clip's media changed since it was added; if so,
+        the user is told what and asked whether to take the files as they are now (nothing
+        changes unless they agree)."""
+        path, project = self.model.path, self.model.project
+        media = [clip.media_path for clip in project.clips]
+
+        def checked(changed: list[int]) -> None:
+            now = [clip.media_path for clip in self.model.project.clips]
+            if not changed or self.model.path != path or now != media:
+                return   # another project, or clips added or moved meanwhile: next time
+            names = [project.clips[idx].name for idx in changed]
+            if self.ask.media_changed(names):
+                push_edit(self.model, with_media_accepted(self.model.project, path, changed),
+                          "accept changed media", Change("structure"))
+
+        self.jobs.run(lambda: changed_media(project, path), checked,
+                      lambda why: self.notifier.status(f"media not checked: {why}", STATUS_MS))
 
     def _relink_missing(self) -> None:
         path = self.model.path

@@ -186,6 +186,19 @@ class Questions:
             "(the app closed without saving). Restore them?")
         return answer == QMessageBox.Yes
 
+    def media_changed(self, names: list[str]) -> bool:
+        """Whether to take clips' media, changed on disk since they were added, as they are
+        now (nothing is changed otherwise, and the question comes again at the next opening)."""
+        shown = ", ".join(names[:5]) + (" …" if len(names) > 5 else "")
+        answer = QMessageBox.question(
+            self.parent, "Media changed on disk",
+            f"{shown} {'has' if len(names) == 1 else 'have'} changed on disk since "
+            f"{'it was' if len(names) == 1 else 'they were'} added to this project (the "
+            "content is not the same). Frames measured, masks and 3D fits were made on the "
+            "old file and may not match the new one.\n\nNothing has been changed. Take the "
+            "files as they are now? (No: you are asked again when the project next opens.)")
+        return answer == QMessageBox.Yes
+
     def save_changes(self) -> str:
         """"save", "discard" or "cancel" the open project's changes."""
         answer = QMessageBox.question(

@@ -84,7 +84,7 @@ def _mutated(change):
 
 
 @pytest.mark.parametrize("change, message", [
-    (lambda d: d.update(schema_version=2), "schema_version 2 is not supported"),
+    (lambda d: d.update(schema_version=2), "schema_version 2 was written by a newer dolphinfit"),
     (lambda d: d.update(extra=1), "unknown keys \\['extra'\\]"),
     (lambda d: d.update(camera={"preset": "dji-nope"}), "unknown camera preset 'dji-nope'"),
     (lambda d: d.update(camera={"focal_mm": 8.8}), "expected {'preset': NAME}"),

@@ -81,7 +81,9 @@ def test_autosave_newer_than_the_project_means_unsaved_work(tmp_path, project):
 
 
 @pytest.mark.parametrize("mutate, message", [
-    (lambda d: d.update(schema_version=99), "schema_version 99"),
+    (lambda d: d.update(schema_version=99), "schema_version 99 was written by a newer "
+                                            "dolphinfit"),
+    (lambda d: d.update(schema_version=0), "schema_version 0 is not supported"),
     (lambda d: d["clips"][0].pop("camera"), "clips[0]: missing 'camera'"),
     (lambda d: d["clips"][0]["camera"].update(focal_mm="12"), "'focal_mm' has the wrong type"),
     (lambda d: d["clips"][0]["camera"].update(focal_mm=-1), "focal_mm"),
