@@ -18,7 +18,8 @@ missing. The laser measures height above the water directly: no launch height is
 
 Time alignment: ``time_offset_s`` is the log time, in seconds after the log's first dated row,
 at which the clip's first frame was recorded; a row's time on the clip's clock is its log time
-minus ``time_offset_s``.
+minus ``time_offset_s``. Filming a GPS clock (the log's own UTC time base) gives it:
+``gps_clock_offset_s``.
 """
 
 import math
@@ -127,6 +128,48 @@ def read_laser_log(path: Path | str, time_offset_s: float = 0.0,
     source = AltitudeSource("laser", path, "lidarbox", LASER_COLUMN,
                             time_offset_s=time_offset_s)
     return AltitudeSamples(np.array(altitudes), source, time_s=time_s, warnings=warnings)
+
+
+def log_start(path: Path | str) -> datetime:
+    """The UTC date-time of the log's first dated row."""
+    path = Path(path)
+    header, rows = _header_and_rows(path)
+    absent = [c for c in (DATE_COLUMN, TIME_COLUMN) if c not in header]
+    if absent:
+        raise InputError(f"{path}: the header has no {', '.join(absent)} column")
+    date_col, time_col = header.index(DATE_COLUMN), header.index(TIME_COLUMN)
+    for _, cells in rows:
+        if len(cells) > max(date_col, time_col):
+            when = _row_time(cells[date_col], cells[time_col])
+            if when is not None:
+                return when
+    raise InputError(f"{path}: no row with a valid date and time")
+
+
+def parse_clock_time(text: str, what: str) -> datetime:
+    """A GPS clock's reading, ``YYYY/MM/DD HH:MM:SS[.f]`` (or with dashes), UTC; InputError
+    naming ``what`` otherwise."""
+    for time_format in (*TIME_FORMATS, "%Y-%m-%d %H:%M:%S", "%Y-%m-%d %H:%M:%S.%f"):
+        try:
+            return datetime.strptime(text.strip(), time_format)
+        except ValueError:
+            continue
+    raise InputError(f"{what} {text!r}: expected a UTC date and time as YYYY/MM/DD HH:MM:SS "
+                     "(seconds may have decimals)")
+
+
+def gps_clock_offset_s(path: Path | str, clock: datetime, video_time_s: float) -> float:
+    """The ``time_offset_s`` of a clip in which a GPS clock reads ``clock`` (UTC) at
+    ``video_time_s`` seconds into the clip: the clip's first frame was recorded at
+    ``clock - video_time_s``, that many seconds after the log's first dated row. InputError
+    when the clock reading lies more than a day from the log."""
+    path = Path(path)
+    offset = (clock - log_start(path)).total_seconds() - video_time_s
+    if abs(offset) > 86_400:
+        raise InputError(f"{path}: the GPS clock's {clock:%Y/%m/%d %H:%M:%S} lies more than a "
+                         f"day from the log's start ({log_start(path):%Y/%m/%d %H:%M:%S}): "
+                         "another day's log or clip?")
+    return offset
 
 
 def is_laser_log(path: Path) -> bool:

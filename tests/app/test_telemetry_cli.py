@@ -48,6 +48,32 @@ def test_laser_log_per_frame_csv(tmp_path, capsys):
     assert rows[1] == f"0,0,{2016 / 100 * np.cos(np.radians(1.88)):.6f},0"
 
 
+def test_a_filmed_gps_clock_gives_the_time_offset(tmp_path, capsys):
+    """The log starts at 17:02:10 UTC; a clock filmed at frame 30 of a 10 fps clip (3.0 s in)
+    reads 17:02:31.5, so the clip began 18.5 s into the log: the same altitudes as
+    --time-offset 18.5. Without --clip, with both options or a bad reading: exit 2."""
+    clip = _clip(tmp_path / "clip.avi", 40, 10.0)
+    log = str(DATA / "laser" / "LOG_0007.CSV")
+    by_clock, by_offset = tmp_path / "clock.csv", tmp_path / "offset.csv"
+    assert main(["telemetry", log, "--clip", str(clip), "--gps-clock",
+                 "2019/07/14 17:02:31.5", "30", "--out", str(by_clock)]) == 0
+    assert "time offset 18.500 s" in capsys.readouterr().out
+    assert main(["telemetry", log, "--clip", str(clip), "--time-offset", "18.5",
+                 "--out", str(by_offset)]) == 0
+    assert by_clock.read_text() == by_offset.read_text()
+    for argv, why in ((["--gps-clock", "2019/07/14 17:02:31", "3"], "needs --clip"),
+                      (["--clip", str(clip), "--time-offset", "2", "--gps-clock",
+                        "2019/07/14 17:02:31", "3"], "not both"),
+                      (["--clip", str(clip), "--gps-clock", "17:02:31", "3"],
+                       "expected a UTC date and time"),
+                      (["--clip", str(clip), "--gps-clock", "2019/07/14 17:02:31", "400"],
+                       "has 40 frames"),
+                      (["--clip", str(clip), "--gps-clock", "2019/07/16 17:02:31", "3"],
+                       "more than a day")):
+        assert main(["telemetry", log, *argv]) == 2
+        assert why in capsys.readouterr().err
+
+
 def test_srt_without_altitude_reports_none(capsys):
     """The Mavic 2 Pro-style file has no altitude: said plainly, exit 0."""
     assert main(["telemetry", str(DATA / "srt" / "mavic_2_style.SRT")]) == 0
