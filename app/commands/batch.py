@@ -32,8 +32,6 @@ import sys
 from collections.abc import Callable
 from pathlib import Path
 
-from distributed import Future, progress
-
 from dolphinfit.core.batch.cluster import ClusterPlan, batch_client, local_plan
 from dolphinfit.core.batch.manifest import read_manifest
 from dolphinfit.core.batch.project_tasks import project_tasks
@@ -45,8 +43,10 @@ from dolphinfit.core.errors import InputError
 from dolphinfit.core.io.output_paths import check_output_folder
 from dolphinfit.core.limits import count
 from dolphinfit.core.measure.uncertainty import DEFAULT_NUM_DRAWS
+from dolphinfit.core.progress import Progress
 from dolphinfit.core.project.project_file import PROJECT_SUFFIX
 from dolphinfit.core.runtime import THREADS_ENV, thread_count
+from dolphinfit.app.progress import terminal_progress
 
 OUT_SUFFIX = "_batch"  # default output folder: INPUT_batch beside the input
 
@@ -101,16 +101,24 @@ def run(args: argparse.Namespace) -> int:
               f"thread(s) → {out_dir}")
         if client.dashboard_link:
             print(f"Dask dashboard: {client.dashboard_link}")
+        show = _progress_bar if is_terminal else _line
         records = run_batch(client, tasks, out_dir, args.retry_failed,
-                            on_submit=_progress_bar if is_terminal else None,
-                            on_record=None if is_terminal else _line(len(tasks)))
+                            on_record=show(len(tasks)))
     return report(records, out_dir / SUMMARY_CSV)
 
 
-def _progress_bar(futures: list[Future]) -> None:
-    """Dask's progress bar until every task is done (on a terminal)."""
-    progress(futures)
-    print()
+def _progress_bar(total: int) -> Callable[[int, TaskRecord], None]:
+    """The commands' one-line progress display (app/progress.py), a step per finished task
+    (on a terminal)."""
+    done: list[TaskRecord] = []
+    show_line = terminal_progress() or (lambda progress: None)
+
+    def show(_: int, record: TaskRecord) -> None:
+        done.append(record)
+        failed = sum(r.status != STATUS_COMPLETE for r in done)
+        show_line(Progress("batch", len(done), total, f"tasks, {failed} failed"))
+
+    return show
 
 
 def _line(total: int) -> Callable[[int, TaskRecord], None]:

@@ -8,6 +8,7 @@
                          [--json]
   dolphinfit bench app [--parts startup,click,scan] [--repeats N] [--bundle PROGRAM] [--json]
   dolphinfit bench batch [--clips N] [--quick] [--json]
+  dolphinfit bench batch --faults [--tasks N] [--json]
   dolphinfit bench real [--data DIR] [--seeds S,…] [--backend B] [--outlines N] [--json]
   dolphinfit bench scan [--splits tuning,held-out] [--clips N] [--no-speed] [--json]
 
@@ -55,7 +56,11 @@ video on that clip (as `bench scan`'s speed).
 
 batch: throughput of `dolphinfit batch` (clips per hour) on a LocalCluster of 1 worker and of
 2 workers, on the same 4 short synthetic clips (640×360, 1.5 s, 3 frames fitted, quick
-quality); --quick fits one step per stage (a smoke test).
+quality); --quick fits one step per stage (a smoke test). batch --faults: the fault drill
+(core/bench/batch_faults.py): --tasks tiny tasks (default 120) on 2 workers, one worker process
+killed once a quarter are done, the batch process with its scheduler once three fifths are,
+the same batch rerun to the end; then every task must be complete or failed with a reason,
+the summary hold a row per task and no task have completed twice (exit 1 otherwise).
 
 real: the product against people on real drone images and measurements (core/bench/
 real_bench.py): MedidoR's clicks replayed, our masks' length and widths against two people's
@@ -73,7 +78,7 @@ import statistics
 import sys
 from pathlib import Path
 
-from dolphinfit.app.commands import bench_real, bench_scan
+from dolphinfit.app.commands import bench_faults, bench_real, bench_scan
 from dolphinfit.app.commands.bench_output import emit
 from dolphinfit.app.commands.masks import add_sam2_argument, sam2_checkpoint
 from dolphinfit.core.bench.batch_bench import bench_batch
@@ -156,6 +161,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     batch.add_argument("--clips", type=int, default=4, help="synthetic clips (default 4)")
     batch.add_argument("--quick", action="store_true", help="tiny fits for smoke tests")
     batch.add_argument("--json", action="store_true", help="one JSON object on stdout")
+    bench_faults.add_arguments(batch)
     bench_real.add_arguments(suites.add_parser(
         "real", help="masks, midlines and widths against people on real drone images"))
     bench_scan.add_arguments(suites.add_parser(
@@ -182,6 +188,10 @@ def run(args: argparse.Namespace) -> int:
             figures["scan"] = bench_scan_speed(Scanner())
         return emit(args, figures, format_app)
     if args.suite_name == "batch":
+        if args.faults:
+            return bench_faults.run(args)
+        if args.tasks is not None:
+            raise InputError("--tasks goes with --faults")
         figures = bench_batch(max(1, args.clips), quick=args.quick)
         return emit(args, figures, format_batch)
     if args.suite_name == "masks":

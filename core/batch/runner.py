@@ -2,12 +2,17 @@
 
 Dask's own retry does not apply: a task that raises is a bug or a lost worker, recorded as
 failed; the tasks themselves record their failures (core/batch/task_run.py).
+
+Each task's result is let go as soon as its record is taken: Dask runs again the tasks whose
+results a lost worker held while a client still wants them, so a worker killed late in a
+batch would run every task it had finished once more (a failed one, with ``retry_failed``,
+to completion a second time; the others to report themselves as reused).
 """
 
 from collections.abc import Callable, Sequence
 from pathlib import Path
 
-from distributed import Client, Future, as_completed
+from distributed import Client, as_completed
 
 from dolphinfit.core.batch.record import STATUS_FAILED, TaskRecord
 from dolphinfit.core.batch.summary import SUMMARY_CSV, write_summary
@@ -17,20 +22,14 @@ from dolphinfit.core.batch.task_run import describe, run_task
 
 def run_batch(client: Client, tasks: Sequence[BatchTask], out_dir: Path,
               retry_failed: bool = False,
-              on_submit: Callable[[list[Future]], None] | None = None,
               on_record: Callable[[int, TaskRecord], None] | None = None) -> list[TaskRecord]:
     """Run every task (finished ones are skipped by the tasks themselves), write
-    ``out_dir/summary.csv`` and return the records in the tasks' order.
-
-    ``on_submit`` gets the futures (a progress display); ``on_record`` each task's index and
-    record as it finishes.
-    """
+    ``out_dir/summary.csv`` and return the records in the tasks' order; ``on_record`` gets
+    each task's index and record as it finishes."""
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
     futures = [client.submit(run_task, task, out_dir, retry_failed, pure=False)
                for task in tasks]
-    if on_submit is not None:
-        on_submit(futures)
     position = {future.key: i for i, future in enumerate(futures)}
     records: list[TaskRecord | None] = [None] * len(tasks)
     for future in as_completed(futures):
@@ -41,6 +40,7 @@ def run_batch(client: Client, tasks: Sequence[BatchTask], out_dir: Path,
             task = tasks[i]
             record = TaskRecord(task.name, task.clip, task.animal_id, STATUS_FAILED,
                                 f"the task did not finish: {describe(exc)}")
+        future.release()
         records[i] = record
         if on_record is not None:
             on_record(i, record)

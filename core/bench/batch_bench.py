@@ -37,19 +37,21 @@ MC_DRAWS = 200
 
 
 def write_synthetic_batch(folder: Path, clips: Sequence[SynthConfig], config: FitConfig,
-                          with_masks: bool = True) -> Path:
+                          with_masks: bool = True, animals: int = 1) -> Path:
     """Render ``clips`` into ``folder/clipN/``, write ``config`` as ``folder/fit_config.json``
     and ``folder/manifest.csv`` (one animal per clip, its true masks unless ``with_masks`` is
-    False: the tracker's automatic seed); the manifest's path."""
+    False: the tracker's automatic seed; with ``animals`` > 1, each clip's animal listed under
+    the IDs 1…``animals``: that many tasks of equal work); the manifest's path."""
     folder.mkdir(parents=True, exist_ok=True)
     (folder / "fit_config.json").write_text(json.dumps(config.to_json()))
     rows = [MANIFEST_HEADER]
     for index, clip in enumerate(clips):
         files = make_clip(clip, folder / f"clip{index}")
         masks = files.masks_dir.relative_to(folder).as_posix() if with_masks else ""
-        rows.append(f"{files.video.relative_to(folder).as_posix()},1,"
-                    f"{files.altitude_csv.relative_to(folder).as_posix()},{masks},,"
-                    f"{clip.sensor_width_mm},{clip.focal_mm},fit_config.json")
+        rows += [f"{files.video.relative_to(folder).as_posix()},{animal},"
+                 f"{files.altitude_csv.relative_to(folder).as_posix()},{masks},,"
+                 f"{clip.sensor_width_mm},{clip.focal_mm},fit_config.json"
+                 for animal in range(1, animals + 1)]
     manifest = folder / "manifest.csv"
     manifest.write_text("\n".join(rows) + "\n")
     return manifest

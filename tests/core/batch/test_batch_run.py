@@ -196,3 +196,38 @@ def test_a_scans_best_frames_are_tracked_and_measured(batch, tmp_path):
                                  .read_text())["volume_m3"] for frame in (1, 3)}
     assert record.values["ell_frame"] == min(volumes, key=volumes.get)  # the lower of two
     assert record.values["volume_m3_ell"] == pytest.approx(min(volumes.values()))
+
+
+def test_a_lost_worker_does_not_run_finished_tasks_again(batch, tmp_path):
+    """The worker that ran a task is killed once the task's record is taken: the task does
+    not run again (Dask recomputes lost results a client still holds; a failed task, retried,
+    would complete a second time), and the batch finishes on the restarted worker."""
+    import os
+    import time
+
+    import psutil
+
+    from dolphinfit.core.batch.cluster import ClusterPlan, batch_client
+    from dolphinfit.core.batch.task import BatchTask, MaskMeasurement
+
+    _, tasks = batch
+    no_fit = BatchTask("no_fit", "none", "1", "test", None, MaskMeasurement(num_draws=0))
+    record_file = tmp_path / "out" / no_fit.name / RECORD_JSON
+    first = {}
+    with batch_client(plan=ClusterPlan(1, 1)) as client:
+        (worker,) = client.run(os.getpid).values()
+
+        def kill_the_worker(i, record):
+            if i == 0:
+                first["stat"] = record_file.stat()
+                deadline = time.monotonic() + 5  # until the cluster has let the result go
+                while any(client.has_what().values()) and time.monotonic() < deadline:
+                    time.sleep(0.05)
+                psutil.Process(worker).kill()
+
+        records = run_batch(client, [no_fit, tasks[0]], tmp_path / "out", retry_failed=True,
+                            on_record=kill_the_worker)
+    assert [r.status for r in records] == ["failed", "complete"]
+    assert "there is no fit" in records[0].error
+    now = record_file.stat()
+    assert (now.st_ino, now.st_mtime_ns) == (first["stat"].st_ino, first["stat"].st_mtime_ns)
