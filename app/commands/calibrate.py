@@ -85,6 +85,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                       help="of a video, every K-th frame (default 15)")
     lens.add_argument("--out", type=Path, required=True, metavar="LENS.json",
                       help="where to write the lens model")
+    lens.add_argument("--preset", default=None, metavar="PRESET",
+                      help="also keep it with this camera preset (`dolphinfit camera lens`)")
     lens.set_defaults(calibrate_run=run_lens)
 
 
@@ -207,8 +209,11 @@ def run_lens(args: argparse.Namespace) -> int:
     """Find the board, calibrate, write LENS.json, print what was fitted."""
     from dolphinfit.core.measure.lens import calibrate_lens, write_lens
 
+    from dolphinfit.core.measure.preset_lens import store_preset_lens
+
     check_output_file(args.out, "--out ")
     count(args.every, 1, "--every")
+    preset = None if args.preset is None else get_preset(args.preset)
     lens = calibrate_lens(_board_images(args.inputs, args.every), _board(args.board),
                           args.square_mm, ", ".join(p.name for p in args.inputs[:3])
                           + (" …" if len(args.inputs) > 3 else ""))
@@ -218,5 +223,7 @@ def run_lens(args: argparse.Namespace) -> int:
           f"{lens.rms_px:.3f} px (RMS) from the fitted lens\n"
           f"focal {lens.fx_px:.1f} × {lens.fy_px:.1f} px, centre ({lens.cx_px:.1f}, "
           f"{lens.cy_px:.1f}) px; k1 {k1:+.5f}, k2 {k2:+.5f}, p1 {p1:+.6f}, p2 {p2:+.6f}")
+    if preset is not None:
+        print(f"kept with camera preset {preset.name!r}: {store_preset_lens(preset, lens)}")
     return 0
 

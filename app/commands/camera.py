@@ -1,4 +1,5 @@
-"""Camera presets: list them, show one's geometry on the water, add your own.
+"""Camera presets: list them, show one's geometry on the water, add your own, keep a lens
+model with one (`camera lens PRESET LENS.json`: its measurements and fits then go through it).
 
 Bundled presets live in resources/cameras.json. Your own are saved to
 $DOLPHINFIT_CONFIG_DIR/cameras.json (else $XDG_CONFIG_HOME/dolphinfit/cameras.json) and
@@ -10,6 +11,7 @@ import argparse
 import json
 import math
 from dataclasses import asdict
+from pathlib import Path
 
 from dolphinfit.core.camera_presets import (
     DEFAULT_PRESET,
@@ -20,6 +22,8 @@ from dolphinfit.core.camera_presets import (
 )
 from dolphinfit.core.errors import InputError
 from dolphinfit.core.limits import ALTITUDE_M, FOCAL_MM, IMAGE_SIZE_PX, SENSOR_WIDTH_MM, in_range
+from dolphinfit.core.measure.lens import read_lens
+from dolphinfit.core.measure.preset_lens import preset_lens, preset_lens_path, store_preset_lens
 
 REFERENCE_ALTITUDE_M = 20.0  # mid-range of the 15–25 m flights of DESIGN.md §1
 CM_PER_M = 100.0
@@ -54,6 +58,14 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     add_parser.add_argument("--approximate", action="store_true",
                             help="mark the values as unverified")
     add_parser.set_defaults(camera_run=run_add)
+    lens_parser = actions.add_parser(
+        "lens", help="keep a lens model (`dolphinfit calibrate lens`) with a preset: its "
+                     "measurements and fits then go through it")
+    lens_parser.add_argument("name", help="preset name")
+    lens_parser.add_argument("lens", type=Path, nargs="?", default=None, metavar="LENS.json",
+                             help="the lens model, calibrated at the preset's image size")
+    lens_parser.add_argument("--remove", action="store_true", help="forget the preset's lens")
+    lens_parser.set_defaults(camera_run=run_lens)
 
 
 def run(args: argparse.Namespace) -> int:
@@ -124,7 +136,27 @@ def run_show(args: argparse.Namespace) -> int:
         ["footprint", f"{k.width_px * gsd_m_per_px:.2f} x {k.height_px * gsd_m_per_px:.2f} m"],
         ["approximate", "yes" if preset.approximate else "no"],
         ["source", preset.source],
+        ["lens model", str(preset_lens_path(preset.name)) if preset_lens(preset.name)
+         else "none"],
     ]))
+    return 0
+
+
+def run_lens(args: argparse.Namespace) -> int:
+    """Store (or with --remove, forget) a preset's lens model."""
+    preset = get_preset(args.name)
+    path = preset_lens_path(preset.name)
+    if args.remove == (args.lens is not None):
+        raise InputError("camera lens: give a LENS.json or --remove")
+    if args.remove:
+        existed = path.exists()
+        path.unlink(missing_ok=True)
+        print(f"{'removed' if existed else 'no'} lens model of {preset.name!r}"
+              + (f" ({path})" if existed else ""))
+        return 0
+    stored = store_preset_lens(preset, read_lens(args.lens))
+    print(f"lens model of {preset.name!r} kept in {stored}: its measurements and fits go "
+          "through it")
     return 0
 
 

@@ -50,6 +50,7 @@ from dolphinfit.core.io.json_file import read_json, write_json
 from dolphinfit.core.measure.annotation import ALTITUDE_SOURCE_OF_KIND, ALTITUDE_SOURCES
 from dolphinfit.core.measure.fit_uncertainty import FitInterval
 from dolphinfit.core.measure.lens import read_lens
+from dolphinfit.core.measure.preset_lens import preset_lens
 from dolphinfit.core.io.video import open_clip
 from dolphinfit.core.model.hw_spec import resolve_hw
 from dolphinfit.core.measure.altitude_calibration import (
@@ -107,7 +108,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                              "0: masks taken as exact)")
     parser.add_argument("--lens", type=Path, default=None, metavar="LENS.json",
                         help="fit through this lens model (`dolphinfit calibrate lens`, same "
-                             "video mode)")
+                             "video mode; default: the --camera preset's, if it keeps one)")
 
 
 def fit_config(args: argparse.Namespace) -> FitConfig:
@@ -164,10 +165,12 @@ def run(args: argparse.Namespace) -> int:
             raise InputError(f"--altitude {altitude!r}: neither a number of metres nor a file")
     calibration = (None if args.altitude_calibration is None
                    else read_altitude_calibration(args.altitude_calibration))
-    lens = None if args.lens is None else read_lens(args.lens)
+    lens, lens_name = ((read_lens(args.lens), f"--lens {args.lens}") if args.lens is not None
+                       else (preset_lens(args.camera), f"the lens model of {args.camera!r}"))
     if lens is not None:
         clip = open_clip(args.clip)
-        lens.check_image_size(clip.width_px, clip.height_px, f"--lens {args.lens}")
+        lens.check_image_size(clip.width_px, clip.height_px, lens_name)
+        print(f"fitting through {lens_name}", file=sys.stderr)
     fit_run = run_fit(args.clip, altitude, args.masks, camera, fit_config(args),
                       args.launch_height, progress=terminal_progress(),
                       time_offset_s=args.time_offset, altitude_calibration=calibration,

@@ -51,6 +51,7 @@ from dolphinfit.core.measure.condition import MassModel
 from dolphinfit.core.measure.elliptical import TAIL_EXTRAPOLATED, TAIL_OPTIONS
 from dolphinfit.core.measure.hw_ratios import DEFAULT_PRESET, FROM_MODEL
 from dolphinfit.core.measure.lens import read_lens, through_lens
+from dolphinfit.core.measure.preset_lens import preset_lens
 from dolphinfit.core.model.hw_spec import resolve_hw
 from dolphinfit.core.measure.records import (
     MeasureInput, annotated_frame_mask, default_error_model, default_image_id,
@@ -181,10 +182,12 @@ def _from_annotation(args: argparse.Namespace) -> MeasureInput:
     if args.from_mask is not None:
         doc = with_mask_widths(doc, annotated_frame_mask(args.from_mask, doc))
         notes.append(f"widths from the mask {args.from_mask}")
-    lens = None if args.lens is None else read_lens(args.lens)
+    preset = doc.calibration.preset_name
+    lens, lens_name = ((read_lens(args.lens), f"the lens model {args.lens.name}")
+                       if args.lens is not None
+                       else (preset_lens(preset), f"the lens model of {preset!r}"))
     try:
-        doc, lens_notes, warnings = through_lens(
-            doc, lens, f"the lens model {getattr(args.lens, 'name', '')}")
+        doc, lens_notes, warnings = through_lens(doc, lens, lens_name)
     except InputError as exc:
         raise InputError(f"{args.input}: {exc}") from None
     source = measured_image_from_annotation(doc, image_id=default_image_id(doc, args.input),

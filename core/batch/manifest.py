@@ -11,8 +11,9 @@ Columns (header names; only ``clip`` is required; paths are relative to the mani
   ``altitude_calibration``: a `dolphinfit calibrate altitude` file of the clip's camera: the
   altitudes are corrected by it and both methods' intervals take its spread as their error.
 - ``camera``: a preset name, or ``sensor_width_mm`` and ``focal_mm``. ``lens``: a `dolphinfit
-  calibrate lens` file of its video mode: the fit sees its frames and masks undistorted, the
-  elliptical method takes its mask's midline and widths through it.
+  calibrate lens` file of its video mode (default: the one kept with the camera preset, if
+  any): the fit sees its frames and masks undistorted, the elliptical method takes its mask's
+  midline and widths through it.
 - ``masks``: a mask PNG folder, mask video or .npz; or ``seed`` for the built-in tracker:
   ``auto``, a click ``X,Y`` or a box ``X,Y,W,H`` in pixels of frame ``seed_frame`` (default
   0). Neither: ``auto``.
@@ -48,7 +49,8 @@ from dolphinfit.core.limits import (
     number, time_window,
 )
 from dolphinfit.core.measure.altitude_calibration import read_altitude_calibration
-from dolphinfit.core.measure.lens import read_lens
+from dolphinfit.core.measure.lens import LensModel, read_lens
+from dolphinfit.core.measure.preset_lens import preset_lens
 from dolphinfit.core.measure.annotation import ALTITUDE_SOURCES
 from dolphinfit.core.measure.uncertainty import DEFAULT_NUM_DRAWS
 from dolphinfit.core.project.fit_settings import (
@@ -150,6 +152,14 @@ def _altitude(row: Row, clip: Path) -> float | Path | None:
         raise InputError(f"{row.where('altitude')}: {text!r} is neither metres nor an existing "
                          f"file")
     return row.path("altitude")
+
+
+def _preset_lens(row: Row, preset: str | None) -> LensModel | None:
+    """The lens kept with the row's camera preset, if any (core/measure/preset_lens.py)."""
+    try:
+        return preset_lens(preset)
+    except InputError as exc:
+        raise InputError(f"{row.where('camera')}: {exc}") from None
 
 
 def _read_cell_file(row: Row, column: str, read: Callable[[Path], T]) -> T | None:
@@ -263,11 +273,12 @@ def task_from_row(row: Row, num_draws: int = DEFAULT_NUM_DRAWS) -> BatchTask:
     seed = (seed_at(picks[0]) if picks
             else row.parsed("seed", lambda text: _seed(text, seed_frame), AutoSeed(seed_frame)))
     frames = tuple(sorted(pick.frame_idx for pick in picks))
-    lens = _read_cell_file(row, "lens", read_lens)
+    camera = _camera(row)
+    lens = _read_cell_file(row, "lens", read_lens) or _preset_lens(row, camera.preset)
     fit = FitInputs(clip=clip, altitude=altitude,
                     launch_height_m=row.number("launch_height_m", LAUNCH_HEIGHT_M, 0.0),
                     time_offset_s=row.number("time_offset_s", default=0.0),
-                    camera=_camera(row), masks=masks, seed=seed, config=_fit_config(row),
+                    camera=camera, masks=masks, seed=seed, config=_fit_config(row),
                     altitude_calibration=_read_cell_file(row, "altitude_calibration",
                                                          read_altitude_calibration),
                     also_frames=frames, lens=lens)

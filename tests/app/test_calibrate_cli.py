@@ -19,6 +19,7 @@ from tests.app.test_measure_cli import ALTITUDE_M, BL_M, CAMERA, _annotation_fil
 
 REAL = Path(__file__).resolve().parents[1] / "data" / "real"
 MEDIDOR_CALIB = REAL / "medidor" / "calib.xlsx"
+DEFAULT_LENS_PRESET = "dji-mavic3-5.1k"   # a bundled preset of another video mode
 # MedidoR's GUI test enters the Mavic Air 2's camera so (tests/data/real/medidor/test-app-*.R)
 MEDIDOR_CAMERA = ["--focal-mm", "7.6", "--sensor-width-mm", "6.4", "--image-width", "2688"]
 MEDIDOR_FOCAL_PX = 7.6 * 2688 / 6.4
@@ -219,10 +220,13 @@ def test_a_damaged_calibration_file_is_refused(tmp_path, capsys):
     assert "is no altitude calibration" in capsys.readouterr().err
 
 
-def test_calibrate_lens_from_board_images_and_measure_through_it(tmp_path, capsys):
+def test_calibrate_lens_from_board_images_and_measure_through_it(tmp_path, capsys,
+                                                                 monkeypatch):
     """Nine board images through a barrel lens: the lens is written; an annotation clicked in
     the frame's corner is warned about without it, and measures longer through it (a barrel
-    lens shrinks what lies off-centre)."""
+    lens shrinks what lies off-centre). Kept with a camera preset (`camera lens`), it is
+    used for an annotation of that preset without --lens."""
+    monkeypatch.setenv("DOLPHINFIT_CONFIG_DIR", str(tmp_path / "config"))
     from tests.core.measure.test_lens import BOARD, board_views
 
     paths = []
@@ -246,6 +250,21 @@ def test_calibrate_lens_from_board_images_and_measure_through_it(tmp_path, capsy
         assert any("without a lens model" in w for w in result["warnings"]) == (name == "plain")
     assert 1.01 < lengths["lens"] / lengths["plain"] < 1.1
     assert any("camera says 3644 px" in w for w in result["warnings"])   # 900 px calibrated
+    assert main(["camera", "add", "crop-rig", "--sensor-width-mm", str(CAMERA.sensor_width_mm),
+                 "--focal-mm", str(CAMERA.focal_mm), "--width-px", "1280", "--height-px",
+                 "720"]) == 0
+    assert main(["camera", "lens", "crop-rig", str(lens)]) == 0
+    assert main(["camera", "show", "crop-rig"]) == 0
+    assert "crop-rig.json" in capsys.readouterr().out
+    doc["camera"] = {"preset": "crop-rig"}
+    annotation.write_text(json.dumps(doc), encoding="utf-8")
+    assert main(["measure", str(annotation), "--out", str(tmp_path / "preset"), "--mc",
+                 "0"]) == 0
+    assert "clicks taken through the lens model of 'crop-rig'" in capsys.readouterr().out
+    assert _result(tmp_path / "preset")["length_m"] == pytest.approx(lengths["lens"], rel=1e-9)
+    assert main(["camera", "lens", "crop-rig", "--remove"]) == 0
+    assert main(["camera", "lens", DEFAULT_LENS_PRESET, str(lens)]) == 2
+    assert "calibrated on 1280×720 px images; these are 5120×2700" in capsys.readouterr().err
     assert main(["calibrate", "lens", *map(str, paths[:3]), "--board", "9x6", "--square-mm",
                  "30", "--out", str(tmp_path / "few.json")]) == 2
     assert "at least 5 views" in capsys.readouterr().err

@@ -11,6 +11,7 @@ from PySide6.QtCore import QObject, Signal
 from dolphinfit.core.errors import InputError
 from dolphinfit.core.measure.altitude_calibration import same_focal_px
 from dolphinfit.core.measure.lens import LensModel, read_lens
+from dolphinfit.core.measure.preset_lens import preset_lens
 from dolphinfit.core.project.calibrations import clip_calibration
 from dolphinfit.core.project.model import with_calibration, with_clip
 from dolphinfit.core.project.project_file import media_path
@@ -142,18 +143,34 @@ class ClipSessions(QObject):
                       "set altitude", Change("clip", clip=clip_idx))
 
     def set_camera(self) -> None:
-        """Ask for the open clip's camera and set it (an undoable edit)."""
+        """Ask for the open clip's camera and set it (an undoable edit); a clip without a
+        lens model takes the one kept with the chosen preset (core/measure/preset_lens.py),
+        read in the background."""
         clip_idx = self._open_clip()
         if clip_idx is None:
             return
         clip = self.model.project.clips[clip_idx]
         media = self.state.session.source.clip
         chosen = self.ask.camera(clip.camera, clip.preset_name, media.width_px, media.height_px)
-        if chosen is not None:
-            camera, preset_name = chosen
+        if chosen is None:
+            return
+        camera, preset_name = chosen
+
+        def read() -> LensModel | None:
+            lens = None if clip.lens is not None else preset_lens(preset_name)
+            if lens is not None:
+                lens.check_image_size(media.width_px, media.height_px,
+                                      f"the lens model of {preset_name!r}")
+            return lens
+
+        def set_it(lens: LensModel | None) -> None:
+            current = self.model.project.clips[clip_idx]
             push_edit(self.model, with_clip(self.model.project, clip_idx, replace(
-                clip, camera=camera, preset_name=preset_name)),
-                "set camera", Change("clip", clip=clip_idx))
+                current, camera=camera, preset_name=preset_name, lens=lens or current.lens)),
+                "set camera" + (" and its lens model" if lens else ""),
+                Change("clip", clip=clip_idx))
+
+        self.jobs.run(read, set_it, lambda why: self.notifier.error("Camera", why))
 
     def set_lens(self) -> None:
         """Ask for a lens model (`dolphinfit calibrate lens`) for the open clip, read and

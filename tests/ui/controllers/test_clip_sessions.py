@@ -1,6 +1,6 @@
 """The open clip's session, built without the window: opened when a clip is selected, its
 altitude read again when the project's setting changes (and when that is undone), the Clip
-menu's altitude and lens commands asked and done apart."""
+menu's altitude, camera and lens commands asked and done apart."""
 
 from pathlib import Path
 
@@ -31,6 +31,9 @@ class _Answers(Questions):
 
     def lens_file(self) -> Path | None:
         return self.lens
+
+    def camera(self, camera, preset_name, width_px, height_px):
+        return self.chosen_camera
 
 
 @pytest.fixture
@@ -99,3 +102,31 @@ def test_a_lens_model_of_the_clips_size_is_taken_and_undone(qtbot, sessions, tmp
     qtbot.waitUntil(lambda: len(errors) > 0, timeout=TIMEOUT_MS)
     assert "Lens model: " in errors[0] and "other.json: the lens was calibrated on 1920×1080" \
         in errors[0] and controller.model.project.clips[0].lens is None
+
+
+def test_a_preset_keeping_a_lens_gives_it_to_the_clip_in_the_same_step(qtbot, sessions):
+    """Clip → Camera… with a preset that keeps a lens model (`dolphinfit camera lens`): the
+    clip takes camera and lens in one undoable edit."""
+    from dataclasses import replace
+
+    from dolphinfit.core.camera_presets import save_user_preset
+    from dolphinfit.core.measure.lens import LensModel
+    from dolphinfit.core.measure.preset_lens import store_preset_lens
+
+    controller, errors = sessions
+    controller.model.select(0)
+    with qtbot.waitSignal(controller.opened, timeout=TIMEOUT_MS):
+        controller.open_current()
+    clip = controller.model.project.clips[0]
+    preset = replace(clip.camera, name="my-drone-720p", description="", source="test")
+    save_user_preset(preset)
+    lens = LensModel(1280, 720, 900.0, 900.0, 639.5, 359.5, (-0.1, 0.02, 0.0, 0.0, 0.0), 0.05,
+                     9, "test")
+    store_preset_lens(preset, lens)
+    controller.ask.chosen_camera = (preset, preset.name)
+    controller.set_camera()
+    qtbot.waitUntil(lambda: controller.model.project.clips[0].lens == lens, timeout=TIMEOUT_MS)
+    assert controller.model.project.clips[0].preset_name == "my-drone-720p" and not errors
+    controller.model.undo_stack.undo()
+    assert controller.model.project.clips[0].lens is None
+    assert controller.model.project.clips[0].preset_name == clip.preset_name
