@@ -1,5 +1,7 @@
-"""Camera presets: list them, show one's geometry on the water, add your own, keep a lens
-model with one (`camera lens PRESET LENS.json`: its measurements and fits then go through it).
+"""Camera presets: list them, show one's geometry on the water, add your own.
+
+`camera lens PRESET LENS.json` keeps a lens model with a preset: its measurements and fits
+then go through it (core/measure/preset_lens.py).
 
 Bundled presets live in resources/cameras.json. Your own are saved to
 $DOLPHINFIT_CONFIG_DIR/cameras.json (else $XDG_CONFIG_HOME/dolphinfit/cameras.json) and
