@@ -48,7 +48,9 @@ class _Job(QRunnable):
 
 
 class BackgroundJobs(QObject):
-    """Runs callables off the GUI thread; keeps each relay alive until it has reported."""
+    """Runs callables off the GUI thread; keeps each relay alive until it has reported, then
+    deletes it: its connections hold the closures that hold it, a cycle the collector
+    cannot see, so it would otherwise live as long as the process."""
 
     def __init__(self, parent: QObject | None = None) -> None:
         super().__init__(parent)
@@ -64,6 +66,7 @@ class BackgroundJobs(QObject):
 
         def finish(handler: Callable[[Any], None], value: Any) -> None:
             self._relays.discard(relay)
+            relay.deleteLater()
             handler(value)
 
         relay.done.connect(lambda value: finish(on_done, value))
