@@ -32,6 +32,14 @@ BENCH_CLIP = SynthConfig(width_px=640, height_px=360, fps=8.0, duration_s=1.5,
 BENCH_SETTINGS = FitSettings(fps=2.0, quality="quick")  # 3 frames, half the default steps
 # A smoke test's fit: one step per stage
 TINY_CONFIG = FitConfig(heading_trial_steps=1, steps_global=1, steps_body=1, steps_shape=1)
+# A tiny task: 320×180 at 12 m, a 2.3 m animal about 45 px long; 4 frames, 2 of them fitted
+# with one step per stage (about 0.4 s of work)
+TINY_CLIP = SynthConfig(seed=41, width_px=320, height_px=180, fps=4.0, duration_s=1.0,
+                        altitude_m=12.0, length_m=2.3, speed_m_s=0.5, dive_depth_m=0.0,
+                        heading_deg=15.0, effects=Effects(profile_warp=False, scattering=False,
+                                                          ripples=False, glints=False,
+                                                          compression=False))
+TINY_CLIP_CONFIG = replace(TINY_CONFIG, fps=2.0)
 MANIFEST_HEADER = "clip,animal,altitude,masks,camera,sensor_width_mm,focal_mm,config"
 MC_DRAWS = 200
 

@@ -15,7 +15,6 @@ import tempfile
 import time
 from collections import Counter
 from collections.abc import Callable
-from dataclasses import replace
 from pathlib import Path
 
 import psutil
@@ -24,18 +23,10 @@ from dask.system import CPU_COUNT
 from dolphinfit.core.batch.manifest import read_manifest
 from dolphinfit.core.batch.record import STATUS_COMPLETE, read_record
 from dolphinfit.core.batch.summary import SUMMARY_CSV
-from dolphinfit.core.bench.batch_bench import TINY_CONFIG, write_synthetic_batch
+from dolphinfit.core.bench.batch_bench import TINY_CLIP, TINY_CLIP_CONFIG, write_synthetic_batch
 from dolphinfit.core.bench.record_watch import RecordWatch
-from dolphinfit.core.synth.config import Effects, SynthConfig
 
-# One tiny clip (320×180 at 12 m, 1 s at 4 fps, 2 frames fitted, one step per stage) listed
-# under many animal IDs: each row a task of its own folder, about 0.4 s of work
-DRILL_CLIP = SynthConfig(seed=41, width_px=320, height_px=180, fps=4.0, duration_s=1.0,
-                         altitude_m=12.0, length_m=2.3, speed_m_s=0.5, dive_depth_m=0.0,
-                         heading_deg=15.0, effects=Effects(profile_warp=False, scattering=False,
-                                                           ripples=False, glints=False,
-                                                           compression=False))
-DRILL_CONFIG = replace(TINY_CONFIG, fps=2.0)
+# One tiny clip listed under many animal IDs: each row a task of its own folder
 DRILL_TASKS = 120
 FAIL_EVERY = 10  # every 10th task has an empty masks folder: its fit fails
 MIN_TASKS = 4  # a worker kill, two tasks more, then the batch kill before the last
@@ -104,7 +95,7 @@ class Drill:
 
     def __init__(self, folder: Path, tasks: int, workers: int) -> None:
         self.folder = folder
-        manifest = write_synthetic_batch(folder / "input", [DRILL_CLIP], DRILL_CONFIG,
+        manifest = write_synthetic_batch(folder / "input", [TINY_CLIP], TINY_CLIP_CONFIG,
                                          animals=tasks)
         _fail_some(manifest)
         self.names = [task.name for task in read_manifest(manifest, MC_DRAWS)]
@@ -267,9 +258,9 @@ def drill_batch_faults(tasks: int = DRILL_TASKS, workers: int = min(2, CPU_COUNT
         rerun_s = time.monotonic() - start - setup_s - first_s
         outcome = drill.outcome(before_rerun)
     return {"tasks": tasks, "workers": workers,
-            "clip": {"width_px": DRILL_CLIP.width_px, "height_px": DRILL_CLIP.height_px,
-                     "duration_s": DRILL_CLIP.duration_s},
-            "fit": {"fps": DRILL_CONFIG.fps, "steps": DRILL_CONFIG.total_steps},
+            "clip": {"width_px": TINY_CLIP.width_px, "height_px": TINY_CLIP.height_px,
+                     "duration_s": TINY_CLIP.duration_s},
+            "fit": {"fps": TINY_CLIP_CONFIG.fps, "steps": TINY_CLIP_CONFIG.total_steps},
             "kills": kills, "rerun_exit_code": rerun_exit, **outcome,
             "phases_s": {"setup": setup_s, "first_run": first_s, "rerun": rerun_s,
                          "total": time.monotonic() - start},

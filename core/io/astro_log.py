@@ -19,7 +19,7 @@ import numpy as np
 from dolphinfit.core.errors import InputError
 from dolphinfit.core.io.altitude_samples import AltitudeSamples, AltitudeSource
 from dolphinfit.core.io.report import list_some
-from dolphinfit.core.io.text_input import cell_number, read_text
+from dolphinfit.core.io.text_input import cell_number, column_positions, read_text
 
 RANGE_COLUMN = "Camera Range (m)"
 VIDEO_TIME_COLUMN = "Video Time (s)"
@@ -50,10 +50,8 @@ def read_astro_log(path: Path | str, time_offset_s: float = 0.0) -> AltitudeSamp
     the row before are dropped; each case adds one warning naming the lines."""
     path = Path(path)
     header, rows = _rows(path)
-    absent = [c for c in (VIDEO_TIME_COLUMN, RANGE_COLUMN) if c not in header]
-    if absent:
-        raise InputError(f"{path}: the header has no {', '.join(absent)} column")
-    time_col, range_col = header.index(VIDEO_TIME_COLUMN), header.index(RANGE_COLUMN)
+    col = column_positions(header, [VIDEO_TIME_COLUMN, RANGE_COLUMN], path)
+    time_col, range_col = col[VIDEO_TIME_COLUMN], col[RANGE_COLUMN]
     problems: dict[str, list[int]] = {}
     times: list[float] = []
     altitudes: list[float] = []

@@ -31,7 +31,7 @@ import numpy as np
 from dolphinfit.core.errors import InputError
 from dolphinfit.core.io.altitude_samples import AltitudeSamples, AltitudeSource
 from dolphinfit.core.io.report import list_some
-from dolphinfit.core.io.text_input import cell_number, read_text
+from dolphinfit.core.io.text_input import cell_number, column_positions, read_text
 
 LASER_COLUMN = "laser_altitude_cm"
 TILT_COLUMN = "tilt_deg"
@@ -86,12 +86,9 @@ def read_laser_log(path: Path | str, time_offset_s: float = 0.0,
     path = Path(path)
     header, rows = _header_and_rows(path)
     needed = [DATE_COLUMN, TIME_COLUMN, LASER_COLUMN] + ([TILT_COLUMN] if tilt_correction else [])
-    absent = [c for c in needed if c not in header]
-    if absent:
-        raise InputError(f"{path}: the header has no {', '.join(absent)} column"
-                         + (" (a gimballed laser needs no tilt correction)"
-                            if absent == [TILT_COLUMN] else ""))
-    col = {name: header.index(name) for name in needed}
+    only_tilt_absent = [c for c in needed if c not in header] == [TILT_COLUMN]
+    col = column_positions(header, needed, path, " (a gimballed laser needs no tilt "
+                           "correction)" if only_tilt_absent else "")
     problems: dict[str, list[int]] = {}
     times, altitudes = [], []
     for line_no, cells in rows:
@@ -134,10 +131,8 @@ def log_start(path: Path | str) -> datetime:
     """The UTC date-time of the log's first dated row."""
     path = Path(path)
     header, rows = _header_and_rows(path)
-    absent = [c for c in (DATE_COLUMN, TIME_COLUMN) if c not in header]
-    if absent:
-        raise InputError(f"{path}: the header has no {', '.join(absent)} column")
-    date_col, time_col = header.index(DATE_COLUMN), header.index(TIME_COLUMN)
+    col = column_positions(header, [DATE_COLUMN, TIME_COLUMN], path)
+    date_col, time_col = col[DATE_COLUMN], col[TIME_COLUMN]
     for _, cells in rows:
         if len(cells) > max(date_col, time_col):
             when = _row_time(cells[date_col], cells[time_col])

@@ -50,3 +50,13 @@ def cell_number(path: Path, line_no: int, column: str, cell: str) -> float:
         return float(cell)
     except ValueError:
         raise InputError(f"{path}, line {line_no}: {column} {cell!r} is not a number") from None
+
+
+def column_positions(header: list[str], names: list[str], path: Path,
+                     hint: str = "") -> dict[str, int]:
+    """Where each of ``names`` sits in a table's ``header``; InputError naming the file and
+    the absent columns (with ``hint`` after them) otherwise."""
+    absent = [name for name in names if name not in header]
+    if absent:
+        raise InputError(f"{path}: the header has no {', '.join(absent)} column{hint}")
+    return {name: header.index(name) for name in names}

@@ -34,6 +34,8 @@ from pathlib import Path
 
 import numpy as np
 
+from app_waits import results_caught_up   # this script's folder (tests/ui) is on the path
+
 MINKE = Path(__file__).resolve().parents[1] / "data" / "real" / "minke" / "demo.JPG"
 WAIT_S = 120.0          # the longest any one step may take (a fit on two busy cores included)
 FIT_WAIT_S = 600.0
@@ -177,7 +179,6 @@ class Session:
         """Measure ``frame_idx`` as tests/ui/test_app_fit.py does: the length from the mask's
         midline, the widths suggested from the mask; wait for its result with its interval."""
         from dolphinfit.core.errors import InputError
-        from dolphinfit.core.measure.annotation import pixel_measurements
         from dolphinfit.core.measure.mask_midline import midline_from_mask
         from dolphinfit.ui.state.commands import edit_measurement
 
@@ -194,16 +195,7 @@ class Session:
             window.overlay.suggest_edges(mask)
         except InputError as exc:
             self.unexpected.append(f"frame {frame_idx}: edges not suggested: {exc}")
-        wanted = pixel_measurements(model.current_measurement().to_annotation())
-
-        def caught_up() -> bool:
-            result = window.results.current_result()
-            return (result is not None and result.estimate.interval is not None
-                    and result.estimate.measured.length_px == wanted.length_px
-                    and np.array_equal(result.estimate.measured.widths_px, wanted.widths_px,
-                                       equal_nan=True))
-
-        self.wait_until(caught_up, f"frame {frame_idx}'s result")
+        self.wait_until(lambda: results_caught_up(window), f"frame {frame_idx}'s result")
         self.settle()
 
     def fit(self) -> None:

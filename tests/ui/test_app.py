@@ -28,6 +28,7 @@ from dolphinfit.core.project.sample import ensure_sample_project
 from dolphinfit.ui.workers import results_worker
 from dolphinfit.ui.main_window import MainWindow
 
+from .app_waits import results_caught_up
 from .ellipse_scene import LEFT, MIDLINE, analytic_widths, chord, dolphin_frame
 
 ALTITUDE_M = 20.0   # the still's, as conftest.new_window answers it
@@ -56,16 +57,7 @@ def click(qtbot, window: MainWindow, uv: np.ndarray) -> None:
 def shown_volume(qtbot, window: MainWindow) -> float:
     """The volume the results panel shows once it has caught up with the current pixels
     (Monte Carlo interval included)."""
-    wanted = pixel_measurements(window.model.current_measurement().to_annotation())
-
-    def caught_up() -> bool:
-        result = window.results.current_result()
-        return (result is not None and result.estimate.interval is not None
-                and result.estimate.measured.length_px == wanted.length_px
-                and np.array_equal(result.estimate.measured.widths_px, wanted.widths_px,
-                                   equal_nan=True))
-
-    qtbot.waitUntil(caught_up, timeout=SIGNAL_TIMEOUT_MS)
+    qtbot.waitUntil(lambda: results_caught_up(window), timeout=SIGNAL_TIMEOUT_MS)
     return window.results.current_result().record["volume_m3"]
 
 

@@ -14,16 +14,9 @@ from dolphinfit.core.batch.manifest import read_manifest
 from dolphinfit.core.batch.record import RECORD_JSON
 from dolphinfit.core.batch.runner import run_batch
 from dolphinfit.core.batch.summary import SUMMARY_CSV
-from dolphinfit.core.bench.batch_bench import TINY_CONFIG, write_synthetic_batch
-from dolphinfit.core.synth.config import Effects, SynthConfig
+from dolphinfit.core.bench.batch_bench import TINY_CLIP, TINY_CLIP_CONFIG, write_synthetic_batch
 
-# 320×180 at 12 m: a 2.3 m animal about 45 px long; 4 frames, 2 of them fitted
-CLIP = SynthConfig(seed=41, width_px=320, height_px=180, fps=4.0, duration_s=1.0,
-                   altitude_m=12.0, length_m=2.3, speed_m_s=0.5, dive_depth_m=0.0,
-                   heading_deg=15.0, effects=Effects(profile_warp=False, scattering=False,
-                                                     ripples=False, glints=False,
-                                                     compression=False))
-FIT = replace(TINY_CONFIG, fps=2.0)
+CLIP, FIT = TINY_CLIP, TINY_CLIP_CONFIG   # 4 frames, 2 of them fitted, one step each
 
 
 @pytest.fixture(scope="module")
