@@ -493,6 +493,7 @@ class MainWindow(QMainWindow):
         self.masks.shutdown()
         self.scans.shutdown()
         self.intake.shutdown()
+        self.files.shutdown()
         self.jobs.wait()
 
     # ------------------------------------------------------------------ actions: File

@@ -94,7 +94,7 @@ def run(args: argparse.Namespace) -> int:
     threads = _threads(args)
     plan = (ClusterPlan(None, threads or 1) if args.scheduler
             else local_plan(args.workers, threads))
-    is_terminal = sys.stdout.isatty()
+    is_terminal = sys.stderr.isatty()   # where the progress line is drawn
     with batch_client(args.scheduler, plan) as client:
         workers = len(client.scheduler_info()["workers"])
         print(f"{len(tasks)} tasks on {workers} Dask workers × {plan.torch_threads} torch "
@@ -122,7 +122,8 @@ def _progress_bar(total: int) -> Callable[[int, TaskRecord], None]:
 
 
 def _line(total: int) -> Callable[[int, TaskRecord], None]:
-    """A line per finished task (when stdout is not a terminal)."""
+    """A line per finished task on stdout (when stderr, where the progress line is drawn, is
+    not a terminal)."""
     done: list[TaskRecord] = []
 
     def show(_: int, record: TaskRecord) -> None:

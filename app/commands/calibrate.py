@@ -1,7 +1,7 @@
 """Calibrate the altimeter from an object of known length, and the lens from a checkerboard.
 
   dolphinfit calibrate lens IMAGES…|VIDEO --board COLSxROWS --square-mm S --out LENS.json
-                     [--every K]
+                     [--every K] [--preset PRESET]
   dolphinfit calibrate altitude TABLE|PROJECT --out CAL.json [--object-length M]
                      [--camera PRESET | --focal-mm F --sensor-width-mm S --image-width W]
                      [--altimeter barometer|laser] [--drone NAME] [--plot PNG] [--json]
@@ -19,7 +19,9 @@ and the intervals take the calibration's spread as the altitude's error.
 `lens` finds a printed checkerboard (--board: its inner corners, e.g. 9x6) in images, or in
 every K-th frame of a video, and fits the lens's distortion with OpenCV (core/measure/lens.py);
 fewer than 5 views or corners more than 1 px (RMS) from the fit are refused. LENS.json goes to
-`dolphinfit measure --lens`, which takes the clicks through it before measuring.
+`dolphinfit measure --lens` (the clicks taken through it) and `fit --lens` (the frames and
+masks undistorted); --preset also keeps it with a camera preset (`dolphinfit camera lens`),
+whose measurements and fits then use it.
 """
 
 import argparse

@@ -57,12 +57,13 @@ def _fit_inputs(fit: FitInputs) -> tuple[dict[str, Path], dict[str, Any]]:
 
 
 def _animal_project(m: ProjectMeasurement) -> Project:
-    """The project cut down to the task's clip and animal, without its saved fit and scan
-    (what the elliptical result depends on; other animals' edits do not change it)."""
+    """The project cut down to the task's clip and animal, without its saved fit, scan and
+    media fingerprint (what the elliptical result depends on; other animals' edits do not
+    change it, and the media's content is an input file of its own)."""
     clip = m.project.clips[m.clip_idx]
     animal = replace(clip.animals[m.animal_idx], fit_path=None)
     return replace(m.project, clips=(replace(clip, animals=(animal,), scan_path=None,
-                                             rejected_frames=()),))
+                                             rejected_frames=(), media_fingerprint=None),))
 
 
 def _hw_table(spec: str) -> dict[str, Any]:

@@ -55,7 +55,10 @@ def fit_interval_values(estimate: BaselineEstimate, result: FitResult,
 
 def summary_row(record: TaskRecord) -> dict[str, Any]:
     """One row of the table, every column present ("" where a method has no value)."""
-    row = {**record.values, "clip": record.clip, "animal_id": record.animal_id,
+    values = dict(record.values)
+    if "Image" in values:   # a task finished before the column was named Image_ID
+        values.setdefault("Image_ID", values.pop("Image"))
+    row = {**values, "clip": record.clip, "animal_id": record.animal_id,
            "status": record.status, "error": record.error, "folder": record.name,
            "reused": "yes" if record.reused else "no", "seconds": round(record.seconds, 1)}
     return {column: row.get(column, "") for column in COLUMNS}

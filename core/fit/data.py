@@ -159,8 +159,8 @@ def prepare_data(clip: Clip, read_frame: Callable[[int], np.ndarray], masks: Mas
         warnings += [w for w in [masks_off_centre_warning(masks_np, intrinsics)] if w]
     else:
         lens.check_image_size(clip.width_px, clip.height_px, "the lens model")
-        masks_np = np.stack([lens.undistort_mask(mask) for mask in masks_np])
-        warnings += [w for w in [lens.focal_warning(intrinsics)] if w]
+        frame_idx, masks_np, lens_warnings = _masks_through_lens(clip, frame_idx, masks_np, lens)
+        warnings += lens_warnings + [w for w in [lens.focal_warning(intrinsics)] if w]
         read_frame = _through_lens(read_frame, lens)
     warnings += narrow_animal_warnings(masks_np)
     altitude, altitude_warnings = frame_altitudes(telemetry, frame_idx)
@@ -187,6 +187,22 @@ def prepare_data(clip: Clip, read_frame: Callable[[int], np.ndarray], masks: Mas
                    images=torch.as_tensor(images, dtype=torch.float32) / 255.0,
                    masks=torch.as_tensor(cut, dtype=torch.float32), camera=camera,
                    viewport=viewport, warnings=tuple(warnings + altitude_warnings))
+
+
+def _masks_through_lens(clip: Clip, frame_idx: np.ndarray, masks: np.ndarray,
+                        lens: LensModel) -> tuple[np.ndarray, np.ndarray, list[str]]:
+    """The chosen frames' masks undistorted, without those the undistortion pushes against
+    the frame's edge or out of it (a barrel lens moves what lies near the edge outwards); a
+    warning naming them, InputError when none is left."""
+    undistorted = [lens.undistort_mask(mask) for mask in masks]
+    kept = [t for t, mask in enumerate(undistorted) if mask.any() and not touches_border(mask)]
+    dropped = [str(int(frame_idx[t])) for t in range(len(masks)) if t not in kept]
+    if not kept:
+        raise InputError(f"{clip.path}: through the lens model, the dolphin reaches the frame's "
+                         f"edge in every chosen frame ({list_some(dropped)})")
+    warnings = [f"{len(dropped)} frame(s) skipped: through the lens model the dolphin reaches "
+                f"the frame's edge (frames {list_some(dropped)})"] if dropped else []
+    return frame_idx[kept], np.stack([undistorted[t] for t in kept]), warnings
 
 
 def _through_lens(read_frame: Callable[[int], np.ndarray],

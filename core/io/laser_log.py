@@ -134,7 +134,7 @@ def log_start(path: Path | str) -> datetime:
     col = column_positions(header, [DATE_COLUMN, TIME_COLUMN], path)
     date_col, time_col = col[DATE_COLUMN], col[TIME_COLUMN]
     for _, cells in rows:
-        if len(cells) > max(date_col, time_col):
+        if len(cells) >= len(header):   # as read_laser_log: a short row is dropped
             when = _row_time(cells[date_col], cells[time_col])
             if when is not None:
                 return when

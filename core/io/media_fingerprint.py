@@ -5,12 +5,14 @@ another clip copied over it under the same name).
 Hashing the whole of a multi-gigabyte video would take seconds per gigabyte at every opening.
 The fingerprint hashes the size and the first and last MiB instead: a container's header and
 index sit there, and a re-encode or a trim changes them and the size. An edit confined to the
-middle of a file of the same size would go unseen. A folder of frames is fingerprinted by its
-file names and sizes.
+middle of a file of the same size would go unseen. A folder of frames is fingerprinted by the
+names and sizes of its frame files (not of other files a file browser may leave there).
 """
 
 import hashlib
 from pathlib import Path
+
+from dolphinfit.core.io.media import frame_files
 
 CHUNK_BYTES = 1 << 20
 VERSION = "v1"   # of the recipe: a fingerprint of another version is not compared
@@ -33,7 +35,7 @@ def media_fingerprint(path: Path) -> str:
     digest = hashlib.sha256()
     path = Path(path)
     if path.is_dir():
-        for file in sorted(p for p in path.iterdir() if p.is_file()):
+        for file in frame_files(path):   # the frames only: a thumbnail cache is no change
             digest.update(f"{file.name}\0{file.stat().st_size}\n".encode())
     else:
         _file_digest(path, digest)

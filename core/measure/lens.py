@@ -72,6 +72,16 @@ class LensModel:
                                               P=self.matrix()).reshape(-1, 2)
         return out
 
+    def distort(self, points_px: np.ndarray) -> np.ndarray:
+        """(N, 2) points of this lens's own pinhole camera, where the lens shows them (the
+        inverse of ``undistort``)."""
+        points = np.asarray(points_px, dtype=np.float64).reshape(-1, 2)
+        rays = np.column_stack([(points[:, 0] - self.cx_px) / self.fx_px,
+                                (points[:, 1] - self.cy_px) / self.fy_px, np.ones(len(points))])
+        seen, _ = cv2.projectPoints(rays, np.zeros(3), np.zeros(3), self.matrix(),
+                                    np.array(self.distortion))
+        return seen.reshape(-1, 2)
+
     def undistort_image(self, image: np.ndarray) -> np.ndarray:
         """An (H, W[, C]) image of the calibrated size as this lens's own pinhole camera would
         have seen it (bilinear; 0 where the lens saw nothing)."""

@@ -6,7 +6,6 @@ well under a millisecond), so a corrected click changes every result that uses i
 measured on image files or on frames of a video (``VIDEO#frame=N``, altitudes from its SRT).
 """
 
-from dataclasses import replace
 from functools import lru_cache
 from pathlib import Path
 
@@ -16,7 +15,8 @@ from dolphinfit.core.errors import InputError
 from dolphinfit.core.io.image_file import read_image
 from dolphinfit.core.io.media import open_media
 from dolphinfit.core.io.calibration_table import CalibrationShot, CalibrationTable
-from dolphinfit.core.io.telemetry import Telemetry, load_telemetry
+from dolphinfit.core.io.srt import parse_srt
+from dolphinfit.core.io.telemetry import Telemetry, find_srt_sidecar, load_telemetry
 from dolphinfit.core.measure.altitude_calibration import (
     AltitudeCalibration,
     CalibrationCamera,
@@ -84,30 +84,29 @@ def read_shot_image(image: str) -> np.ndarray:
         return frames.frame(int(frame))
 
 
-def clip_shots(video: Path, every: int) -> tuple[tuple[ObjectShot, ...], str, bool]:
+def srt_is_relative(video: Path) -> bool:
+    """Whether the SRT beside ``video`` records height above the take-off point (False
+    without one: the shots' altitudes are then typed)."""
+    srt = find_srt_sidecar(video)
+    return srt is not None and parse_srt(srt).family.is_relative
+
+
+def clip_shots(video: Path, every: int,
+               launch_height_m: float = 0.0) -> tuple[tuple[ObjectShot, ...], str]:
     """Every ``every``-th frame of a video as a shot still to be measured (a length of 1 px
-    until its ends are clicked), at the altitude its SRT sidecar records there; a note when
-    it has none (the altitudes are then to be typed; 20 m meanwhile); and whether the SRT
-    records height above the take-off point (``with_launch_height`` then adds that point's
-    height above the water, as the clips' altitudes have it)."""
-    note, relative = "", False
+    until its ends are clicked), at the altitude its SRT sidecar records there (with
+    ``launch_height_m`` added to heights above the take-off point, as the clips have it); and
+    a note when it has none (the altitudes are then to be typed; 20 m meanwhile, as for an
+    implausible one)."""
+    note = ""
     with open_media(video) as frames:
         clip = frames.clip
         try:
-            telemetry = load_telemetry(clip)
-            altitudes, relative = telemetry.altitude_m, telemetry.source.is_relative
+            altitudes = load_telemetry(clip, None, launch_height_m).altitude_m
         except InputError as exc:
             altitudes, note = np.full(clip.num_frames, np.nan), f"{exc}: type the altitudes"
     shots = tuple(ObjectShot(f"{video}{FRAME_MARK}{i}",
                              float(altitudes[i]) if np.isfinite(altitudes[i]) and altitudes[i] > 0
                              else UNKNOWN_ALTITUDE_M, 1.0)
                   for i in range(0, clip.num_frames, every))
-    return shots, note, relative
-
-
-def with_launch_height(shots: tuple[ObjectShot, ...],
-                       launch_height_m: float) -> tuple[ObjectShot, ...]:
-    """Shots whose altitudes are heights above the take-off point, made heights above the
-    water."""
-    return tuple(replace(shot, recorded_altitude_m=shot.recorded_altitude_m + launch_height_m)
-                 for shot in shots)
+    return shots, note

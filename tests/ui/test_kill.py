@@ -6,8 +6,9 @@ again after each kill on what the last one left). After every kill:
 - an autosave left beside it opens and holds a state the project took;
 - every masks file and fit folder the two name opens whole.
 
-DOLPHINFIT_KILL_ROUNDS lengthens the drill and DOLPHINFIT_KILL_SEED replays one; a failure
-names the round, the seed and the child's last events."""
+DOLPHINFIT_KILL_ROUNDS and DOLPHINFIT_KILL_MAX_S (the latest kill, seconds after the project
+opened) lengthen the drill, DOLPHINFIT_KILL_SEED replays one; a failure names the round, the
+seed and the child's last events."""
 
 import json
 import os
@@ -33,7 +34,7 @@ ROUNDS = int(os.environ.get("DOLPHINFIT_KILL_ROUNDS", "2"))
 SEED = int(os.environ.get("DOLPHINFIT_KILL_SEED", "20261128"))
 CHILD = Path(__file__).with_name("kill_child.py")
 READY_S = 90.0                  # a cold start of the app on a busy machine
-KILL_AFTER_S = (0.1, float(os.environ.get("DOLPHINFIT_KILL_MAX_S", "6")))
+KILL_AFTER_S = (0.1, float(os.environ.get("DOLPHINFIT_KILL_MAX_S", "3")))
 
 
 def _events(log: Path) -> list[dict]:
@@ -148,4 +149,7 @@ def test_a_killed_app_never_leaves_a_broken_project(tmp_path):
             assert project_digest(kept) in _held_states(events), \
                 f"{where}: the autosave holds a state the project never took"
             _check_whole(kept, folder, where)
+        with log.open("a", encoding="utf-8") as stream:   # what the next life starts from
+            stream.write("\n" + json.dumps({"event": "save", "digest": project_digest(saved)})
+                         + "\n" + json.dumps({"event": "saved"}) + "\n")
     print(f"kill drill: {ROUNDS} rounds, killed during {dict(killed_during)}")

@@ -143,9 +143,10 @@ class ClipSessions(QObject):
                       "set altitude", Change("clip", clip=clip_idx))
 
     def set_camera(self) -> None:
-        """Ask for the open clip's camera and set it (an undoable edit); a clip without a
-        lens model takes the one kept with the chosen preset (core/measure/preset_lens.py),
-        read in the background."""
+        """Ask for the open clip's camera and set it (an undoable edit). The lens model kept
+        with the chosen preset (core/measure/preset_lens.py), read in the background, comes
+        with it where the clip has none or has the old preset's; one of another image size is
+        left out, and the user told."""
         clip_idx = self._open_clip()
         if clip_idx is None:
             return
@@ -155,20 +156,41 @@ class ClipSessions(QObject):
         if chosen is None:
             return
         camera, preset_name = chosen
+        path = self.model.path
 
-        def read() -> LensModel | None:
-            lens = None if clip.lens is not None else preset_lens(preset_name)
-            if lens is not None:
-                lens.check_image_size(media.width_px, media.height_px,
-                                      f"the lens model of {preset_name!r}")
-            return lens
+        def kept_with(name: str | None) -> LensModel | None:
+            try:
+                return preset_lens(name)
+            except InputError:
+                return None     # an unreadable one is said when it would be used
 
-        def set_it(lens: LensModel | None) -> None:
-            current = self.model.project.clips[clip_idx]
+        def read() -> tuple[LensModel | None, str]:
+            if clip.lens is not None and clip.lens != kept_with(clip.preset_name):
+                return clip.lens, ""     # the user's own lens model stays
+            try:
+                lens = preset_lens(preset_name)
+            except InputError as exc:
+                return None, f"{exc}: the camera is set without it"
+            if lens is not None and (lens.width_px, lens.height_px) != (media.width_px,
+                                                                        media.height_px):
+                return None, (f"the lens model kept with {preset_name!r} is for "
+                              f"{lens.width_px}×{lens.height_px} px images, not this clip's: "
+                              "left out")
+            return lens, ""
+
+        def set_it(found: tuple[LensModel | None, str]) -> None:
+            lens, note = found
+            current = self.model.project.clips[clip_idx] \
+                if clip_idx < len(self.model.project.clips) else None
+            if self.model.path != path or current is None or \
+                    current.media_path != clip.media_path:
+                return   # another project or clip by now: the choice no longer applies
             push_edit(self.model, with_clip(self.model.project, clip_idx, replace(
-                current, camera=camera, preset_name=preset_name, lens=lens or current.lens)),
-                "set camera" + (" and its lens model" if lens else ""),
+                current, camera=camera, preset_name=preset_name, lens=lens)),
+                "set camera" + (" and its lens model" if lens not in (None, clip.lens) else ""),
                 Change("clip", clip=clip_idx))
+            if note:
+                self.notifier.status(note, 10_000)
 
         self.jobs.run(read, set_it, lambda why: self.notifier.error("Camera", why))
 

@@ -273,10 +273,16 @@ class FitController(QObject):
         # while a fit runs its latest state is drawn, else the saved fit of the animal shown
         source = live if live is not None else self._fits[folder]
         faces = self._template_faces() if live is not None else source.faces
-        intrinsics = self.model.project.clips[session.clip_idx].camera.intrinsics()
+        clip = self.model.project.clips[session.clip_idx]
+        intrinsics, lens = clip.camera.intrinsics(), clip.lens
         verts, _ = posed_at(source.frame_idx, source.posed_verts, frame_idx)
+
+        def outlines() -> list[np.ndarray]:   # the fit's pinhole view, bent as the lens saw it
+            drawn = silhouette_outlines(verts, faces, intrinsics, altitude)
+            return drawn if lens is None else [lens.distort(line) for line in drawn]
+
         self.jobs.run(
-            lambda: silhouette_outlines(verts, faces, intrinsics, altitude),
+            outlines,
             lambda outlines, g=self._silhouette_generation: self._draw_silhouette(g, outlines),
             lambda why: self.silhouette.setVisible(False))
 

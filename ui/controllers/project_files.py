@@ -43,6 +43,7 @@ class ProjectFiles(QObject):
                  jobs: BackgroundJobs, parent: QObject | None = None) -> None:
         super().__init__(parent)
         self.model, self.ask, self.notifier, self.jobs = model, ask, notifier, jobs
+        self._media_jobs = BackgroundJobs(self)
 
     def open_path(self, path: Path) -> None:
         """Open a project file, or media (a clip, an image or a folder of frames)."""
@@ -115,17 +116,19 @@ class ProjectFiles(QObject):
         path, project = self.model.path, self.model.project
         media = [clip.media_path for clip in project.clips]
 
-        def checked(changed: list[int]) -> None:
+        def checked(changed: dict[int, str]) -> None:
             now = [clip.media_path for clip in self.model.project.clips]
             if not changed or self.model.path != path or now != media:
                 return   # another project, or clips added or moved meanwhile: next time
             names = [project.clips[idx].name for idx in changed]
             if self.ask.media_changed(names):
-                push_edit(self.model, with_media_accepted(self.model.project, path, changed),
+                push_edit(self.model, with_media_accepted(self.model.project, changed),
                           "accept changed media", Change("structure"))
 
-        self.jobs.run(lambda: changed_media(project, path), checked,
-                      lambda why: self.notifier.status(f"media not checked: {why}", STATUS_MS))
+        # jobs of their own: reading each clip's media must not hold up opening the first
+        self._media_jobs.run(lambda: changed_media(project, path), checked,
+                             lambda why: self.notifier.status(f"media not checked: {why}",
+                                                              STATUS_MS))
 
     def _relink_missing(self) -> None:
         path = self.model.path
@@ -176,6 +179,10 @@ class ProjectFiles(QObject):
         self._remember_recent(target)
         self.notifier.status(f"saved {target}", 5000)
         return True
+
+    def shutdown(self) -> None:
+        """Wait for a media check still reading (closing)."""
+        self._media_jobs.wait()
 
     def _remember_recent(self, path: Path) -> None:
         try:

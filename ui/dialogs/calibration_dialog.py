@@ -20,6 +20,7 @@ from PySide6.QtWidgets import (QAbstractItemView, QCheckBox, QComboBox, QDialog,
 from dolphinfit.core.camera_presets import CameraPreset
 from dolphinfit.core.io.calibration_table import read_calibration_table
 from dolphinfit.core.io.image_file import read_image
+from dolphinfit.core.limits import LAUNCH_HEIGHT_M
 from dolphinfit.core.measure.altitude_calibration import AltitudeCalibration
 from dolphinfit.core.measure.annotation import ALTITUDE_SOURCES
 from dolphinfit.core.measure.calibration_plot import draw_altitude_calibration
@@ -30,7 +31,7 @@ from dolphinfit.core.project.calibrations import (
     fitted_calibration,
     read_shot_image,
     shots_from_table,
-    with_launch_height,
+    srt_is_relative,
 )
 from dolphinfit.core.project.model import AltitudeCalibrationSet, ObjectShot
 from dolphinfit.ui.dialogs.dialog_buttons import ok_cancel_buttons
@@ -188,10 +189,17 @@ class CalibrationDialog(QDialog):
     def add_clip_frames(self, video: Path, every: int | None = None) -> None:
         """Every ``every``-th frame of ``video`` as a shot to measure, its altitude from the
         video's SRT (shots where the object is not seen are removed by the user); an SRT of
-        heights above the take-off point asks for that point's height above the water."""
+        heights above the take-off point asks for that point's height above the water
+        first."""
         step = FRAME_STEP if every is None else every
-        self.jobs.run(lambda: clip_shots(video, step),
-                      lambda found: self._on_clip_shots(video, *found),
+
+        def add(relative: bool) -> None:
+            launch_m = self.ask_launch_height(video) if relative else 0.0
+            if launch_m is not None:
+                self.jobs.run(lambda: clip_shots(video, step, launch_m), self._on_clip_shots,
+                              lambda why: self.status.show_message(why, "error"))
+
+        self.jobs.run(lambda: srt_is_relative(video), add,
                       lambda why: self.status.show_message(why, "error"))
 
     def ask_launch_height(self, video: Path) -> float | None:
@@ -201,17 +209,12 @@ class CalibrationDialog(QDialog):
 
         value, ok = QInputDialog.getDouble(
             self, "Launch height", f"{video.name} records the height above the take-off "
-            "point.\nHow high was the take-off point above the water (m)?", 0.0, -10.0,
-            100.0, 2)
+            "point.\nHow high was the take-off point above the water (m)?", 0.0,
+            LAUNCH_HEIGHT_M.low, LAUNCH_HEIGHT_M.high, 2)
         return value if ok else None
 
-    def _on_clip_shots(self, video: Path, shots: tuple[ObjectShot, ...], note: str,
-                       relative: bool) -> None:
-        if relative:
-            launch_m = self.ask_launch_height(video)
-            if launch_m is None:
-                return
-            shots = with_launch_height(shots, launch_m)
+    def _on_clip_shots(self, found: tuple[tuple[ObjectShot, ...], str]) -> None:
+        shots, note = found
         if note:
             self.status.show_message(note, "warning")
         self._pending.update(shot.image for shot in shots)

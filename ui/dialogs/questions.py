@@ -14,6 +14,7 @@ from dolphinfit.core.crash_report import installed_version
 from dolphinfit.core.errors import InputError
 from dolphinfit.core.io.frame_source import Clip
 from dolphinfit.core.io.media import MEDIA_SUFFIXES, VIDEO_SUFFIXES
+from dolphinfit.core.limits import LAUNCH_HEIGHT_M
 from dolphinfit.core.project.model import AltitudeCalibrationSet, AltitudeSpec, Animal
 from dolphinfit.core.project.project_file import PROJECT_SUFFIX, autosave_path, find_moved_media
 from dolphinfit.core.resources import RESOURCES_DIR
@@ -221,7 +222,8 @@ class Questions:
             self.parent, "Launch height",
             f"{len(clip_names)} clip{'s' if len(clip_names) != 1 else ''} ({names}) record the "
             "height above the take-off point.\nHow high was the take-off point above the water "
-            "(m)? Clip → Altitude… changes it per clip.", 0.0, -10.0, 100.0, 2)
+            "(m)? Clip → Altitude… changes it per clip.", 0.0, LAUNCH_HEIGHT_M.low,
+            LAUNCH_HEIGHT_M.high, 2)
         return value if ok else None
 
     def report(self, title: str, text: str, details: list[str]) -> None:

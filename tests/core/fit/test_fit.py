@@ -5,6 +5,7 @@ import math
 import re
 import threading
 from dataclasses import fields, replace
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -421,12 +422,37 @@ def test_a_lens_model_undistorts_what_the_fit_sees(clip_dir):
 
     seen_masks = replace(masks, load=lambda f: seen(masks.load(f).astype(np.uint8) * 255) >= 128)
     with VideoReader(clip) as frames:
-        plain = prepare_data(clip, frames.frame, masks, telemetry, INTRINSICS, QUICK)
-        as_seen = prepare_data(clip, lambda i: seen(frames.frame(i)), seen_masks, telemetry,
-                               INTRINSICS, QUICK)
         fixed = prepare_data(clip, lambda i: seen(frames.frame(i)), seen_masks, telemetry,
                              INTRINSICS, QUICK, lens=lens)
-    truth = _full_frame_masks(plain)
-    assert _iou(_full_frame_masks(as_seen), truth) < 0.2
+    truth = np.stack([masks.mask(int(f)) for f in fixed.frame_idx])
+    as_seen = np.stack([seen_masks.mask(int(f)) for f in fixed.frame_idx])
+    assert _iou(as_seen, truth) < 0.2
     assert _iou(_full_frame_masks(fixed), truth) > 0.97
-    assert not any("lens" in w for w in (*plain.warnings, *fixed.warnings))
+    assert not any("lens" in w for w in fixed.warnings)
+
+
+def test_through_a_barrel_lens_an_animal_at_the_edge_is_left_out():
+    """Undistorting pushes what lies near the frame's edge outwards: a mask 20 px from the
+    right edge ends against it and its frame is skipped, naming it; one at the centre stays;
+    with none left, an InputError names the clip."""
+    import cv2
+
+    from dolphinfit.core.fit.data import _masks_through_lens
+    from dolphinfit.core.measure.lens import LensModel
+
+    lens = LensModel(1280, 720, 900.0, 900.0, 639.5, 359.5, (-0.12, 0.05, 0.0, 0.0, 0.0), 0.1,
+                     9, "test")
+    masks = np.zeros((2, 720, 1280), np.uint8)
+    cv2.ellipse(masks[0], (640, 360), (120, 25), 0, 0, 360, 1, -1)
+    cv2.ellipse(masks[1], (1140, 360), (120, 25), 0, 0, 360, 1, -1)   # 20 px from the edge
+
+    class Clip:
+        path = Path("edge.mp4")
+
+    idx, kept, warnings = _masks_through_lens(Clip, np.array([3, 7]), masks.astype(bool), lens)
+    assert idx.tolist() == [3] and kept.shape == (1, 720, 1280)
+    assert warnings == ["1 frame(s) skipped: through the lens model the dolphin reaches the "
+                        "frame's edge (frames 7)"]
+    with pytest.raises(InputError, match="edge.mp4: through the lens model, the dolphin "
+                                         "reaches the frame's edge in every chosen frame"):
+        _masks_through_lens(Clip, np.array([7]), masks[1:].astype(bool), lens)

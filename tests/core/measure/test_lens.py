@@ -119,6 +119,11 @@ def test_an_animal_in_the_corner_measures_as_at_the_centre_once_corrected(lens):
     fixed = [pixel_measurements(undistorted_annotation(a, lens)).length_px
              for a in (centre, corner)]
     assert fixed == pytest.approx([300.0, 300.0], rel=2e-3)
+    corner_clicks = _seen_through_lens(np.array([[1050.0, 600.0], [900.0, 100.0]]))
+    lens_itself = LensModel(WIDTH, HEIGHT, 900.0, 900.0, 639.5, 359.5, tuple(DISTORTION), 0.0,
+                            9, "true")
+    np.testing.assert_allclose(lens_itself.distort(lens_itself.undistort(corner_clicks)),
+                               corner_clicks, atol=1e-3)   # distort inverts undistort
     assert off_centre_warning(centre, PINHOLE) is None
     assert "without a lens model" in off_centre_warning(corner, PINHOLE)
     assert lens.focal_warning(PINHOLE) is None

@@ -52,10 +52,22 @@ def test_changed_clips_are_listed_and_stamped_again_only_when_asked(tmp_path):
     write_project(project_path, project)
     project = read_project(project_path)             # the fingerprint survives the file
     assert project.clips[0].media_fingerprint == entries[0].media_fingerprint
-    assert changed_media(project, project_path) == []
+    assert changed_media(project, project_path) == {}
     _media(tmp_path / "b.mp4", seed=7)               # another clip copied over b.mp4
     (tmp_path / "a.mp4").unlink()                    # missing media: the relink's business
-    assert changed_media(project, project_path) == [1]
-    accepted = with_media_accepted(project, project_path, [1])
-    assert changed_media(accepted, project_path) == []
+    changed = changed_media(project, project_path)
+    assert changed == {1: media_fingerprint(tmp_path / "b.mp4")}
+    accepted = with_media_accepted(project, changed)
+    assert changed_media(accepted, project_path) == {}
     assert accepted.clips[0] is project.clips[0]
+
+
+def test_a_frame_folder_changes_with_its_frames_not_with_a_browsers_files(tmp_path):
+    for i in range(3):
+        _media(tmp_path / f"frame_{i:04d}.png", size=1000, seed=i)
+    print_ = media_fingerprint(tmp_path)
+    (tmp_path / ".DS_Store").write_bytes(b"finder")
+    (tmp_path / "Thumbs.db").write_bytes(b"explorer")
+    assert media_fingerprint(tmp_path) == print_
+    _media(tmp_path / "frame_0003.png", size=1000, seed=3)
+    assert not same_media(print_, tmp_path)
