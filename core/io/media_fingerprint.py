@@ -42,9 +42,11 @@ def media_fingerprint(path: Path) -> str:
     return f"{VERSION}:{digest.hexdigest()}"
 
 
-def same_media(fingerprint: str, path: Path) -> bool:
-    """Whether ``path`` still has the content ``fingerprint`` was taken of (True for a
-    fingerprint of another recipe version, which cannot be compared)."""
+def changed_fingerprint(fingerprint: str, path: Path) -> str | None:
+    """The fingerprint of ``path`` now, where its content is no longer the one
+    ``fingerprint`` was taken of; None when it is (or when ``fingerprint`` is of another
+    recipe version, which cannot be compared)."""
     if not fingerprint.startswith(f"{VERSION}:"):
-        return True
-    return media_fingerprint(path) == fingerprint
+        return None
+    now = media_fingerprint(path)
+    return None if now == fingerprint else now

@@ -6,7 +6,7 @@ from dataclasses import replace
 from pathlib import Path
 
 from dolphinfit.core.errors import InputError
-from dolphinfit.core.io.media_fingerprint import media_fingerprint, same_media
+from dolphinfit.core.io.media_fingerprint import changed_fingerprint
 from dolphinfit.core.project.model import Project
 from dolphinfit.core.project.project_file import media_path
 
@@ -21,10 +21,11 @@ def changed_media(project: Project, project_path: Path) -> dict[int, str]:
         if clip.media_fingerprint is None or not path.exists():
             continue
         try:
-            if not same_media(clip.media_fingerprint, path):
-                changed[idx] = media_fingerprint(path)
+            now = changed_fingerprint(clip.media_fingerprint, path)
         except (OSError, InputError):   # unreadable, or a folder left without frames
             continue
+        if now is not None:
+            changed[idx] = now
     return changed
 
 

@@ -6,7 +6,7 @@ import shutil
 
 import numpy as np
 
-from dolphinfit.core.io.media_fingerprint import CHUNK_BYTES, media_fingerprint, same_media
+from dolphinfit.core.io.media_fingerprint import CHUNK_BYTES, changed_fingerprint, media_fingerprint
 from dolphinfit.core.project.media_check import changed_media, with_media_accepted
 from dolphinfit.core.project.model import Project
 from dolphinfit.core.project.project_file import read_project, write_project
@@ -30,7 +30,7 @@ def _media(path, size=3 * CHUNK_BYTES, seed=0):
 def test_the_fingerprint_sees_edits_at_either_end_and_a_new_size(tmp_path):
     clip = _media(tmp_path / "clip.mp4")
     print_ = media_fingerprint(clip)
-    assert print_.startswith("v1:") and same_media(print_, clip)
+    assert print_.startswith("v1:") and changed_fingerprint(print_, clip) is None
     shutil.copy(clip, tmp_path / "copy.mp4")
     assert media_fingerprint(tmp_path / "copy.mp4") == print_
     data = bytearray(clip.read_bytes())
@@ -38,10 +38,10 @@ def test_the_fingerprint_sees_edits_at_either_end_and_a_new_size(tmp_path):
         edited = bytearray(data)
         edited[where] ^= 0xFF
         clip.write_bytes(bytes(edited))
-        assert not same_media(print_, clip)
+        assert changed_fingerprint(print_, clip) == media_fingerprint(clip) != print_
     clip.write_bytes(bytes(data[:-1]))                 # a trim
-    assert not same_media(print_, clip)
-    assert same_media("v0:anything", clip)             # another recipe: not compared
+    assert changed_fingerprint(print_, clip) == media_fingerprint(clip) != print_
+    assert changed_fingerprint("v0:anything", clip) is None             # another recipe: not compared
 
 
 def test_changed_clips_are_listed_and_stamped_again_only_when_asked(tmp_path):
@@ -70,4 +70,4 @@ def test_a_frame_folder_changes_with_its_frames_not_with_a_browsers_files(tmp_pa
     (tmp_path / "Thumbs.db").write_bytes(b"explorer")
     assert media_fingerprint(tmp_path) == print_
     _media(tmp_path / "frame_0003.png", size=1000, seed=3)
-    assert not same_media(print_, tmp_path)
+    assert changed_fingerprint(print_, tmp_path) == media_fingerprint(tmp_path) != print_
