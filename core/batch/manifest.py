@@ -7,7 +7,8 @@ Columns (header names; only ``clip`` is required; paths are relative to the mani
 - ``altitude``: metres above the water, or an altitude CSV, DJI SRT or laser log (empty: the
   clip's SRT beside it). ``launch_height_m`` (added to relative SRT altitudes),
   ``time_offset_s`` (laser logs), ``altitude_source``: laser, barometer or manual (default
-  barometer for an SRT, laser for a laser log, else manual), which sets the elliptical method's altitude error.
+  barometer for an SRT, laser for a laser log, else manual), which sets the elliptical
+  method's altitude error.
   ``altitude_calibration``: a `dolphinfit calibrate altitude` file of the clip's camera: the
   altitudes are corrected by it and both methods' intervals take its spread as their error.
 - ``camera``: a preset name, or ``sensor_width_mm`` and ``focal_mm``. ``lens``: a `dolphinfit

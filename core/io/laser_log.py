@@ -159,10 +159,11 @@ def gps_clock_offset_s(path: Path | str, clock: datetime, video_time_s: float) -
     ``clock - video_time_s``, that many seconds after the log's first dated row. InputError
     when the clock reading lies more than a day from the log."""
     path = Path(path)
-    offset = (clock - log_start(path)).total_seconds() - video_time_s
+    start = log_start(path)
+    offset = (clock - start).total_seconds() - video_time_s
     if abs(offset) > 86_400:
         raise InputError(f"{path}: the GPS clock's {clock:%Y/%m/%d %H:%M:%S} lies more than a "
-                         f"day from the log's start ({log_start(path):%Y/%m/%d %H:%M:%S}): "
+                         f"day from the log's start ({start:%Y/%m/%d %H:%M:%S}): "
                          "another day's log or clip?")
     return offset
 

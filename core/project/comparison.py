@@ -128,8 +128,9 @@ def compare(estimate: BaselineEstimate, fit: FitResult,
 def comparison_csv_row(image: str, animal_id: str, fit_status: str,
                        rows: list[ComparisonRow]) -> dict[str, object]:
     """One CSV row per animal: ``Image_ID`` (the measured frame's image ID, as in the
-    CollatriX table's ``Image_ID``, the join key), the animal, then per quantity the elliptical value and interval, the fit's value
-    and interval and the difference (``_diff_pct`` in %, ``bci_diff`` in BCI units)."""
+    CollatriX table's ``Image_ID``, the join key), the animal, then per quantity the
+    elliptical value and interval, the fit's value and interval and the difference
+    (``_diff_pct`` in %, ``bci_diff`` in BCI units)."""
     row: dict[str, object] = {"Image_ID": image, "animal_id": animal_id, "fit_status": fit_status}
     for r in rows:
         row.update({f"{r.key}_ell": r.elliptical.value, f"{r.key}_ell_lo95": r.elliptical.low,

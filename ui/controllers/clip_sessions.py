@@ -169,13 +169,11 @@ class ClipSessions(QObject):
                 return clip.lens, ""     # the user's own lens model stays
             try:
                 lens = preset_lens(preset_name)
-            except InputError as exc:
+                if lens is not None:
+                    lens.check_image_size(media.width_px, media.height_px,
+                                          f"the lens model kept with {preset_name!r}")
+            except InputError as exc:     # unreadable, or of another image size
                 return None, f"{exc}: the camera is set without it"
-            if lens is not None and (lens.width_px, lens.height_px) != (media.width_px,
-                                                                        media.height_px):
-                return None, (f"the lens model kept with {preset_name!r} is for "
-                              f"{lens.width_px}×{lens.height_px} px images, not this clip's: "
-                              "left out")
             return lens, ""
 
         def set_it(found: tuple[LensModel | None, str]) -> None:

@@ -41,7 +41,7 @@ def test_the_fingerprint_sees_edits_at_either_end_and_a_new_size(tmp_path):
         assert changed_fingerprint(print_, clip) == media_fingerprint(clip) != print_
     clip.write_bytes(bytes(data[:-1]))                 # a trim
     assert changed_fingerprint(print_, clip) == media_fingerprint(clip) != print_
-    assert changed_fingerprint("v0:anything", clip) is None             # another recipe: not compared
+    assert changed_fingerprint("v0:anything", clip) is None   # another recipe: not compared
 
 
 def test_changed_clips_are_listed_and_stamped_again_only_when_asked(tmp_path):
