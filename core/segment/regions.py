@@ -44,9 +44,13 @@ def crop_of(mask: np.ndarray) -> MaskCrop:
 
 
 def centroid(mask: np.ndarray) -> np.ndarray:
-    """(x, y) centroid of a bool mask, pixels."""
-    moments = cv2.moments(mask.astype(np.uint8), binaryImage=True)
-    return np.array([moments["m10"], moments["m01"]]) / moments["m00"]
+    """(x, y) centroid of a non-empty bool mask, pixels (its moments taken in its bounding
+    box: the sums are whole numbers, so the result is the whole frame's to the bit)."""
+    rows, cols = window(mask, 0)
+    moments = cv2.moments(mask[rows, cols].astype(np.uint8), binaryImage=True)
+    area = moments["m00"]
+    return np.array([moments["m10"] + cols.start * area,
+                     moments["m01"] + rows.start * area]) / area
 
 
 def shifted(mask: np.ndarray, shift_px: np.ndarray) -> np.ndarray:

@@ -58,8 +58,19 @@ def _kernel(radius_px: int) -> np.ndarray:
 
 
 def dilate(mask: np.ndarray, radius_px: int) -> np.ndarray:
-    """(H, W) bool mask grown by a disc of ``radius_px``."""
-    return cv2.dilate(mask.astype(np.uint8), _kernel(radius_px)).astype(bool)
+    """(H, W) bool mask grown by a disc of ``radius_px``. Only the mask's bounding box grown
+    by the radius is dilated (nothing beyond it can change): a small animal's mask in a 4K
+    frame costs what its box does, not what the frame does."""
+    grown = np.zeros(mask.shape, bool)
+    col0, row0, width, height = cv2.boundingRect(mask.view(np.uint8) if mask.dtype == bool
+                                                 else mask.astype(np.uint8))
+    if width == 0:
+        return grown
+    rows = slice(max(0, row0 - radius_px), min(mask.shape[0], row0 + height + radius_px))
+    cols = slice(max(0, col0 - radius_px), min(mask.shape[1], col0 + width + radius_px))
+    grown[rows, cols] = cv2.dilate(mask[rows, cols].astype(np.uint8),
+                                   _kernel(radius_px)).astype(bool)
+    return grown
 
 
 def erode(mask: np.ndarray, radius_px: int) -> np.ndarray:
