@@ -11,6 +11,7 @@
   dolphinfit bench batch --faults [--tasks N] [--json]
   dolphinfit bench real [--data DIR] [--seeds S,…] [--backend B] [--outlines N] [--json]
   dolphinfit bench scan [--splits tuning,held-out] [--clips N] [--no-speed] [--json]
+  dolphinfit bench e2e [--frame-sizes 1080p,4k] [--json]
 
 render: forward+backward time of the differentiable renderer per frame at the paper's setting
 (a full 720×480 frame) and for a batch of 256×256 ROI crops of 1920×1080 footage at 20 m,
@@ -70,6 +71,12 @@ widths on 639 real whale outlines with hand points.
 scan: whether the scan's best frames of each animal measure better than random frames (the
 elliptical volume from the true masks on the frames it picks, core/bench/scan_bench.py), on
 both splits apart, and its seconds per minute of 1080p video.
+
+e2e: what a user waits for (core/bench/e2e_bench.py): the 10-s speed clip at 1080p and the
+same scene at 4K taken from the clip to the result with its 95 % intervals as `dolphinfit fit`
+does without masks (the scan for the animal, the masks of the fitted frames, the crops, the
+fit's stages, the intervals' Monte Carlo), stage by stage, with peak memory and errors
+against the truth.
 """
 
 import argparse
@@ -78,7 +85,7 @@ import statistics
 import sys
 from pathlib import Path
 
-from dolphinfit.app.commands import bench_faults, bench_real, bench_scan
+from dolphinfit.app.commands import bench_e2e, bench_faults, bench_real, bench_scan
 from dolphinfit.app.commands.bench_output import emit
 from dolphinfit.app.commands.masks import add_sam2_argument, sam2_checkpoint
 from dolphinfit.core.bench.batch_bench import bench_batch
@@ -166,6 +173,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         "real", help="masks, midlines and widths against people on real drone images"))
     bench_scan.add_arguments(suites.add_parser(
         "scan", help="the scan's picked frames against random ones, and its speed"))
+    bench_e2e.add_arguments(suites.add_parser(
+        "e2e", help="from the clip to the result with intervals, stage by stage"))
 
 
 def run(args: argparse.Namespace) -> int:
@@ -174,6 +183,8 @@ def run(args: argparse.Namespace) -> int:
         return bench_real.run(args)
     if args.suite_name == "scan":
         return bench_scan.run(args)
+    if args.suite_name == "e2e":
+        return bench_e2e.run(args)
     if args.suite_name == "app":
         parts = tuple(args.parts.split(","))
         for part in parts:

@@ -1,0 +1,150 @@
+"""``dolphinfit bench e2e``: what a user waits for, from a clip to a result with its intervals.
+
+The speed clip (``fit_bench.SPEED_CLIP``: 10 s at 25 fps, 1920×1080, DJI SRT altitudes) and the
+same scene at 3840×2160 go through the chain ``dolphinfit fit`` runs when it is given no
+masks: the scan of the fit's window that finds the animal (the automatic seed), the masks of
+the frames the fit uses, the preparation of its crops, the fit's stages, and the Monte Carlo
+of its 95 % intervals. Each stage's seconds come from the chain's own progress reports
+(``StageClock``); beside them the chain's peak memory and its errors against the clip's
+truth. Clips are rendered once into the cache (the 4K clip takes several minutes).
+
+With a ``baseline`` checkout (an earlier dolphinfit, e.g. ``git worktree add ../before v0.1``),
+the same chain runs with that checkout's engine in a child process, frame size by frame size
+beside this one's, so that before and after are measured in one run on one machine
+(``baseline_chain``: this module's code, the checkout's ``dolphinfit``).
+"""
+
+import json
+import os
+import subprocess
+import sys
+import tempfile
+import time
+from collections.abc import Sequence
+from dataclasses import replace
+from pathlib import Path
+
+from dolphinfit.core.bench.fit_bench import SPEED_CACHE, SPEED_CLIP
+from dolphinfit.core.bench.scenario import synth_camera
+from dolphinfit.core.bench.suites import FRAME_SIZES
+from dolphinfit.core.bench.timing import run_with_peak_rss_mb
+from dolphinfit.core.fit.config import FitConfig
+from dolphinfit.core.fit.interval import run_interval
+from dolphinfit.core.fit.pipeline import run_fit
+from dolphinfit.core.io.json_file import read_json
+from dolphinfit.core.limits import one_of
+from dolphinfit.core.measure.annotation import ALTITUDE_SOURCE_OF_KIND
+from dolphinfit.core.measure.uncertainty import ErrorModel
+from dolphinfit.core.progress import Progress
+from dolphinfit.core.synth.config import SynthConfig
+from dolphinfit.core.synth.sample import cache_dir, ensure_clip
+
+E2E_CACHE = "bench-e2e-v1"
+INTERVAL_STAGE = "intervals"
+# the issue's aims on two cores, seconds from the clip to the result with its intervals
+AIM_S = {"1080p": 30.0, "4k": 60.0}
+
+
+class StageClock:
+    """A progress callback that times a chain's stages: each stage lasts from its first
+    report to the first report of the next one; what comes before the first report (opening
+    the clip and its telemetry) is the "open" stage."""
+
+    def __init__(self) -> None:
+        self.start = time.perf_counter()
+        self.marks: list[tuple[str, float]] = [("open", self.start)]
+
+    def __call__(self, report: Progress) -> None:
+        if report.stage != self.marks[-1][0]:
+            self.marks.append((report.stage, time.perf_counter()))
+
+    def mark(self, stage: str) -> None:
+        """A stage that reports no progress of its own begins now."""
+        self.marks.append((stage, time.perf_counter()))
+
+    def seconds(self) -> dict[str, float]:
+        """Seconds by stage until now, a stage entered twice summed."""
+        ends = [*(at for _, at in self.marks[1:]), time.perf_counter()]
+        stages: dict[str, float] = {}
+        for (stage, began), ended in zip(self.marks, ends, strict=True):
+            stages[stage] = stages.get(stage, 0.0) + ended - began
+        return stages
+
+
+def clip_of(frame_size: str) -> SynthConfig:
+    """The speed clip's scene at ``frame_size`` (a key of ``suites.FRAME_SIZES``)."""
+    width, height = FRAME_SIZES[frame_size]
+    return replace(SPEED_CLIP, width_px=width, height_px=height)
+
+
+def _clip_dir(frame_size: str):
+    """The 1080p clip is ``bench fit --speed``'s own; the others are cached apart."""
+    if frame_size == "1080p":
+        return cache_dir() / SPEED_CACHE / "speed"
+    return cache_dir() / E2E_CACHE / frame_size
+
+
+def bench_chain(frame_size: str, config: FitConfig = FitConfig()) -> dict:
+    """One run of the chain on the speed clip at ``frame_size``: seconds by stage and in
+    all, peak memory, frames, errors of volume and length, and whether the interval holds
+    the true volume."""
+    clip = clip_of(frame_size)
+    files = ensure_clip(clip, _clip_dir(frame_size))
+    truth = read_json(files.truth_json, "the clip's truth")
+    errors = ErrorModel.default(ALTITUDE_SOURCE_OF_KIND["srt"], False)
+
+    def chain():
+        clock = StageClock()
+        run = run_fit(files.video, files.srt, None, synth_camera(clip), config,
+                      clip.launch_height_m, progress=clock)
+        clock.mark(INTERVAL_STAGE)
+        interval = run_interval(run, errors)
+        return run, interval, clock.seconds()
+
+    (run, interval, stages), peak_mb = run_with_peak_rss_mb(chain)
+    result, volume = run.result, interval.volume_m3
+    total = sum(stages.values())
+    return {"frame_size": frame_size, "width_px": clip.width_px, "height_px": clip.height_px,
+            "video_s": clip.duration_s, "frames_fitted": len(result.frame_idx),
+            "total_s": total, "aim_s": AIM_S.get(frame_size), "stages_s": stages,
+            "peak_memory_mb": peak_mb, "masks": run.masks.source,
+            "volume_error": result.volume_m3 / truth["volume_m3"] - 1.0,
+            "length_error": result.length_m / truth["length_m"] - 1.0,
+            "interval_holds_volume": bool(volume.low <= truth["volume_m3"] <= volume.high)}
+
+
+def baseline_chain(checkout: Path, frame_size: str) -> dict:
+    """``bench_chain`` at ``frame_size`` with the engine of the dolphinfit in ``checkout`` (the
+    root of a clone, as this one's), in a child process that imports that checkout's package
+    first; RuntimeError with the child's error output when it fails."""
+    with tempfile.TemporaryDirectory() as folder:
+        (Path(folder) / "dolphinfit").symlink_to(Path(checkout).resolve(), target_is_directory=True)
+        code = ("import json, runpy, sys\n"
+                "from dolphinfit.core.runtime import configure_threads\n"
+                "configure_threads(int(sys.argv[3]))\n"
+                "chain = runpy.run_path(sys.argv[1])['bench_chain']\n"
+                "print(json.dumps(chain(sys.argv[2])))\n")
+        import torch
+        done = subprocess.run(
+            [sys.executable, "-c", code, __file__, frame_size, str(torch.get_num_threads())],
+            capture_output=True, text=True, env={**os.environ, "PYTHONPATH": folder})
+    if done.returncode != 0:
+        raise RuntimeError(f"the baseline {checkout} exited {done.returncode}: "
+                           f"{done.stderr.strip()[-800:]}")
+    return json.loads(done.stdout.strip().splitlines()[-1])
+
+
+def bench_e2e(frame_sizes: Sequence[str] = tuple(FRAME_SIZES),
+              baseline: Path | None = None) -> dict:
+    """The chain at each of ``frame_sizes``, in one run; with ``baseline`` (a checkout of an
+    earlier dolphinfit) that one's chain beside each (module doc)."""
+    for frame_size in frame_sizes:
+        one_of(frame_size, tuple(FRAME_SIZES), "frame size")
+    figures: dict = {"clip_fps": SPEED_CLIP.fps, "fit_fps": FitConfig().fps, "runs": []}
+    if baseline is not None:
+        figures["baseline"], figures["baseline_runs"] = str(baseline), []
+    for frame_size in frame_sizes:
+        if baseline is not None:
+            figures["baseline_runs"].append(baseline_chain(baseline, frame_size))
+        figures["runs"].append(bench_chain(frame_size))
+    return figures

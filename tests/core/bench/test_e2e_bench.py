@@ -1,0 +1,52 @@
+"""``dolphinfit bench e2e``'s plumbing: the stage clock, the baseline's child process and the
+command line's checks (the chain itself is a full fit: run by the bench, not here)."""
+
+import time
+
+import pytest
+
+from dolphinfit.app.cli import main
+from dolphinfit.core.bench.e2e_bench import StageClock, baseline_chain, clip_of
+from dolphinfit.core.progress import Progress
+
+
+def test_the_stage_clock_times_each_stage_from_its_first_report():
+    """Opening lasts until the first report; a stage lasts until the next one's first
+    report; one entered twice is summed; the stages add up to the whole."""
+    clock = StageClock()
+    time.sleep(0.02)
+    for stage, pause in (("scan", 0.03), ("scan", 0.01), ("track", 0.02), ("scan", 0.01)):
+        clock(Progress(stage, 1, 2))
+        time.sleep(pause)
+    clock.mark("intervals")
+    time.sleep(0.01)
+    stages = clock.seconds()
+    assert list(stages) == ["open", "scan", "track", "intervals"]
+    assert stages["open"] == pytest.approx(0.02, abs=0.015)
+    assert stages["scan"] == pytest.approx(0.05, abs=0.02)
+    assert sum(stages.values()) == pytest.approx(time.perf_counter() - clock.start, abs=0.005)
+
+
+def test_the_4k_clip_is_the_speed_clips_scene():
+    assert (clip_of("4k").width_px, clip_of("4k").height_px) == (3840, 2160)
+    assert clip_of("1080p").seed == clip_of("4k").seed
+
+
+def test_the_baseline_runs_the_checkouts_own_engine(tmp_path):
+    """The child imports the checkout's package before the installed one: a checkout whose
+    runtime module stops at once is the one that ran, and its error is reported."""
+    (tmp_path / "core").mkdir()
+    (tmp_path / "core" / "runtime.py").write_text(
+        "def configure_threads(n):\n    raise SystemExit('the baseline checkout ran')\n")
+    with pytest.raises(RuntimeError, match="exited 1: the baseline checkout ran"):
+        baseline_chain(tmp_path, "1080p")
+
+
+@pytest.mark.parametrize("args, message", [
+    (["--frame-sizes", "1080p,8k"], "--frame-sizes: one of 1080p, 4k, got '8k'"),
+    (["--baseline", "{tmp}"], "--baseline {tmp}: not a checkout of dolphinfit"),
+])
+def test_bad_options_exit_2_naming_them(args, message, tmp_path, capsys):
+    args = [a.format(tmp=tmp_path) for a in args]
+    assert main(["bench", "e2e", *args]) == 2
+    assert message.format(tmp=tmp_path) in capsys.readouterr().err
