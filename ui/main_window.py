@@ -21,6 +21,7 @@ from PySide6.QtWidgets import (
 )
 
 from dolphinfit.core.camera_presets import preset_resolution_mismatch
+from dolphinfit.core.device import AUTO, CUDA, DEFAULT_DEVICE, DEVICES, cuda_available
 from dolphinfit.core.errors import InputError
 from dolphinfit.core.project.recent import recent_projects
 from dolphinfit.core.segment.backends import BACKENDS, COLOUR, DEFAULT_BACKEND, NETWORK, SAM2
@@ -65,6 +66,10 @@ STEP_ACTIONS = {"next_frame": 1, "previous_frame": -1, "next_10": 10, "previous_
 MIRROR_ACTIONS = {"mirror_none": None, "mirror_a": "A", "mirror_b": "B"}
 MASK_TOOL_ACTIONS = {"mask_tool_off": None, "mask_brush": "brush", "mask_eraser": "eraser"}
 BACKEND_ACTIONS = {"masks_network": NETWORK, "masks_colour": COLOUR, "masks_sam2": SAM2}
+DEVICE_ACTIONS = {f"device_{device}": device for device in DEVICES}   # core.device's names
+CUDA_CHECKING = "asking torch whether it sees a CUDA GPU…"
+NO_CUDA = ("torch sees no CUDA GPU here (the CPU-only build of torch, or no GPU or driver): "
+           "Help → Manual → Install tells how to install a CUDA build")
 
 
 class MainWindow(QMainWindow):
@@ -79,6 +84,7 @@ class MainWindow(QMainWindow):
         self.model = ProjectModel(parent=self)
         self.recent_actions: deque[str] = deque(maxlen=RECENT_ACTIONS)  # for crash reports
         self.jobs = BackgroundJobs(self)
+        self.probe = BackgroundJobs(self)  # its own pool: loading torch delays no clip
         self.state = ViewerState(self)
         self.notifier = Notifier(self)
         self.ask = Questions(self)
@@ -109,6 +115,8 @@ class MainWindow(QMainWindow):
         self._build_layout()
         self.actions_by_name = self._build_menus()
         self._apply_preferences()
+        self.probe.run(cuda_available, self._on_cuda_probed,
+                       lambda why: self._on_cuda_probed(False))
         self._connect()
         self._update_title()
         self.resize(1280, 900)
@@ -180,6 +188,7 @@ class MainWindow(QMainWindow):
         mode_group = QActionGroup(self)
         tool_group = QActionGroup(self)
         backend_group = QActionGroup(self)
+        device_group = QActionGroup(self)
         for spec in specs:
             action = QAction(spec.label, self)
             action.setObjectName(spec.name)
@@ -199,6 +208,8 @@ class MainWindow(QMainWindow):
                 tool_group.addAction(action)
             if spec.name in BACKEND_ACTIONS:
                 backend_group.addAction(action)
+            if spec.name in DEVICE_ACTIONS:
+                device_group.addAction(action)
             bar[spec.menu].addAction(action)
             if spec.name == "open":
                 self.recent_menu = bar[spec.menu].addMenu("Open recent")
@@ -212,7 +223,10 @@ class MainWindow(QMainWindow):
         if not installed():
             actions["masks_sam2"].setEnabled(False)
             actions["masks_sam2"].setToolTip(f"needs the '{PACKAGE}' package: {INSTALL_HINT}")
-        bar["Clip"].setToolTipsVisible(True)
+        actions["device_cuda"].setEnabled(False)   # until the probe answers
+        actions["device_cuda"].setToolTip(CUDA_CHECKING)
+        for menu in ("Clip", "Edit"):
+            bar[menu].setToolTipsVisible(True)
         actions["mirror_none"].setChecked(True)
         actions["fit_silhouette"].setChecked(True)
         actions["show_masks"].setChecked(True)
@@ -232,6 +246,8 @@ class MainWindow(QMainWindow):
             return lambda *_: self.masks.set_tool(MASK_TOOL_ACTIONS[name])
         if name in BACKEND_ACTIONS:
             return lambda *_: self._choose_mask_backend(BACKEND_ACTIONS[name])
+        if name in DEVICE_ACTIONS:
+            return lambda *_: self._set_device(DEVICE_ACTIONS[name])
         return getattr(self, f"on_{name}")
 
     def _connect(self) -> None:
@@ -286,6 +302,8 @@ class MainWindow(QMainWindow):
         usable = backend in BACKENDS and (backend != SAM2 or (
             installed() and self.masks.sam2_checkpoint is not None))
         self._set_mask_backend(backend if usable else DEFAULT_BACKEND, save=False)
+        device = prefs.get("compute_device", DEFAULT_DEVICE)
+        self._set_device(device if device in DEVICES else DEFAULT_DEVICE, save=False)
 
     def _choose_mask_backend(self, backend: str) -> None:
         """The Clip menu's choice; SAM-2 asks for its checkpoint while it has none."""
@@ -306,6 +324,23 @@ class MainWindow(QMainWindow):
         self.actions_by_name[name].setChecked(True)
         if save:
             self._save_preference("mask_backend", backend)
+
+    def _set_device(self, device: str, save: bool = True) -> None:
+        """Where the fits and the tracker's edge network compute (core.device; the jobs
+        resolve the name off the GUI thread)."""
+        self.fits.device = self.masks.device = device
+        self.actions_by_name[f"device_{device}"].setChecked(True)
+        if save:
+            self._save_preference("compute_device", device)
+
+    def _on_cuda_probed(self, available: bool) -> None:
+        """Offer CUDA where torch sees a GPU; elsewhere say why not, and compute a stored
+        CUDA choice on what auto finds (the CPU) without forgetting it."""
+        action = self.actions_by_name["device_cuda"]
+        action.setEnabled(available)
+        action.setToolTip("" if available else NO_CUDA)
+        if not available and self.fits.device == CUDA:
+            self._set_device(AUTO, save=False)
 
     def _show_error(self, title: str, text: str) -> None:
         self.ask.warn(title, text)
@@ -495,6 +530,7 @@ class MainWindow(QMainWindow):
         self.intake.shutdown()
         self.files.shutdown()
         self.jobs.wait()
+        self.probe.wait()
 
     # ------------------------------------------------------------------ actions: File
     def on_open(self) -> None:

@@ -1,7 +1,7 @@
 """Fit and measure many clips and animals as Dask tasks, resumably, into one summary table.
 
   dolphinfit batch MANIFEST.csv [--out DIR] [--scheduler ADDRESS | --workers N]
-                   [--retry-failed] [--mc N]
+                   [--retry-failed] [--mc N] [--device auto|cpu|cuda]
   dolphinfit batch PROJECT.dolphinfit [same options]
 
 A manifest is a CSV with one row per clip and animal (columns in core/batch/manifest.py and
@@ -22,8 +22,11 @@ status and error.
 Runs on a LocalCluster of --workers worker processes (default: as many as the cores and memory
 allow), or on the Dask scheduler at --scheduler (e.g. a dask-jobqueue SLURM or PBS cluster's).
 Each worker's torch uses --threads threads (default: the cores shared out), never more than
-cores / workers. Exit codes: 0 every task complete; 1 some failed (see the summary); 2 bad
-input.
+cores / workers. --device is where each worker's fits compute (auto, the default: a CUDA GPU
+where that worker's torch sees one, else the CPU); on the local cluster cuda is refused at
+once where torch sees no GPU, on a scheduler's workers each task records it. The local
+cluster's workers share one GPU. Exit codes: 0 every task complete; 1 some failed (see the
+summary); 2 bad input.
 """
 
 import argparse
@@ -46,6 +49,7 @@ from dolphinfit.core.measure.uncertainty import DEFAULT_NUM_DRAWS
 from dolphinfit.core.progress import Progress
 from dolphinfit.core.project.project_file import PROJECT_SUFFIX
 from dolphinfit.core.runtime import THREADS_ENV, thread_count
+from dolphinfit.app.commands.device_option import add_device_argument, chosen_device
 from dolphinfit.app.progress import terminal_progress
 
 OUT_SUFFIX = "_batch"  # default output folder: INPUT_batch beside the input
@@ -67,6 +71,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--mc", type=int, default=DEFAULT_NUM_DRAWS, metavar="N",
                         help="Monte Carlo draws of the elliptical intervals (default: "
                              "%(default)s)")
+    add_device_argument(parser, "where each worker's fits compute")
 
 
 def tasks_of(path: Path, num_draws: int) -> list[BatchTask]:
@@ -88,6 +93,8 @@ def run(args: argparse.Namespace) -> int:
     count(args.mc, 0, "--mc")
     if args.mc == 1:
         raise InputError("--mc must be 0 (no Monte Carlo) or at least 2, got 1")
+    if not args.scheduler:   # the local workers' torch is this one: refused before any work
+        chosen_device(args)
     tasks = tasks_of(args.input, args.mc)
     out_dir = args.out or args.input.with_name(args.input.stem + OUT_SUFFIX)
     check_output_folder(out_dir, "--out ")
@@ -103,7 +110,7 @@ def run(args: argparse.Namespace) -> int:
             print(f"Dask dashboard: {client.dashboard_link}")
         show = _progress_bar if is_terminal else _line
         records = run_batch(client, tasks, out_dir, args.retry_failed,
-                            on_record=show(len(tasks)))
+                            on_record=show(len(tasks)), device=args.device)
     return report(records, out_dir / SUMMARY_CSV)
 
 

@@ -6,7 +6,7 @@
                  [--start S] [--end S] [--fps N] [--out DIR] [--no-roi] [--refraction]
                  [--vertical-prior] [--hw PRESET|CSV|model] [--config FILE.json]
                  [--altitude-source laser|barometer|manual] [--altitude-calibration CAL.json]
-                 [--outline-sd-px PX] [--lens LENS.json]
+                 [--outline-sd-px PX] [--lens LENS.json] [--device auto|cpu|cuda]
 
 Without --masks the built-in tracker finds the dolphin by itself (automatic seed). Writes
 DIR/result.json (volume_m3, length_m, mass_kg, bci, frames, timings, status, …), DIR/result.npz
@@ -25,7 +25,10 @@ outline may lie off the animal's (default: the larger of 0.36 px at 1920 px wide
 proportion to the width, and 0.35 × the blur of the animal's edge: measured on the bench
 suite's clips). --lens (a `dolphinfit calibrate lens` file of the clip's video mode) undistorts
 the frames and masks the fit sees; without one, a fit whose animal reaches past half-way to
-the frame's corner is warned about.
+the frame's corner is warned about. --device is where the fit and the tracker's edge network
+compute: auto (the default) takes a CUDA GPU when the installed torch sees one, else the CPU;
+the salient network always runs on the CPU. The result is the same wherever it ran, to float
+rounding on a GPU.
 
 Exit codes: 0 the fit completed; 2 bad input; 1 an internal error, or a fit that ended early
 (status "diverged": the loss turned non-finite; "cancelled" comes only from callers of
@@ -39,6 +42,7 @@ from dataclasses import replace
 from pathlib import Path
 
 from dolphinfit.app.commands.altitude_options import add_altitude_offsets, check_altitude_offsets
+from dolphinfit.app.commands.device_option import add_device_argument, chosen_device
 from dolphinfit.app.progress import terminal_progress
 from dolphinfit.core.errors import InputError
 from dolphinfit.core.fit.config import FitConfig, fit_hw_table
@@ -109,6 +113,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--lens", type=Path, default=None, metavar="LENS.json",
                         help="fit through this lens model (`dolphinfit calibrate lens`, same "
                              "video mode; default: the --camera preset's, if it keeps one)")
+    add_device_argument(parser, "where the fit and, without --masks, the tracker's edge "
+                                "network compute (its salient network runs on the CPU)")
 
 
 def fit_config(args: argparse.Namespace) -> FitConfig:
@@ -171,10 +177,11 @@ def run(args: argparse.Namespace) -> int:
         clip = open_clip(args.clip)
         lens.check_image_size(clip.width_px, clip.height_px, lens_name)
         print(f"fitting through {lens_name}", file=sys.stderr)
-    fit_run = run_fit(args.clip, altitude, args.masks, camera, fit_config(args),
+    config, device = fit_config(args), chosen_device(args)
+    fit_run = run_fit(args.clip, altitude, args.masks, camera, config,
                       args.launch_height, progress=terminal_progress(),
                       time_offset_s=args.time_offset, altitude_calibration=calibration,
-                      lens=lens)
+                      lens=lens, device=device)
     return report(fit_run, args.out, camera, args.altitude_source, args.outline_sd_px,
                   calibration)
 

@@ -2,7 +2,7 @@
 
   dolphinfit masks CLIP|IMAGE|FOLDER (--seed X,Y | --box X,Y,W,H | --auto) --out DIR [--frame N]
                    [--backend network|network-colour-edges|colour|sam2
-                    [--sam2-checkpoint PATH]] [--every K]
+                    [--sam2-checkpoint PATH]] [--every K] [--device auto|cpu|cuda]
 
 --backend picks who draws the masks: the salient-object network on a crop around the animal,
 its outline drawn by the project's edge network (default; keeps light-grey flukes over green
@@ -11,7 +11,10 @@ water; about 0.9–1.4 s per frame on two cores), the same with the outline plac
 dark animals over clear water) or SAM-2, the paper's segmenter, for users who installed its
 `sam2` package themselves: --sam2-checkpoint names the checkpoint file downloaded for it (e.g.
 sam2.1_hiera_tiny.pt); it needs --seed or --box. --every K runs the network or SAM-2 on every
-K-th frame only (the others are written empty), e.g. the frames a fit will use.
+K-th frame only (the others are written empty), e.g. the frames a fit will use. --device is
+where the edge network and SAM-2 run: auto (the default) takes a CUDA GPU when the installed
+torch sees one, else the CPU; the salient network and the colour tracker always run on the
+CPU.
 
 --seed is a click on the animal and --box a box around it (top-left x, y, width, height), in
 pixels of frame N (--frame, default 0); --auto finds the animal by itself in frame N or,
@@ -29,6 +32,7 @@ import sys
 from collections.abc import Collection
 from pathlib import Path
 
+from dolphinfit.app.commands.device_option import add_device_argument, chosen_device
 from dolphinfit.app.progress import is_tenth
 from dolphinfit.core.errors import InputError
 from dolphinfit.core.io.masks import MaskTrack, check_mask_output, write_masks
@@ -59,6 +63,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     add_sam2_argument(parser)
     parser.add_argument("--every", type=int, default=1, metavar="K",
                         help="network and SAM-2: segment every K-th frame only (default 1)")
+    add_device_argument(parser, "where the edge network and SAM-2 run (the salient network "
+                                "and the colour tracker run on the CPU)")
 
 
 def add_sam2_argument(parser: argparse.ArgumentParser) -> None:
@@ -129,6 +135,7 @@ def run(args: argparse.Namespace) -> int:
     seed = parse_seed(args)
     checkpoint = sam2_checkpoint(args, (args.backend,))
     every = count(args.every, 1, "--every")
+    device = chosen_device(args)
     with open_media(args.clip) as frames:  # a video, a still or a folder of frames
         clip = frames.clip
         if not 0 <= args.frame < clip.num_frames:
@@ -139,7 +146,8 @@ def run(args: argparse.Namespace) -> int:
         except InputError as exc:
             raise InputError(f"{'--seed' if args.seed is not None else '--box'}: "
                              f"{exc}") from None
-        segmenter = make_segmenter(args.backend, range(0, clip.num_frames, every), checkpoint)
+        segmenter = make_segmenter(args.backend, range(0, clip.num_frames, every), checkpoint,
+                                   device)
         try:
             track = segmenter.segment(frames, seed, progress=_progress)
         except InputError as exc:

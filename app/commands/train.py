@@ -1,7 +1,7 @@
 """Train the project's own networks again from synthetic clips, reproducibly.
 
   dolphinfit train edges --out PATH [--clips N] [--hard-clips N] [--steps N] [--seed S]
-                         [--workers N]
+                         [--workers N] [--device auto|cpu|cuda]
 
 `edges` trains the edge network, which draws the animal's outline in the network tracker's
 window (core/segment/edge_net.py). It renders --clips random synthetic clips and --hard-clips
@@ -9,9 +9,12 @@ of the hard scenes (surfacing, heavy glitter, faint deep passes, dark animals ov
 the cache (none of them the bench suite's; about 30 s each, on --workers processes; kept for
 the next run), cuts the tracker's windows out of them and fits the network on patches of them for
 --steps steps (about 0.6 s each on two cores), then writes the weights and a record of the run
-to --out. The bundled weights are resources/models/edge_net_v1.npz, made with the defaults:
+to --out. --device is where the network trains: auto (the default) takes a CUDA GPU when the
+installed torch sees one, else the CPU; the clips and windows are made on the CPU. Weights
+trained on a GPU differ from the CPU's in float rounding. The bundled weights are
+resources/models/edge_net_v1.npz, made with the defaults on the CPU:
 
-  dolphinfit --threads 2 train edges --out resources/models/edge_net_v1.npz
+  dolphinfit --threads 2 train edges --device cpu --out resources/models/edge_net_v1.npz
 """
 
 import argparse
@@ -19,6 +22,7 @@ import json
 from dataclasses import replace
 from pathlib import Path
 
+from dolphinfit.app.commands.device_option import add_device_argument, chosen_device
 from dolphinfit.app.progress import terminal_progress
 from dolphinfit.core.errors import InputError
 from dolphinfit.core.io.output_paths import check_output_file
@@ -43,6 +47,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help=f"draws the clips and the training (default {defaults.seed})")
     parser.add_argument("--workers", type=int, default=2,
                         help="processes rendering clips (default 2)")
+    add_device_argument(parser, "where the network trains")
 
 
 def run(args: argparse.Namespace) -> int:
@@ -55,7 +60,8 @@ def run(args: argparse.Namespace) -> int:
                        hard_clips=count(args.hard_clips, 0, "--hard-clips"),
                        steps=count(args.steps, 1, "--steps"), seed=count(args.seed, 0, "--seed"))
     workers = count(args.workers, 1, "--workers")
-    record = train_edges(settings, args.out, workers, terminal_progress())
+    record = train_edges(settings, args.out, workers, terminal_progress(),
+                         device=chosen_device(args))
     print(json.dumps(record["checks"][-1]))
     print(f"wrote {args.out}")
     return 0

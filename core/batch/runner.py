@@ -18,17 +18,20 @@ from dolphinfit.core.batch.record import STATUS_FAILED, TaskRecord
 from dolphinfit.core.batch.summary import SUMMARY_CSV, write_summary
 from dolphinfit.core.batch.task import BatchTask
 from dolphinfit.core.batch.task_run import describe, run_task
+from dolphinfit.core.device import CPU
 
 
 def run_batch(client: Client, tasks: Sequence[BatchTask], out_dir: Path,
               retry_failed: bool = False,
-              on_record: Callable[[int, TaskRecord], None] | None = None) -> list[TaskRecord]:
+              on_record: Callable[[int, TaskRecord], None] | None = None,
+              device: str = CPU) -> list[TaskRecord]:
     """Run every task (finished ones are skipped by the tasks themselves), write
     ``out_dir/summary.csv`` and return the records in the tasks' order; ``on_record`` gets
-    each task's index and record as it finishes."""
+    each task's index and record as it finishes. ``device`` names where the fits compute
+    (core.device), resolved on each worker."""
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
-    futures = [client.submit(run_task, task, out_dir, retry_failed, pure=False)
+    futures = [client.submit(run_task, task, out_dir, retry_failed, device, pure=False)
                for task in tasks]
     position = {future.key: i for i, future in enumerate(futures)}
     records: list[TaskRecord | None] = [None] * len(tasks)

@@ -18,6 +18,7 @@ from dolphinfit.core.batch.record import (
 )
 from dolphinfit.core.batch.summary import elliptical_values, fit_interval_values, fit_values
 from dolphinfit.core.batch.task import BatchTask, ProjectMeasurement
+from dolphinfit.core.device import CPU, resolve_device
 from dolphinfit.core.errors import InputError
 from dolphinfit.core.fit.outputs import write_outputs
 from dolphinfit.core.fit.pipeline import FitRun, run_fit
@@ -36,9 +37,12 @@ def describe(exc: Exception) -> str:
     return str(exc) if isinstance(exc, InputError) else f"{type(exc).__name__}: {exc}"
 
 
-def run_task(task: BatchTask, out_dir: Path, retry_failed: bool = False) -> TaskRecord:
+def run_task(task: BatchTask, out_dir: Path, retry_failed: bool = False,
+             device: str = CPU) -> TaskRecord:
     """Run ``task`` into ``out_dir/task.name`` unless a finished record of the same inputs is
-    there (a failed one runs again only with ``retry_failed``); its record."""
+    there (a failed one runs again only with ``retry_failed``); its record. The fit computes
+    on ``device`` (a core.device name, resolved here, on the worker); the record does not
+    say where."""
     out_dir = Path(out_dir)
     folder = out_dir / task.name
     start = time.perf_counter()
@@ -52,7 +56,7 @@ def run_task(task: BatchTask, out_dir: Path, retry_failed: bool = False) -> Task
             and (done.status == STATUS_COMPLETE or not retry_failed)):
         return replace(done, reused=True)
     with atomic_folder(folder) as partial:
-        values, errors, notes = _run_methods(task, partial)
+        values, errors, notes = _run_methods(task, partial, device)
         values["notes"] = "; ".join(notes)
         record = TaskRecord(task.name, task.clip, task.animal_id,
                             STATUS_FAILED if errors else STATUS_COMPLETE, "; ".join(errors),
@@ -61,7 +65,8 @@ def run_task(task: BatchTask, out_dir: Path, retry_failed: bool = False) -> Task
     return record
 
 
-def _run_methods(task: BatchTask, folder: Path) -> tuple[dict[str, Any], list[str], list[str]]:
+def _run_methods(task: BatchTask, folder: Path,
+                 device: str) -> tuple[dict[str, Any], list[str], list[str]]:
     """Both methods' values, the errors and the notes."""
     values: dict[str, Any] = {}
     errors: list[str] = []
@@ -71,7 +76,7 @@ def _run_methods(task: BatchTask, folder: Path) -> tuple[dict[str, Any], list[st
         notes.append("no 3D fit: only video clips are fitted")
     else:
         try:
-            run = _fit(task, folder)
+            run = _fit(task, folder, device)
             values.update(fit_values(run.result))
             if run.result.status != FIT_COMPLETE:
                 errors.append(f"fit {run.result.status}: {run.result.status_message}")
@@ -98,12 +103,12 @@ def _run_methods(task: BatchTask, folder: Path) -> tuple[dict[str, Any], list[st
     return values, errors, notes
 
 
-def _fit(task: BatchTask, folder: Path) -> FitRun:
+def _fit(task: BatchTask, folder: Path, device: str) -> FitRun:
     fit = task.fit
     run = run_fit(fit.clip, fit.altitude, fit.masks, fit.camera, fit.config,
                   fit.launch_height_m, seed=fit.seed, time_offset_s=fit.time_offset_s,
                   altitude_calibration=fit.altitude_calibration, also_frames=fit.also_frames,
-                  lens=fit.lens)
+                  lens=fit.lens, device=resolve_device(device))
     write_outputs(run.result, run.data, load_template(), folder)
     return run
 

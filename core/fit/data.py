@@ -54,6 +54,21 @@ class FitData:
         """T."""
         return len(self.frame_idx)
 
+    @property
+    def device(self) -> torch.device:
+        """Where the tensors lie."""
+        return self.images.device
+
+    def to(self, device: torch.device | str) -> "FitData":
+        """The same data with its tensors on ``device`` (the same tensors where they lie
+        there already)."""
+        viewport = self.viewport
+        return replace(self, images=self.images.to(device), masks=self.masks.to(device),
+                       camera=replace(self.camera,
+                                      altitude_m=self.camera.altitude_m.to(device)),
+                       viewport=replace(viewport, x0_px=viewport.x0_px.to(device),
+                                        y0_px=viewport.y0_px.to(device)))
+
 
 def downscaled(data: FitData, factor: int) -> FitData | None:
     """The same frames at 1/``factor`` of the resolution (each pixel the mean of factor ×

@@ -52,17 +52,21 @@ def fitted_template(template: Template, config: FitConfig) -> Template:
 
 
 def fit(data: FitData, config: FitConfig = FitConfig(), template: Template | None = None, *,
-        progress: ProgressCallback | None = None,
-        cancel: threading.Event | None = None) -> FitResult:
+        progress: ProgressCallback | None = None, cancel: threading.Event | None = None,
+        device: torch.device | str = "cpu") -> FitResult:
     """Fit the model to ``data``; deterministic for the same inputs and configuration, to
     the last bit whatever torch's thread count: chunks of frames run on as many worker
     threads, one torch thread each (core.runtime.single_thread_workers).
+
+    The data, the model and the parameters live on ``device`` (core.device) while the fit
+    runs; the result is built on the CPU, in float64, wherever the fit ran. On a GPU two runs
+    agree within float rounding only: its scatters add in no fixed order.
 
     Once ``cancel`` is set the fit returns the best state reached with status "cancelled";
     before the first optimisation step there is nothing to keep and it raises Cancelled.
     """
     with single_thread_workers(torch.get_num_threads()) as pool:
-        return _fit(data, config, template, progress, cancel, pool)
+        return _fit(data.to(device), config, template, progress, cancel, pool)
 
 
 def _fit(data: FitData, config: FitConfig, template: Template | None,
@@ -72,7 +76,7 @@ def _fit(data: FitData, config: FitConfig, template: Template | None,
     reporter = FitReporter(config.total_steps, progress)
     reporter.report(PREPARE_STAGE, "placing the model")
     template = fitted_template(template if template is not None else load_template(), config)
-    model = DolphinModel(template)
+    model = DolphinModel(template).to(data.device)
     problem = FitProblem(data, model, template, config, reporter, cancel, pool)
     state = initial_state(data, model, config.init_depth_m)
     timings: dict[str, float] = {}
@@ -98,7 +102,7 @@ def _fit(data: FitData, config: FitConfig, template: Template | None,
                 parts = shape_parts(problem, steps)
             else:
                 at_coarse = min(steps, max(0, config.coarse_steps - done))
-                every = torch.arange(data.num_frames)
+                every = torch.arange(data.num_frames, device=data.device)
                 parts = [(coarse, every, at_coarse), (problem, every, steps - at_coarse)]
             run_in_parts(params, stage, parts, fade, history)
             done += steps
@@ -131,22 +135,23 @@ def quality_warnings(ious: np.ndarray) -> tuple[str, ...]:
 def _result(problem: FitProblem, params: SceneParams, history: list[dict],
             timings: dict[str, float], warnings: tuple[str, ...], status: str,
             status_message: str) -> FitResult:
-    model = DolphinModel(problem.template, dtype=torch.float64)
+    model = DolphinModel(problem.template, dtype=torch.float64)   # on the CPU
     profile = problem.profile(params)
-    profile = None if profile is None else profile.detach().double()
+    profile = None if profile is None else profile.detach().double().cpu()
     with torch.no_grad():
-        betas = params.full_betas().double()
+        betas = params.full_betas().double().cpu()
         rest, _ = model.forward_rest(betas, profile)
-        posed = model(betas, params.pose().double(), params.transl.double(), profile).verts
+        posed = model(betas, params.pose().double().cpu(), params.transl.double().cpu(),
+                      profile).verts
         volume = float(mesh_volume(rest, model.faces))
         length = float(body_length(rest, model.rostrum_idx, model.notch_idx))
-    ious = problem.frame_ious(params)
+    ious = problem.frame_ious(params).cpu()
     warnings = warnings + quality_warnings(ious.double().numpy())
     condition = body_condition(np.float64(length), np.float64(volume))
     return FitResult(
         betas=betas.numpy(), profile=None if profile is None else profile.numpy(),
-        pose_aa=params.pose().detach().double().numpy(),
-        transl=params.transl.detach().double().numpy(), frame_idx=problem.data.frame_idx,
+        pose_aa=_float64(params.pose()), transl=_float64(params.transl),
+        frame_idx=problem.data.frame_idx,
         time_s=problem.data.time_s, iou=ious.double().numpy(), rest_verts=rest.numpy(),
         posed_verts=posed.numpy(), faces=model.faces.numpy(),
         albedo=_float64(params.albedo), f_water=_float64(params.f_water),
@@ -160,4 +165,4 @@ def _result(problem: FitProblem, params: SceneParams, history: list[dict],
 
 
 def _float64(tensor: torch.Tensor) -> np.ndarray:
-    return tensor.detach().double().numpy()
+    return tensor.detach().double().cpu().numpy()

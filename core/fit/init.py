@@ -37,7 +37,8 @@ def silhouette_centroid_offset(model: DolphinModel) -> np.ndarray:
     v0, v1, v2 = (verts[model.faces[:, k]] for k in range(3))
     area_up = 0.5 * torch.linalg.cross(v1 - v0, v2 - v0, dim=-1)[:, 2].clamp(min=0.0)
     centre = (v0 + v1 + v2)[:, :2] / 3.0
-    return ((centre * area_up[:, None]).sum(0) / area_up.sum()).numpy() - model.rest_joints[0, :2].double().numpy()
+    offset = (centre * area_up[:, None]).sum(0) / area_up.sum()
+    return offset.cpu().numpy() - model.rest_joints[0, :2].double().cpu().numpy()
 
 
 def template_length_m(model: DolphinModel) -> float:
@@ -55,8 +56,9 @@ def initial_state(data: FitData, model: DolphinModel, depth_m: float) -> Initial
     """Centroid, continuous heading and length estimate from the masks of ``data``."""
     gsd = (data.camera.altitude_m.double() + depth_m) / data.camera.intrinsics.focal_px
     centres_px, headings, extents_m = [], [], []
+    masks = data.masks.cpu().numpy()
     for t in range(data.num_frames):
-        rows, cols = np.nonzero(data.masks[t].numpy() > 0.5)
+        rows, cols = np.nonzero(masks[t] > 0.5)
         points = np.stack([cols + float(data.viewport.x0_px[t]),
                            rows + float(data.viewport.y0_px[t])], 1).astype(np.float64)
         centre = points.mean(0)

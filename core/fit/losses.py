@@ -24,8 +24,9 @@ def rgb_loss(colour: torch.Tensor, frame: torch.Tensor, image: torch.Tensor,
     """
     both = (target > 0.5).to(colour.dtype)
     error = ((colour - image) ** 2).sum(-1) * both
-    per_frame = torch.zeros(num_frames, dtype=colour.dtype).index_add(0, frame, error)
-    count = torch.zeros(num_frames, dtype=colour.dtype).index_add(0, frame, both)
+    like = dict(dtype=colour.dtype, device=colour.device)
+    per_frame = torch.zeros(num_frames, **like).index_add(0, frame, error)
+    count = torch.zeros(num_frames, **like).index_add(0, frame, both)
     return (per_frame / count.clamp(min=1.0)).sum()
 
 

@@ -46,8 +46,9 @@ class FitProblem:
         self.settings = RasterSettings(max_faces_per_pixel=config.max_faces_per_pixel,
                                        soft_primitives=config.soft_primitives)
         self.edges = mesh_edges(model.faces)
-        self.face_uvs = torch.tensor(template.uvs[template.face_uvs_idx], dtype=torch.float32)
-        self.time_s = torch.as_tensor(data.time_s, dtype=torch.float32)
+        like = dict(dtype=torch.float32, device=data.device)
+        self.face_uvs = torch.tensor(template.uvs[template.face_uvs_idx], **like)
+        self.time_s = torch.as_tensor(data.time_s, **like)
         interval = float(np.median(np.diff(data.time_s))) if data.num_frames > 1 else 1.0
         self.frame_ratio = SMOOTH_REFERENCE_S / interval
         self.set_targets(data.masks)
@@ -61,7 +62,7 @@ class FitProblem:
 
     def use_all_frames(self) -> None:
         """Render every frame in each step."""
-        self.set_frames(torch.arange(self.data.num_frames))
+        self.set_frames(torch.arange(self.data.num_frames, device=self.data.device))
 
     def set_frames(self, frames: torch.Tensor) -> None:
         """Render only ``frames`` in each step, in chunks."""
@@ -102,7 +103,8 @@ class FitProblem:
                 return mask_iou(self.render_chunk(params, chunk).coverage,
                                 self.data.masks[chunk] > 0.5)
 
-        chunks = equal_chunks(torch.arange(self.data.num_frames), self.chunk_frames)
+        chunks = equal_chunks(torch.arange(self.data.num_frames, device=self.data.device),
+                              self.chunk_frames)
         return torch.cat(self.map_chunks(work, chunks, cancellable=False))
 
     def restrict_to_explained_frames(self, params: SceneParams) -> list[str]:
@@ -110,7 +112,7 @@ class FitProblem:
         iou = self.frame_ious(params)
         keep = iou >= float(iou.median()) - self.config.shape_iou_margin
         self.set_frames(torch.nonzero(keep)[:, 0])
-        dropped = self.data.frame_idx[(~keep).numpy()]
+        dropped = self.data.frame_idx[(~keep).cpu().numpy()]
         if len(dropped) == 0:
             return []
         return [f"{len(dropped)} of {len(iou)} frames left out of the shape stage (IoU after "
@@ -258,4 +260,5 @@ def evenly_spaced(frames: torch.Tensor, limit: int) -> torch.Tensor:
     """At most ``limit`` of ``frames`` (all of them for 0), spread evenly from first to last."""
     if limit <= 0 or len(frames) <= limit:
         return frames
-    return frames[torch.linspace(0, len(frames) - 1, limit).round().to(torch.int64)]
+    picks = torch.linspace(0, len(frames) - 1, limit, device=frames.device)
+    return frames[picks.round().to(torch.int64)]

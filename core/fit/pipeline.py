@@ -4,7 +4,8 @@ no masks are given (the CLI, the demo and the benchmarks).
 
 Progress and cancel follow core.progress and core.fit.reporter; a cancel during the
 optimisation returns the best state reached (``FitResult.status`` "cancelled"), one before it
-raises core.progress.Cancelled.
+raises core.progress.Cancelled. ``device`` (core.device) is where the fit and the edge
+network compute; the data the run keeps stays on the CPU.
 """
 
 import threading
@@ -13,6 +14,7 @@ from dataclasses import dataclass, replace
 from pathlib import Path
 
 import numpy as np
+import torch
 
 from dolphinfit.core.camera_presets import DEFAULT_PRESET, get_preset
 from dolphinfit.core.errors import InputError
@@ -80,12 +82,13 @@ class FitRun:
 def fit_clip(frames: FrameSource, telemetry: Telemetry, masks: MaskTrack,
              intrinsics: CameraIntrinsics, config: FitConfig,
              progress: ProgressCallback | None = None,
-             cancel: threading.Event | None = None, lens: LensModel | None = None) -> FitRun:
+             cancel: threading.Event | None = None, lens: LensModel | None = None,
+             device: torch.device | str = "cpu") -> FitRun:
     """Fit the clip of ``frames`` (full-frame ``intrinsics``) to its masks, through ``lens``
-    where given (the run keeps the masks as they were tracked)."""
+    where given (the run keeps the masks as they were tracked), on ``device``."""
     data = prepare_data(frames.clip, frames.frame, masks, telemetry, intrinsics, config,
                         progress=progress, cancel=cancel, lens=lens)
-    result = fit(data, config, progress=progress, cancel=cancel)
+    result = fit(data, config, progress=progress, cancel=cancel, device=device)
     result = replace(result, edge_blur_px=fitted_edge_blur(data, frames.clip.width_px))
     return FitRun(clip=frames.clip, telemetry=telemetry, masks=masks, data=data, result=result)
 
@@ -131,14 +134,16 @@ def run_fit(clip_path: Path, altitude: str | Path | float | None, masks_path: Pa
             cancel: threading.Event | None = None, seed: Seed = AutoSeed(frame_idx=0),
             time_offset_s: float = 0.0, backend: str = DEFAULT_BACKEND,
             altitude_calibration: AltitudeCalibration | None = None,
-            also_frames: Sequence[int] = (), lens: LensModel | None = None) -> FitRun:
+            also_frames: Sequence[int] = (), lens: LensModel | None = None,
+            device: torch.device | str = "cpu") -> FitRun:
     """Fit the clip; without ``masks_path`` the mask ``backend`` (core.segment.backends)
     finds the dolphin from ``seed`` on the frames the fit will look at and on
     ``also_frames`` (e.g. the frames measured by the elliptical method), reporting its own
     "track" stage first. An automatic seed is the animal a scan of the fit's window follows
     longest (``scanned_seed``), the masks' source naming it. An ``altitude_calibration`` of
     the clip's camera corrects the altitudes first; a ``lens`` of its video mode undistorts
-    the frames and masks the fit sees."""
+    the frames and masks the fit sees. The fit and the mask back-end's networks run on
+    ``device`` (the salient network and the scan on the CPU)."""
     clip = open_clip(clip_path)
     telemetry = load_telemetry(clip, altitude, launch_height_m, time_offset_s)
     intrinsics = camera.intrinsics(clip)
@@ -157,8 +162,9 @@ def run_fit(clip_path: Path, altitude: str | Path | float | None, masks_path: Pa
             if isinstance(seed, AutoSeed):
                 seed, note = scanned_seed(frames, telemetry, intrinsics, config, seed,
                                           progress, cancel)
-            masks = make_segmenter(backend, only_frames=tracked).segment(
+            masks = make_segmenter(backend, only_frames=tracked, device=device).segment(
                 frames, seed, progress=progress, cancel=cancel)
             if note is not None:
                 masks = replace(masks, source=f"{masks.source}; {note}")
-        return fit_clip(frames, telemetry, masks, intrinsics, config, progress, cancel, lens)
+        return fit_clip(frames, telemetry, masks, intrinsics, config, progress, cancel, lens,
+                        device)

@@ -77,16 +77,17 @@ def initial_params(data: FitData, model: DolphinModel, template: Template, confi
     num_frames, num_groups = data.num_frames, model.num_groups
     root = np.zeros((num_frames, 3))
     root[:, 2] = heading
-    light = SGLight.overhead_sun()
+    like = dict(dtype=torch.float32, device=data.device)
+    light = SGLight.overhead_sun(**like)
     tensors = dict(
-        root_aa=torch.tensor(root, dtype=torch.float32),
-        body_pose=torch.zeros(num_frames, num_groups - 1, 3),
-        transl=torch.tensor(transl, dtype=torch.float32),
-        log_scale=torch.tensor(state.log_scale, dtype=torch.float32),
-        betas=torch.zeros(num_groups, 4),
-        profile=torch.zeros(2, NUM_KNOTS),
-        albedo=torch.tensor(template.albedo / 255.0, dtype=torch.float32),
-        f_water=torch.full((3,), INITIAL_F_WATER),
+        root_aa=torch.tensor(root, **like),
+        body_pose=torch.zeros(num_frames, num_groups - 1, 3, **like),
+        transl=torch.tensor(transl, **like),
+        log_scale=torch.tensor(state.log_scale, **like),
+        betas=torch.zeros(num_groups, 4, **like),
+        profile=torch.zeros(2, NUM_KNOTS, **like),
+        albedo=torch.tensor(template.albedo / 255.0, **like),
+        f_water=torch.full((3,), INITIAL_F_WATER, **like),
         light_axes=light.axes.clone(), light_sharpness=light.sharpness.clone(),
         light_amplitude=light.amplitude.clone())
     return SceneParams(**{k: v.requires_grad_() for k, v in tensors.items()})

@@ -54,7 +54,8 @@ def choose_heading(problem: FitProblem, candidates: list[SceneParams], history: 
     """Fit both headings for a few steps and keep the one with the lower loss."""
     trial_started = time.perf_counter()
     trials = []
-    problem.set_frames(evenly_spaced(torch.arange(problem.data.num_frames),
+    problem.set_frames(evenly_spaced(torch.arange(problem.data.num_frames,
+                                                  device=problem.data.device),
                                      problem.config.heading_max_frames))
     try:
         for candidate in candidates:
@@ -155,13 +156,14 @@ def preview(problem: FitProblem, params: SceneParams) -> FitPreview:
     with torch.no_grad():
         posed = problem.model(params.full_betas(), params.pose(), params.transl,
                               problem.profile(params)).verts
-    return FitPreview(frame_idx=problem.data.frame_idx, posed_verts=posed.numpy().copy())
+    return FitPreview(frame_idx=problem.data.frame_idx, posed_verts=posed.cpu().numpy().copy())
 
 
 def debiased_targets(problem: FitProblem, params: SceneParams) -> torch.Tensor:
     """Soft targets with the renderer's edge profile, measured on the initial model."""
     with torch.no_grad():
-        chunk = torch.arange(min(PROFILE_FRAMES, problem.data.num_frames))
+        chunk = torch.arange(min(PROFILE_FRAMES, problem.data.num_frames),
+                             device=problem.data.device)
         out = problem.render_chunk(params, chunk)
     profile = edge_profile(out.soft_mask, out.coverage)
     return soft_targets(problem.data.masks, profile, problem.config.target_edge_scale)

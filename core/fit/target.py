@@ -28,9 +28,10 @@ def edge_profile(soft_mask: torch.Tensor, coverage: torch.Tensor) -> np.ndarray:
     soft_mask, coverage: (T, H, W). Bin k covers distances [k·0.25, (k + 1)·0.25) px; empty
     bins take the value of the bin before them (0 beyond the last populated one).
     """
-    distance = outside_distance_px(coverage.numpy())
-    soft = soft_mask.detach().numpy()
-    outside = ~coverage.numpy()
+    covered = coverage.cpu().numpy()
+    distance = outside_distance_px(covered)
+    soft = soft_mask.detach().cpu().numpy()
+    outside = ~covered
     bins = np.minimum((distance[outside] / PROFILE_BIN_PX).astype(int),
                       int(PROFILE_MAX_PX / PROFILE_BIN_PX))
     sums = np.bincount(bins, weights=soft[outside], minlength=int(PROFILE_MAX_PX / PROFILE_BIN_PX) + 1)
@@ -46,8 +47,8 @@ def edge_profile(soft_mask: torch.Tensor, coverage: torch.Tensor) -> np.ndarray:
 
 def soft_targets(masks: torch.Tensor, profile: np.ndarray, edge_scale: float) -> torch.Tensor:
     """(T, H, W) targets: 1 on the mask, ``edge_scale`` × the edge profile outside it."""
-    hard = masks.numpy() > 0.5
+    hard = masks.cpu().numpy() > 0.5
     distance = outside_distance_px(hard)
     bins = np.minimum((distance / PROFILE_BIN_PX).astype(int), len(profile) - 1)
     soft = np.where(hard, 1.0, edge_scale * profile[bins])
-    return torch.as_tensor(soft, dtype=masks.dtype)
+    return torch.as_tensor(soft, dtype=masks.dtype, device=masks.device)

@@ -82,11 +82,21 @@ class ProfileField(torch.nn.Module):
 
     def __init__(self, template: Template, dtype: torch.dtype = torch.float32):
         super().__init__()
-        self.fins = fin_index(template)
+        fins = fin_index(template)
+        self.num_fins = len(fins)
+        for k, (fin, base) in enumerate(fins):   # buffers, so that .to(device) moves them
+            self.register_buffer(f"fin_{k}", fin)
+            self.register_buffer(f"fin_base_{k}", base)
         sections = body_sections(template)
         self.register_buffer("body", torch.as_tensor(sections.body))
         self.register_buffer("basis", torch.tensor(spline_basis(sections.t), dtype=dtype))
         self.register_buffer("centre_z", torch.tensor(sections.centre_z, dtype=dtype))
+
+    @property
+    def fins(self) -> FinIndex:
+        """(fin vertices, base vertices) index pairs, one per fin (``fin_index``)."""
+        return [(self.get_buffer(f"fin_{k}"), self.get_buffer(f"fin_base_{k}"))
+                for k in range(self.num_fins)]
 
     def forward(self, rest_verts: torch.Tensor, coefficients: torch.Tensor) -> torch.Tensor:
         """(V, 3) rest vertices reshaped by ``coefficients`` (2, K)."""

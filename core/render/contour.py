@@ -44,7 +44,8 @@ def contour_edges(front: torch.Tensor, depth: torch.Tensor,
     """
     with torch.no_grad():
         facing = front.to(torch.int64).repeat_interleave(3, dim=1)         # (T, 3F)
-        num_front = torch.zeros(front.shape[0], edges.verts.shape[0], dtype=torch.int64)
+        num_front = torch.zeros(front.shape[0], edges.verts.shape[0], dtype=torch.int64,
+                                device=front.device)
         num_front.index_add_(1, edges.of_corner, facing)
         mixed = (num_front > 0) & (num_front < edges.num_faces)
         on_contour = mixed | (edges.num_faces == 1)

@@ -29,10 +29,12 @@ def ragged_chunks(counts: torch.Tensor, max_pairs: int) -> Iterator[RaggedChunk]
     while start < num_owners:
         offset = ends[start] - counts[start]
         stop = max(int(torch.searchsorted(ends, offset + max_pairs, right=True)), start + 1)
-        owner = torch.repeat_interleave(torch.arange(start, stop), counts[start:stop])
+        owner = torch.repeat_interleave(torch.arange(start, stop, device=counts.device),
+                                        counts[start:stop])
         if owner.numel():
             yield RaggedChunk(owner=owner,
-                              local=torch.arange(owner.shape[0]) - (ends - counts - offset)[owner])
+                              local=torch.arange(owner.shape[0], device=owner.device)
+                              - (ends - counts - offset)[owner])
         start = stop
 
 

@@ -28,10 +28,11 @@ def gaussian_kernel(sigma_px: float, dtype: torch.dtype) -> torch.Tensor:
 
 
 @lru_cache(maxsize=64)
-def pool_blur_matrix(size: int, factor: int, sigma_px: float,
-                     dtype: torch.dtype) -> torch.Tensor:
+def pool_blur_matrix(size: int, factor: int, sigma_px: float, dtype: torch.dtype,
+                     device: torch.device) -> torch.Tensor:
     """(⌈size / factor⌉, size) matrix of average pooling by ``factor`` along one axis, then
-    a Gaussian blur of σ ``sigma_px`` with zero padding."""
+    a Gaussian blur of σ ``sigma_px`` with zero padding; built on the CPU (a loop of small
+    writes), kept on ``device``."""
     pooled = math.ceil(size / factor)
     pool = torch.zeros(pooled, size, dtype=dtype)
     for row in range(pooled):
@@ -43,14 +44,14 @@ def pool_blur_matrix(size: int, factor: int, sigma_px: float,
     for offset, tap in zip(range(-radius, radius + 1), kernel.tolist()):
         if abs(offset) < pooled:
             blur += tap * torch.diag(torch.ones(pooled - abs(offset), dtype=dtype), offset)
-    return blur @ pool
+    return (blur @ pool).to(device)
 
 
 def silhouette_pyramid(masks: torch.Tensor) -> list[torch.Tensor]:
     """Blurred pooled copies of soft masks (T, H, W), coarsest first."""
     height, width = masks.shape[1:]
-    return [pool_blur_matrix(height, factor, sigma, masks.dtype) @ masks
-            @ pool_blur_matrix(width, factor, sigma, masks.dtype).T
+    return [pool_blur_matrix(height, factor, sigma, masks.dtype, masks.device) @ masks
+            @ pool_blur_matrix(width, factor, sigma, masks.dtype, masks.device).T
             for factor, sigma in PYRAMID_LEVELS]
 
 

@@ -108,7 +108,8 @@ def rasterize(xy_px: torch.Tensor, depth: torch.Tensor, faces: torch.Tensor, hei
         front_depth = tri_depth.reshape(-1, 3)[frame * faces.shape[0] + face]
         col_min, col_max, row_min, row_max = face_boxes(front_tri, width_px, height_px)
 
-        zbuf = torch.full((num_frames * num_pixels,), torch.inf, dtype=xy_px.dtype)
+        zbuf = torch.full((num_frames * num_pixels,), torch.inf, dtype=xy_px.dtype,
+                          device=xy_px.device)
         hits_pixel, hits_face, hits_depth = [], [], []
         for pairs in box_pair_chunks(col_min, col_max, row_min, row_max, max_pairs):
             point = torch.stack([pairs.col, pairs.row], dim=-1).to(xy_px.dtype)
@@ -121,7 +122,8 @@ def rasterize(xy_px: torch.Tensor, depth: torch.Tensor, faces: torch.Tensor, hei
             hits_pixel.append(pixel)
             hits_face.append(face[owner])
             hits_depth.append(z)
-        face_buf = torch.full((num_frames * num_pixels,), -1, dtype=torch.int64)
+        face_buf = torch.full((num_frames * num_pixels,), -1, dtype=torch.int64,
+                              device=xy_px.device)
         if hits_pixel:
             pixel, face_hit, z = torch.cat(hits_pixel), torch.cat(hits_face), torch.cat(hits_depth)
             nearest = z == zbuf[pixel]

@@ -52,7 +52,8 @@ class RenderOutput:
 
     def _image(self, values: torch.Tensor) -> torch.Tensor:
         shape = self.face_idx.shape
-        flat = torch.zeros(shape.numel(), *values.shape[1:], dtype=values.dtype)
+        flat = torch.zeros(shape.numel(), *values.shape[1:], dtype=values.dtype,
+                           device=values.device)
         return flat.index_put((self.pixel,), values).reshape(*shape, *values.shape[1:])
 
 

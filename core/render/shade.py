@@ -26,13 +26,15 @@ class SGLight:
     amplitude: torch.Tensor   # (K, 3) RGB μ ≥ 0
 
     @classmethod
-    def overhead_sun(cls, dtype: torch.dtype = torch.float32) -> "SGLight":
+    def overhead_sun(cls, dtype: torch.dtype = torch.float32,
+                     device: torch.device | str = "cpu") -> "SGLight":
         """A sun high in the sky, a broad sky lobe and a faint upwelling from below."""
-        axes = torch.tensor([[0.25, 0.15, 0.95], [0.0, 0.0, 1.0], [0.0, 0.0, -1.0]], dtype=dtype)
+        like = dict(dtype=dtype, device=device)
+        axes = torch.tensor([[0.25, 0.15, 0.95], [0.0, 0.0, 1.0], [0.0, 0.0, -1.0]], **like)
         return cls(axes=axes / torch.linalg.vector_norm(axes, dim=-1, keepdim=True),
-                   sharpness=torch.tensor([6.0, 0.8, 1.5], dtype=dtype),
+                   sharpness=torch.tensor([6.0, 0.8, 1.5], **like),
                    amplitude=torch.tensor([[1.9, 1.85, 1.75], [0.55, 0.6, 0.65],
-                                           [0.12, 0.14, 0.15]], dtype=dtype))
+                                           [0.12, 0.14, 0.15]], **like))
 
 
 def sg_irradiance(normals: torch.Tensor, light: SGLight) -> torch.Tensor:
@@ -90,7 +92,8 @@ def vertex_normals(verts: torch.Tensor, faces: torch.Tensor) -> torch.Tensor:
     face_normals = [edge_1[1] * edge_2[2] - edge_1[2] * edge_2[1],     # 2·area, (T, F) each
                     edge_1[2] * edge_2[0] - edge_1[0] * edge_2[2],
                     edge_1[0] * edge_2[1] - edge_1[1] * edge_2[0]]
-    normals = torch.stack([torch.zeros(num_frames, num_verts, dtype=verts.dtype)
+    normals = torch.stack([torch.zeros(num_frames, num_verts, dtype=verts.dtype,
+                                       device=verts.device)
                            .index_add(1, corner_major, component.repeat(1, 3))
                            for component in face_normals], dim=-1)
     return normals / torch.linalg.vector_norm(normals, dim=-1, keepdim=True).clamp(min=1e-20)

@@ -61,7 +61,8 @@ def soft_mask(xy_px: torch.Tensor, depth: torch.Tensor, faces: torch.Tensor,
     distance_sq = BoundaryDistanceSq.apply(polygon, band_xy[slot], *corner_edges)
     probability = torch.exp(-settings.sigma_px * distance_sq)
     log_keep = torch.log1p(-probability.clamp(max=MAX_PROBABILITY))
-    total = torch.zeros(band.shape[0], dtype=xy_px.dtype).index_add(0, slot, log_keep)
+    total = torch.zeros(band.shape[0], dtype=xy_px.dtype, device=xy_px.device).index_add(
+        0, slot, log_keep)
     mask = mask.index_put((band,), 1.0 - torch.exp(total))
     return mask.reshape(num_frames, height, width)
 
@@ -93,7 +94,8 @@ class BoundaryDistanceSq(torch.autograd.Function):
         dist_sq, nearest = (offset_x * offset_x + offset_y * offset_y).min(dim=1)
         pick = nearest[:, None]
         ctx.num_corners = corners.shape[1]
-        ctx.save_for_backward(torch.tensor(starts)[nearest], torch.tensor(ends)[nearest],
+        ctx.save_for_backward(torch.tensor(starts, device=nearest.device)[nearest],
+                              torch.tensor(ends, device=nearest.device)[nearest],
                               along.gather(1, pick)[:, 0],
                               torch.cat([offset_x.gather(1, pick), offset_y.gather(1, pick)], 1))
         return dist_sq
@@ -127,7 +129,7 @@ def candidate_pairs(corners: torch.Tensor, frame: torch.Tensor, frags: Fragments
 
     uncovered = ~frags.covered.reshape(-1)
     uncovered_pixels = torch.nonzero(uncovered, as_tuple=True)[0]
-    before = torch.zeros(uncovered.shape[0] + 1, dtype=torch.int64)
+    before = torch.zeros(uncovered.shape[0] + 1, dtype=torch.int64, device=uncovered.device)
     torch.cumsum(uncovered, 0, out=before[1:])
 
     parts = []
@@ -140,7 +142,7 @@ def candidate_pairs(corners: torch.Tensor, frame: torch.Tensor, frags: Fragments
             owner = item[run.owner]
             parts.append((owner, uncovered_pixels[start[run.owner] + run.local]))
     if not parts:
-        empty = torch.zeros(0, dtype=torch.int64)
+        empty = torch.zeros(0, dtype=torch.int64, device=frame.device)
         return empty, empty
     owner, pixel = (torch.cat(p) for p in zip(*parts))
     # a stable sort keeps each pixel's faces in index order; 32-bit keys sort twice as fast
@@ -166,7 +168,7 @@ def _uncovered_count(uncovered: torch.Tensor, frame: torch.Tensor, col_min: torc
 
 def _rank_within_runs(values: torch.Tensor) -> torch.Tensor:
     """Position of each element within its run of equal, adjacent values."""
-    position = torch.arange(values.shape[0])
+    position = torch.arange(values.shape[0], device=values.device)
     run_start = torch.ones_like(values, dtype=torch.bool)
     run_start[1:] = values[1:] != values[:-1]
     return position - torch.cummax(torch.where(run_start, position, 0), dim=0).values

@@ -9,9 +9,13 @@ than silently falling back to another back-end.
 
 from collections.abc import Sequence
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from dolphinfit.core.errors import InputError
 from dolphinfit.core.segment.segmenter import Segmenter
+
+if TYPE_CHECKING:
+    import torch
 
 NETWORK = "network"
 NETWORK_COLOUR_EDGES = "network-colour-edges"
@@ -32,15 +36,20 @@ ALWAYS_AVAILABLE = (NETWORK, NETWORK_COLOUR_EDGES, COLOUR)  # need only dolphinf
 
 
 def make_segmenter(backend: str = DEFAULT_BACKEND, only_frames: Sequence[int] | None = None,
-                   checkpoint: Path | str | None = None) -> Segmenter:
+                   checkpoint: Path | str | None = None,
+                   device: "torch.device | str" = "cpu") -> Segmenter:
     """A segmenter of ``backend``; ``only_frames`` limits the network and SAM-2 to those
     frames (the colour tracker is cheap enough to run on every frame and ignores it).
-    ``checkpoint``: SAM-2's checkpoint file, required for it (the others ignore it)."""
+    ``checkpoint``: SAM-2's checkpoint file, required for it (the others ignore it).
+    ``device`` (core.device): where the edge network and SAM-2 run; the salient network
+    (OpenCV) and the colour tracker always run on the CPU."""
     if backend in (NETWORK, NETWORK_COLOUR_EDGES):
+        from dolphinfit.core.segment.edge_steps import make_edge_step
         from dolphinfit.core.segment.net_settings import NetSettings
         from dolphinfit.core.segment.net_tracker import NetTracker
-        edges = "network" if backend == NETWORK else "colour"
-        return NetTracker(NetSettings(edges=edges), only_frames=only_frames)
+        settings = NetSettings(edges="network" if backend == NETWORK else "colour")
+        return NetTracker(settings, only_frames=only_frames,
+                          edges=make_edge_step(settings, device))
     if backend == COLOUR:
         from dolphinfit.core.segment.tracker import MaskTracker
         return MaskTracker()
@@ -48,6 +57,6 @@ def make_segmenter(backend: str = DEFAULT_BACKEND, only_frames: Sequence[int] | 
         if checkpoint is None:
             raise InputError(f"mask back-end {SAM2!r}: needs a SAM-2 checkpoint file (.pt)")
         from dolphinfit.core.segment.sam2_backend import Sam2Segmenter
-        return Sam2Segmenter(checkpoint, only_frames)
+        return Sam2Segmenter(checkpoint, only_frames, device=device)
     raise InputError(f"mask back-end {backend!r}: unknown; choose one of "
                      f"{', '.join(BACKENDS)}")

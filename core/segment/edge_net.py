@@ -149,8 +149,13 @@ class LearnedEdges:
 
     name = "edge network"
 
-    def __init__(self, weights: EdgeWeights | None = None, gap_px: int = 2) -> None:
+    def __init__(self, weights: EdgeWeights | None = None, gap_px: int = 2,
+                 device: torch.device | str = "cpu") -> None:
+        """``weights``: the bundled ones by default; their network is moved to ``device``,
+        where it runs (core.device)."""
         self.weights = weights if weights is not None else load_weights()
+        self.device = torch.device(device)
+        self.weights.net.to(self.device)
         self.gap_px = gap_px
 
     def probability(self, crop_rgb: np.ndarray, saliency: np.ndarray,
@@ -165,11 +170,11 @@ class LearnedEdges:
                                   interpolation=cv2.INTER_AREA)
             prior = cv2.resize(prior.astype(np.float32), size,
                                interpolation=cv2.INTER_AREA) >= 0.5
-        x = torch.from_numpy(net_input(crop_rgb, saliency, prior))[None]
+        x = torch.from_numpy(net_input(crop_rgb, saliency, prior))[None].to(self.device)
         small_height, small_width = x.shape[-2:]
         with torch.inference_mode():
             logits = self.weights.net(padded_to_multiple(x))[0, 0, :small_height, :small_width]
-        logits = logits.numpy()
+        logits = logits.cpu().numpy()
         if scale < 1.0:
             logits = cv2.resize(logits, (width, height), interpolation=cv2.INTER_LINEAR)
         return 1.0 / (1.0 + np.exp(-logits))

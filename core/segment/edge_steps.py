@@ -1,7 +1,7 @@
 """The network tracker's outline step (its module doc, step 3): the edge network's redraw,
 or the pixels near the outline re-decided by colour coverage."""
 
-from typing import Protocol
+from typing import TYPE_CHECKING, Protocol
 
 import cv2
 import numpy as np
@@ -12,6 +12,9 @@ from dolphinfit.core.segment.net_settings import EDGE_STEPS, NetSettings
 from dolphinfit.core.segment.regions import attached
 from dolphinfit.core.segment.seed import colour_models, dilate, erode
 from dolphinfit.core.segment.windows import MIN_WINDOW_PX
+
+if TYPE_CHECKING:
+    import torch
 
 MAX_CROP_COVER = 0.5  # a mask over more of its crop than this leaves no water to model
 
@@ -39,13 +42,13 @@ class ColourEdges:
         return refine_edges(crop_rgb, mask, self.settings)
 
 
-def make_edge_step(settings: NetSettings) -> EdgeStep:
-    """The outline step that ``settings.edges`` names."""
+def make_edge_step(settings: NetSettings, device: "torch.device | str" = "cpu") -> EdgeStep:
+    """The outline step that ``settings.edges`` names; the edge network runs on ``device``."""
     one_of(settings.edges, EDGE_STEPS, "network tracker edges")
     if settings.edges == "colour":
         return ColourEdges(settings)
     from dolphinfit.core.segment.edge_net import LearnedEdges
-    return LearnedEdges(gap_px=settings.gap_px)
+    return LearnedEdges(gap_px=settings.gap_px, device=device)
 
 
 def refine_edges(crop_rgb: np.ndarray, mask: np.ndarray, settings: NetSettings) -> np.ndarray:

@@ -225,12 +225,13 @@ def held_out_scores(edges: LearnedEdges, windows: list[Window]) -> dict[str, flo
 
 
 def train(train_windows: list[Window], held_out: list[Window], settings: TrainSettings,
-          progress: ProgressCallback | None = None,
-          log: Callable[[str], None] = print) -> tuple[EdgeNet, dict]:
-    """The network fitted to ``train_windows`` (module doc) and a record of the run."""
+          progress: ProgressCallback | None = None, log: Callable[[str], None] = print,
+          device: torch.device | str = "cpu") -> tuple[EdgeNet, dict]:
+    """The network fitted to ``train_windows`` (module doc) on ``device`` (core.device; the
+    patches are cut on the CPU), and a record of the run."""
     torch.manual_seed(settings.seed)
     rng = np.random.default_rng([settings.seed, 29])
-    net = EdgeNet(CHANNELS)
+    net = EdgeNet(CHANNELS).to(device)   # initialised on the CPU: the same start anywhere
     optimiser = torch.optim.Adam(net.parameters(), lr=settings.learning_rate)
     decay = (settings.final_learning_rate / settings.learning_rate) ** (1 / settings.steps)
     scheduler = torch.optim.lr_scheduler.ExponentialLR(optimiser, decay)
@@ -240,7 +241,8 @@ def train(train_windows: list[Window], held_out: list[Window], settings: TrainSe
         batch = [training_patch(train_windows[rng.integers(len(train_windows))],
                                 settings.patch_px, settings.boundary_share, rng)
                  for _ in range(settings.batch)]
-        x, y, valid = (torch.from_numpy(np.stack(parts)) for parts in zip(*batch, strict=True))
+        x, y, valid = (torch.from_numpy(np.stack(parts)).to(device)
+                       for parts in zip(*batch, strict=True))
         loss = loss_of(net(x)[:, 0], y, valid, settings.dice_weight)
         optimiser.zero_grad()
         loss.backward()
@@ -250,7 +252,8 @@ def train(train_windows: list[Window], held_out: list[Window], settings: TrainSe
         if step % CHECK_EVERY == 0 or step == settings.steps:
             net.eval()  # on the way, a quarter of the held-out windows; at the end all
             scored = held_out if step == settings.steps else held_out[::4]
-            scores = held_out_scores(LearnedEdges(EdgeWeights(net, {})), scored)
+            scores = held_out_scores(LearnedEdges(EdgeWeights(net, {}), device=device),
+                                     scored)
             checks.append({"step": step, "loss": float(np.mean(losses[-CHECK_EVERY:])),
                            "windows": len(scored), **scores})
             log(f"step {step}: loss {checks[-1]['loss']:.4f}, held-out IoU "
@@ -277,9 +280,10 @@ def split(paths: list[Path]) -> tuple[list[Window], list[Window]]:
 
 
 def train_edges(settings: TrainSettings, out: Path, workers: int = 2,
-                progress: ProgressCallback | None = None,
-                log: Callable[[str], None] = print) -> dict:
-    """The whole recipe: windows, training, weights written to ``out``; returns the record."""
+                progress: ProgressCallback | None = None, log: Callable[[str], None] = print,
+                device: torch.device | str = "cpu") -> dict:
+    """The whole recipe: windows (on the CPU), training on ``device``, weights written to
+    ``out``; returns the record."""
     paths = make_windows(settings, workers, progress)
     train_windows, held_out = split(paths)
     if not train_windows or not held_out:
@@ -287,6 +291,6 @@ def train_edges(settings: TrainSettings, out: Path, workers: int = 2,
                          f"{len(held_out)} held-out windows from {len(paths)} clips; both "
                          f"need some (more --clips)")
     log(f"{len(train_windows)} training windows, {len(held_out)} held out")
-    net, record = train(train_windows, held_out, settings, progress, log)
+    net, record = train(train_windows, held_out, settings, progress, log, device)
     save_weights(net, record, out)
     return record

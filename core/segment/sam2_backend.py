@@ -7,10 +7,11 @@ dolphinfit: the user installs and downloads them and names the checkpoint; the m
 configuration follows from the checkpoint's official file name (``sam2.1_hiera_tiny.pt`` →
 ``configs/sam2.1/sam2.1_hiera_t.yaml``).
 
-It runs on the CPU, where it is slow, so it sees only the chosen frames (those a fit uses) and
-the seed frame: they are written in time order as local frames 0…n−1, the predictor is
-prompted on the seed's local frame and propagates forwards to the last and backwards to the
-first, and each local frame's mask goes back to its clip frame. Frames not chosen, and chosen
+It runs on the CPU unless given a CUDA device (core.device); on the CPU it is slow, so it
+sees only the chosen frames (those a fit uses) and the seed frame: they are written in time
+order as local frames 0…n−1, the predictor is prompted on the seed's local frame and
+propagates forwards to the last and backwards to the first, and each local frame's mask goes
+back to its clip frame. Frames not chosen, and chosen
 frames where SAM-2 marks nothing, are not visible. ``sam2`` is imported only when a model is
 built, so importing this module needs neither it nor torchvision.
 """
@@ -21,6 +22,7 @@ import tempfile
 import threading
 from collections.abc import Iterator, Sequence
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import cv2
 import numpy as np
@@ -34,6 +36,9 @@ from dolphinfit.core.segment.segmenter import (
 )
 from dolphinfit.core.segment.tracking_loop import check_seed_frame, track_of
 
+if TYPE_CHECKING:
+    import torch
+
 PACKAGE = "sam2"
 INSTALL_HINT = ("install it yourself (dolphinfit does not): clone "
                 "https://github.com/facebookresearch/sam2 and run "
@@ -45,7 +50,6 @@ CHECKPOINT_NAME = re.compile(r"^(sam2(?:\.1)?)_hiera_(.+)$")
 SIZES = {"tiny": "t", "small": "s", "base_plus": "b+", "large": "l"}
 JPEG_NAME = "{:06d}.jpg"  # the predictor orders a folder's frames by the integer name
 JPEG_QUALITY = 95
-DEVICE = "cpu"
 OBJECT_ID = 1
 POSITIVE = 1  # SAM-2's label of a click on the object
 
@@ -123,14 +127,16 @@ class Sam2Segmenter:
     """SAM-2's video predictor as a ``Segmenter`` (module doc)."""
 
     def __init__(self, checkpoint: Path | str, only_frames: Sequence[int] | None = None,
-                 config: str | None = None) -> None:
+                 config: str | None = None, device: "torch.device | str" = "cpu") -> None:
         """``checkpoint``: a SAM-2 ``.pt`` file; ``config``: its model configuration (default:
         from the official file name); ``only_frames``: segment just these frame indices (the
-        seed frame always). InputError for a bad checkpoint or without the package."""
+        seed frame always); ``device``: where the model runs. InputError for a bad
+        checkpoint or without the package."""
         self.checkpoint = check_checkpoint(checkpoint)
         self.config = config_for(self.checkpoint) if config is None else config
         check_installed()
         self.only_frames = only_frames
+        self.device = device
         self._predictor = None
 
     def segment(self, frames: Frames, seed: Seed, progress: ProgressCallback | None = None,
@@ -173,7 +179,7 @@ class Sam2Segmenter:
         return track_of(crops, num_frames, width, height, source)
 
     def _load(self):
-        """The video predictor on the CPU, built once."""
+        """The video predictor on the segmenter's device, built once."""
         if self._predictor is None:
             try:
                 from sam2.build_sam import build_sam2_video_predictor
@@ -182,7 +188,7 @@ class Sam2Segmenter:
                                  f"imported ({exc}); {INSTALL_HINT}") from exc
             try:
                 self._predictor = build_sam2_video_predictor(self.config, str(self.checkpoint),
-                                                             device=DEVICE)
+                                                             device=self.device)
             except Exception as exc:  # sam2/hydra/torch errors: the file or config is wrong
                 raise InputError(f"{self.checkpoint}: SAM-2 cannot load it with the model "
                                  f"configuration {self.config} ({type(exc).__name__}: "

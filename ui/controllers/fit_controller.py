@@ -13,6 +13,7 @@ from PySide6.QtCore import QObject, QPointF, Signal
 from PySide6.QtGui import QColor, QPainterPath, QPen, QPolygonF
 from PySide6.QtWidgets import QGraphicsPathItem
 
+from dolphinfit.core.device import DEFAULT_DEVICE
 from dolphinfit.core.errors import InputError
 from dolphinfit.core.fit.reporter import FitPreview
 from dolphinfit.core.fit.result import FitResult
@@ -92,6 +93,7 @@ class FitController(QObject):
         self._view: ComparisonView | None = None   # what the comparison shows, once computed
         self._comparison_status = "No 3D fit of this animal yet."
         self.worker = FitWorker(self)
+        self.device = DEFAULT_DEVICE   # where fits compute (Edit → Compute device; a preference)
         self._fits: dict[Path, FitResult] = {}   # fits read or made this session, by folder
         self._shown: Path | None = None          # the fit folder on show
         self._running: tuple | None = None  # clip index, animal ID, project path being fitted
@@ -375,7 +377,7 @@ class FitController(QObject):
                       masks=(path.parent / clip.masks_path).resolve(), camera=clip.camera,
                       out_dir=fit_dir(path, clip.media_path, animal.animal_id),
                       config=project_fit_config(settings, self.model.project, path.parent),
-                      lens=clip.lens)
+                      lens=clip.lens, device=self.device)
 
     def _on_progress(self, progress: Progress) -> None:
         self.panel.show_progress(progress)

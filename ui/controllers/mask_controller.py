@@ -11,6 +11,7 @@ from pathlib import Path
 import numpy as np
 from PySide6.QtCore import QObject, Signal
 
+from dolphinfit.core.device import DEFAULT_DEVICE
 from dolphinfit.core.errors import InputError
 from dolphinfit.core.io.masks import MaskTrack, read_masks
 from dolphinfit.core.progress import Progress
@@ -69,6 +70,7 @@ class MaskController(QObject):
         self._coverage: Coverage | None = None  # what the coverage strip shows
         self.backend = DEFAULT_BACKEND  # who draws the masks (the Clip menu; a preference)
         self.sam2_checkpoint: Path | None = None  # asked for once (a preference)
+        self.device = DEFAULT_DEVICE  # where the edge network runs (Edit menu; a preference)
         self.tracker.progress.connect(self._on_tracking_progress)
         self.tracker.finished.connect(self._on_tracked)
         self.tracker.failed.connect(lambda why: notifier.error("Tracking failed", why))
@@ -235,7 +237,7 @@ class MaskController(QObject):
         media = (path.parent / clip.media_path).resolve()
         try:
             job = track_job(media, seed, start_frame, direction, self.track,
-                            self.backend, self.sam2_checkpoint, only)
+                            self.backend, self.sam2_checkpoint, only, device=self.device)
         except (InputError, ValueError) as exc:  # e.g. an empty mask to re-track from
             self._then = None
             self.notifier.error("Tracking", str(exc))

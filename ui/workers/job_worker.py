@@ -12,6 +12,7 @@ from dolphinfit.core.progress import Cancelled, ProgressCallback
 from dolphinfit.ui.workers.background import guarded
 
 PROGRESS, FINISHED, FAILED, CANCELLED = "progress", "finished", "failed", "cancelled"
+DEVICE_SETTING = "Edit → Compute device"   # where the jobs' device is chosen, named in errors
 Job = Callable[[ProgressCallback, threading.Event], Any]  # (progress, cancel) → result
 
 

@@ -16,13 +16,14 @@ from typing import Literal
 
 import numpy as np
 
+from dolphinfit.core.device import DEFAULT_DEVICE, resolve_device
 from dolphinfit.core.io.frame_source import FrameSource
 from dolphinfit.core.io.masks import MaskTrack, check_against_clip
 from dolphinfit.core.io.media import open_media
 from dolphinfit.core.progress import Progress, ProgressCallback
 from dolphinfit.core.segment.backends import DEFAULT_BACKEND, make_segmenter
 from dolphinfit.core.segment.segmenter import BoxSeed, FrameTracked, PointSeed, TrackingCancelled
-from dolphinfit.ui.workers.job_worker import Job
+from dolphinfit.ui.workers.job_worker import DEVICE_SETTING, Job
 
 Direction = Literal["forward", "backward", "both"]
 DIRECTIONS = ("forward", "backward", "both")
@@ -105,12 +106,14 @@ def _merged(tracked: MaskTrack, order: range, num_frames: int, existing: MaskTra
 def track_job(media_path: Path | str, seed: PointSeed | BoxSeed | np.ndarray,
               start_frame: int, direction: Direction,
               existing: MaskTrack | None = None, backend: str = DEFAULT_BACKEND,
-              checkpoint: Path | None = None, only_frames: Sequence[int] | None = None) -> Job:
+              checkpoint: Path | None = None, only_frames: Sequence[int] | None = None,
+              device: str = DEFAULT_DEVICE) -> Job:
     """A job tracking the animal from frame ``start_frame`` in ``direction`` and returning the
     clip's whole MaskTrack as ``Tracked`` (frames outside the tracked range as in
     ``existing``; cancelled once tracking has begun, the frames tracked so far and the others
     as in ``existing``).
-    ``checkpoint`` and ``only_frames`` (clip frames) go to the back-end (make_segmenter).
+    ``checkpoint``, ``only_frames`` (clip frames) and ``device`` (a core.device name,
+    resolved in the job) go to the back-end (make_segmenter).
 
     ``seed``: a click or a box on that frame (its own ``frame_idx`` is ignored), or that
     frame's corrected (H, W) bool mask ("re-track from here"): the tracker starts from a box
@@ -144,9 +147,11 @@ def track_job(media_path: Path | str, seed: PointSeed | BoxSeed | np.ndarray,
                         report.preview, frame_idx=order[report.preview.frame_idx]))
                 progress(report)
 
+            segmenter = make_segmenter(backend, view_only, checkpoint,
+                                       resolve_device(device, DEVICE_SETTING))
             try:
-                tracked = make_segmenter(backend, view_only, checkpoint).segment(
-                    _FrameView(source, order), view_seed, in_clip_frames, cancel)
+                tracked = segmenter.segment(_FrameView(source, order), view_seed,
+                                            in_clip_frames, cancel)
             except TrackingCancelled as stop:  # the frames it reached are kept
                 reached = {order[view_idx] for view_idx in stop.visited}
                 return Tracked(_merged(stop.track, order, num_frames, existing, kept,

@@ -35,12 +35,13 @@ def clip_dir(tmp_path_factory):
     return out
 
 
-def fit_on_clip(clip_dir, config, progress=None, cancel=None):
+def fit_on_clip(clip_dir, config, progress=None, cancel=None, device="cpu"):
     """fit_clip on the open clip, as the GUI worker calls it."""
     with VideoReader(clip_dir / "clip.mkv") as frames:
         masks = read_png_folder(clip_dir / "masks", frames.clip)
         telemetry = load_telemetry(frames.clip, clip_dir / "altitude.csv")
-        return fit_clip(frames, telemetry, masks, INTRINSICS, config, progress, cancel)
+        return fit_clip(frames, telemetry, masks, INTRINSICS, config, progress, cancel,
+                        device=device)
 
 
 @pytest.fixture(scope="session")

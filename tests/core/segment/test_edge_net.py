@@ -249,3 +249,41 @@ def test_the_bundled_network_outlines_unseen_windows_better_than_colour(held_out
         prior.append(mask_iou(window.prior, window.target))
     assert np.mean(learned) > max(np.mean(colour), np.mean(prior)) + 0.02
     assert np.mean(learned) >= 0.9
+
+
+def test_named_the_cpu_the_network_and_its_training_are_the_same_to_the_last_bit():
+    """The outline step, and a few training steps, asked for on the CPU by name (core.device)
+    give what they give without a device."""
+    window = _ellipse_window()
+    saliency = window.saliency / 255.0
+    np.testing.assert_array_equal(
+        LearnedEdges(device=torch.device("cpu")).probability(window.crop_rgb, saliency,
+                                                             window.prior),
+        LearnedEdges().probability(window.crop_rgb, saliency, window.prior))
+    settings = replace(TrainSettings(), steps=3, batch=2, patch_px=64)
+    nets = [train([window], [window], settings, log=lambda line: None, **where)[0]
+            for where in ({}, {"device": torch.device("cpu")})]
+    for (name, ours), theirs in zip(nets[1].state_dict().items(),
+                                    nets[0].state_dict().values(), strict=True):
+        assert torch.equal(ours, theirs), name
+
+
+@pytest.mark.skipif(not torch.cuda.is_available(), reason="no CUDA GPU")
+def test_on_a_cuda_gpu_the_network_outlines_as_on_the_cpu_and_trains(tmp_path):
+    """On the GPU the probabilities lie within 0.05 of the CPU's (its convolutions may run
+    in TF32) and the outlines agree (IoU > 0.99); a few training steps run there and the
+    weights are written from it and read back."""
+    window = _ellipse_window()
+    saliency = window.saliency / 255.0
+    cpu = LearnedEdges().probability(window.crop_rgb, saliency, window.prior)
+    gpu = LearnedEdges(device=torch.device("cuda")).probability(window.crop_rgb, saliency,
+                                                               window.prior)
+    assert gpu.dtype == cpu.dtype and gpu.shape == cpu.shape
+    np.testing.assert_allclose(gpu, cpu, atol=0.05)
+    assert mask_iou(gpu >= 0.5, cpu >= 0.5) > 0.99
+    settings = replace(TrainSettings(), steps=3, batch=2, patch_px=64)
+    net, record = train([window], [window], settings, log=lambda line: None,
+                        device=torch.device("cuda"))
+    assert next(net.parameters()).is_cuda and np.isfinite(record["checks"][-1]["loss"])
+    save_weights(net, record, tmp_path / "edges.npz")
+    assert load_weights(tmp_path / "edges.npz").meta["settings"]["steps"] == 3

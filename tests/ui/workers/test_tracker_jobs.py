@@ -7,7 +7,9 @@ from pathlib import Path
 import cv2
 import numpy as np
 import pytest
+import torch
 
+from dolphinfit.core.errors import InputError
 from dolphinfit.core.io.masks import MaskTrack
 from dolphinfit.core.progress import Cancelled, Progress
 from dolphinfit.core.segment.evaluate import track_iou
@@ -114,6 +116,16 @@ def test_a_cancel_keeps_the_frames_tracked_and_the_others_masks(clip):
 def test_a_bad_direction_is_refused(clip):
     with pytest.raises(ValueError, match="direction"):
         track_job(clip[0], PointSeed(1, 1), 0, "sideways")
+
+
+def test_cuda_where_torch_sees_no_gpu_is_refused_naming_the_setting(clip, monkeypatch):
+    """The job resolves the app's compute device before tracking: cuda without a GPU is bad
+    input that names where it is chosen."""
+    monkeypatch.setattr(torch.cuda, "is_available", lambda: False)
+    job = track_job(clip[0], PointSeed(*_centre(SEED_FRAME)), SEED_FRAME, "both",
+                    device="cuda")
+    with pytest.raises(InputError, match="^Edit → Compute device cuda: .*no CUDA GPU"):
+        job(lambda report: None, threading.Event())
 
 
 def test_a_back_end_limited_to_some_frames_keeps_the_others_masks(clip):
