@@ -1,13 +1,14 @@
 """``dolphinfit bench e2e``: from the clip to the result with its intervals, stage by stage
 (core/bench/e2e_bench.py).
 
-  dolphinfit bench e2e [--frame-sizes 1080p,4k] [--baseline CHECKOUT] [--json]
+  dolphinfit bench e2e [--frame-sizes 1080p,4k] [--baseline CHECKOUT] [--device D] [--json]
 """
 
 import argparse
 from pathlib import Path
 
 from dolphinfit.app.commands.bench_output import emit
+from dolphinfit.app.commands.device_option import add_device_argument, chosen_device
 from dolphinfit.core.bench.e2e_bench import bench_e2e
 from dolphinfit.core.bench.suites import FRAME_SIZES
 from dolphinfit.core.errors import InputError
@@ -21,6 +22,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--baseline", type=Path, default=None, metavar="CHECKOUT",
                         help="a checkout of an earlier dolphinfit (git worktree add); its chain "
                              "runs beside this one's in the same run")
+    add_device_argument(parser, "where the fit and the edge network run (the baseline's too)")
     parser.add_argument("--json", action="store_true", help="one JSON object on stdout")
 
 
@@ -56,4 +58,5 @@ def run(args: argparse.Namespace) -> int:
     if args.baseline is not None and not (args.baseline / "core" / "fit" / "pipeline.py").is_file():
         raise InputError(f"--baseline {args.baseline}: not a checkout of dolphinfit (no "
                          f"core/fit/pipeline.py there)")
-    return emit(args, bench_e2e(frame_sizes, args.baseline), format_e2e)
+    chosen_device(args)   # cuda where torch sees none: refused before any work
+    return emit(args, bench_e2e(frame_sizes, args.baseline, args.device), format_e2e)

@@ -24,6 +24,8 @@ from collections.abc import Sequence
 from dataclasses import replace
 from pathlib import Path
 
+import torch
+
 from dolphinfit.core.bench.fit_bench import SPEED_CACHE, SPEED_CLIP
 from dolphinfit.core.bench.scenario import synth_camera
 from dolphinfit.core.bench.suites import FRAME_SIZES
@@ -84,10 +86,13 @@ def _clip_dir(frame_size: str):
     return cache_dir() / E2E_CACHE / frame_size
 
 
-def bench_chain(frame_size: str, config: FitConfig = FitConfig()) -> dict:
+def bench_chain(frame_size: str, config: FitConfig = FitConfig(),
+                device: str | None = None) -> dict:
     """One run of the chain on the speed clip at ``frame_size``: seconds by stage and in
     all, peak memory, frames, errors of volume and length, and whether the interval holds
-    the true volume."""
+    the true volume. ``device``: where the fit and the edge network run (core.device; None:
+    the engine's default, the CPU, as an engine from before devices has it)."""
+    on_device = {} if device is None else {"device": device}
     clip = clip_of(frame_size)
     files = ensure_clip(clip, _clip_dir(frame_size))
     truth = read_json(files.truth_json, "the clip's truth")
@@ -96,7 +101,7 @@ def bench_chain(frame_size: str, config: FitConfig = FitConfig()) -> dict:
     def chain():
         clock = StageClock()
         run = run_fit(files.video, files.srt, None, synth_camera(clip), config,
-                      clip.launch_height_m, progress=clock)
+                      clip.launch_height_m, progress=clock, **on_device)
         clock.mark(INTERVAL_STAGE)
         interval = run_interval(run, errors)
         return run, interval, clock.seconds()
@@ -104,7 +109,8 @@ def bench_chain(frame_size: str, config: FitConfig = FitConfig()) -> dict:
     (run, interval, stages), peak_mb = run_with_peak_rss_mb(chain)
     result, volume = run.result, interval.volume_m3
     total = sum(stages.values())
-    return {"frame_size": frame_size, "width_px": clip.width_px, "height_px": clip.height_px,
+    return {"frame_size": frame_size, "device": device or "cpu",
+            "width_px": clip.width_px, "height_px": clip.height_px,
             "video_s": clip.duration_s, "frames_fitted": len(result.frame_idx),
             "total_s": total, "aim_s": AIM_S.get(frame_size), "stages_s": stages,
             "peak_memory_mb": peak_mb, "masks": run.masks.source,
@@ -113,20 +119,22 @@ def bench_chain(frame_size: str, config: FitConfig = FitConfig()) -> dict:
             "interval_holds_volume": bool(volume.low <= truth["volume_m3"] <= volume.high)}
 
 
-def baseline_chain(checkout: Path, frame_size: str) -> dict:
-    """``bench_chain`` at ``frame_size`` with the engine of the dolphinfit in ``checkout`` (the
-    root of a clone, as this one's), in a child process that imports that checkout's package
-    first; RuntimeError with the child's error output when it fails."""
+def baseline_chain(checkout: Path, frame_size: str, device: str | None = None) -> dict:
+    """``bench_chain`` at ``frame_size`` (on ``device``) with the engine of the dolphinfit in
+    ``checkout`` (the root of a clone, as this one's), in a child process that imports that
+    checkout's package first; RuntimeError with the child's error output when it fails."""
     with tempfile.TemporaryDirectory() as folder:
-        (Path(folder) / "dolphinfit").symlink_to(Path(checkout).resolve(), target_is_directory=True)
+        (Path(folder) / "dolphinfit").symlink_to(Path(checkout).resolve(),
+                                                 target_is_directory=True)
         code = ("import json, runpy, sys\n"
                 "from dolphinfit.core.runtime import configure_threads\n"
                 "configure_threads(int(sys.argv[3]))\n"
                 "chain = runpy.run_path(sys.argv[1])['bench_chain']\n"
-                "print(json.dumps(chain(sys.argv[2])))\n")
-        import torch
+                "device = sys.argv[4] or None\n"
+                "print(json.dumps(chain(sys.argv[2], device=device)))\n")
         done = subprocess.run(
-            [sys.executable, "-c", code, __file__, frame_size, str(torch.get_num_threads())],
+            [sys.executable, "-c", code, __file__, frame_size, str(torch.get_num_threads()),
+             device or ""],
             capture_output=True, text=True, env={**os.environ, "PYTHONPATH": folder})
     if done.returncode != 0:
         raise RuntimeError(f"the baseline {checkout} exited {done.returncode}: "
@@ -134,17 +142,20 @@ def baseline_chain(checkout: Path, frame_size: str) -> dict:
     return json.loads(done.stdout.strip().splitlines()[-1])
 
 
-def bench_e2e(frame_sizes: Sequence[str] = tuple(FRAME_SIZES),
-              baseline: Path | None = None) -> dict:
-    """The chain at each of ``frame_sizes``, in one run; with ``baseline`` (a checkout of an
-    earlier dolphinfit) that one's chain beside each (module doc)."""
+def bench_e2e(frame_sizes: Sequence[str] = tuple(FRAME_SIZES), baseline: Path | None = None,
+              device: str | None = None) -> dict:
+    """The chain at each of ``frame_sizes`` on ``device``, in one run; with ``baseline`` (a
+    checkout of an earlier dolphinfit) that one's chain beside each (module doc)."""
     for frame_size in frame_sizes:
         one_of(frame_size, tuple(FRAME_SIZES), "frame size")
+    if device is not None:   # the CPU as None: what an engine from before devices runs on
+        from dolphinfit.core.device import resolve_device
+        device = None if resolve_device(device).type == "cpu" else device
     figures: dict = {"clip_fps": SPEED_CLIP.fps, "fit_fps": FitConfig().fps, "runs": []}
     if baseline is not None:
         figures["baseline"], figures["baseline_runs"] = str(baseline), []
     for frame_size in frame_sizes:
         if baseline is not None:
-            figures["baseline_runs"].append(baseline_chain(baseline, frame_size))
-        figures["runs"].append(bench_chain(frame_size))
+            figures["baseline_runs"].append(baseline_chain(baseline, frame_size, device))
+        figures["runs"].append(bench_chain(frame_size, device=device))
     return figures

@@ -33,8 +33,10 @@ from dolphinfit.core.measure.lens import LensModel
 from dolphinfit.core.progress import ProgressCallback
 from dolphinfit.core.scan.clip_scan import scan_telemetry
 from dolphinfit.core.scan.fit_seed import scan_pick
+from dolphinfit.core.scan.scanner import Scanner
 from dolphinfit.core.segment.auto_seed import DOLPHIN_LENGTH_M, expected_length_px
 from dolphinfit.core.segment.backends import DEFAULT_BACKEND, make_segmenter
+from dolphinfit.core.segment.net_tracker import NetTracker
 from dolphinfit.core.segment.segmenter import AutoSeed, Seed
 
 @dataclass(frozen=True)
@@ -115,12 +117,15 @@ def sized_auto_seed(frame_idx: int, intrinsics: CameraIntrinsics,
 
 def scanned_seed(frames: FrameSource, telemetry: Telemetry, intrinsics: CameraIntrinsics,
                  config: FitConfig, seed: AutoSeed, progress: ProgressCallback | None,
-                 cancel: threading.Event | None) -> tuple[Seed, str]:
+                 cancel: threading.Event | None,
+                 scanner: Scanner | None = None) -> tuple[Seed, str]:
     """The scan's pick over the fit's window as a click (core.scan.fit_seed), with its line
     for the user; where the scan keeps no animal, ``seed`` sized by the camera
-    (``sized_auto_seed``), which looks frame by frame."""
+    (``sized_auto_seed``), which looks frame by frame. ``scanner``: one whose network the
+    tracker shares (default: a new one)."""
     pick = scan_pick(frames, scan_telemetry(frames.clip, telemetry, intrinsics.focal_px),
-                     (config.start_s, config.end_s), progress=progress, cancel=cancel)
+                     (config.start_s, config.end_s), scanner, progress=progress,
+                     cancel=cancel)
     if pick is not None:
         return pick.seed, pick.line
     sized = seed if seed.length_px is not None else \
@@ -159,11 +164,14 @@ def run_fit(clip_path: Path, altitude: str | Path | float | None, masks_path: Pa
             fit_frames = frames_at_fps(clip, config.fps, config.start_s, config.end_s)
             tracked = sorted({*map(int, fit_frames), *map(int, also_frames)})
             note = None
+            segmenter = make_segmenter(backend, only_frames=tracked, device=device)
             if isinstance(seed, AutoSeed):
+                # the network tracker's salient network scans too: loaded once
+                scanner = (Scanner(net=segmenter.look.net) if isinstance(segmenter, NetTracker)
+                           else None)
                 seed, note = scanned_seed(frames, telemetry, intrinsics, config, seed,
-                                          progress, cancel)
-            masks = make_segmenter(backend, only_frames=tracked, device=device).segment(
-                frames, seed, progress=progress, cancel=cancel)
+                                          progress, cancel, scanner)
+            masks = segmenter.segment(frames, seed, progress=progress, cancel=cancel)
             if note is not None:
                 masks = replace(masks, source=f"{masks.source}; {note}")
         return fit_clip(frames, telemetry, masks, intrinsics, config, progress, cancel, lens,

@@ -4,6 +4,7 @@ command line's checks (the chain itself is a full fit: run by the bench, not her
 import time
 
 import pytest
+import torch
 
 from dolphinfit.app.cli import main
 from dolphinfit.core.bench.e2e_bench import StageClock, baseline_chain, clip_of
@@ -50,3 +51,9 @@ def test_bad_options_exit_2_naming_them(args, message, tmp_path, capsys):
     args = [a.format(tmp=tmp_path) for a in args]
     assert main(["bench", "e2e", *args]) == 2
     assert message.format(tmp=tmp_path) in capsys.readouterr().err
+
+
+@pytest.mark.skipif(torch.cuda.is_available(), reason="a CUDA GPU is present")
+def test_cuda_without_a_gpu_is_refused_before_any_work(capsys):
+    assert main(["bench", "e2e", "--device", "cuda"]) == 2
+    assert "--device cuda: torch" in capsys.readouterr().err
