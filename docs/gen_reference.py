@@ -132,13 +132,25 @@ def is_records(value) -> bool:
     return isinstance(value, list) and bool(value) and all(isinstance(r, dict) for r in value)
 
 
+def flat(record: dict) -> dict:
+    """A record with each group of plain numbers in it spread into columns ``key.name``
+    (e.g. a run's seconds by stage); other groups left out."""
+    columns = {}
+    for key, value in record.items():
+        if not isinstance(value, dict):
+            columns[key] = value
+        elif all(isinstance(v, (int, float)) for v in value.values()):
+            columns.update({f"{key}.{name}": v for name, v in value.items()})
+    return columns
+
+
 def records_table(records: list[dict]) -> str:
-    """A list of flat records as one Markdown table (nested values shortened)."""
-    keys = list(dict.fromkeys(k for r in records for k, v in r.items()
-                              if not isinstance(v, dict)))
+    """A list of records as one Markdown table (``flat``)."""
+    rows = [flat(r) for r in records]
+    keys = list(dict.fromkeys(k for r in rows for k in r))
     return ("| " + " | ".join(keys) + " |\n|" + "---|" * len(keys) + "\n"
-            + "\n".join("| " + " | ".join(cell(r.get(k, ""), k) for k in keys) + " |"
-                        for r in records))
+            + "\n".join("| " + " | ".join(cell(r.get(k, ""), k.split(".")[0]) for k in keys)
+                        + " |" for r in rows))
 
 
 def bench_tables(data: dict, depth: int = 3) -> Iterator[str]:
@@ -161,7 +173,8 @@ TITLES = {"real": "Against people: real drone images measured by hand",
           "fit": "The fit on synthetic clips with known truth",
           "masks": "Masks on synthetic clips with known truth",
           "scan": "The scan's picks", "render": "The renderer's speed",
-          "app": "The app's speed", "batch": "Batches"}
+          "e2e": "From the clip to the result", "app": "The app's speed",
+          "batch": "Batches"}
 
 
 def command_line(run: dict) -> str:

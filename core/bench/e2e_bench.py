@@ -49,8 +49,10 @@ AIM_S = {"1080p": 30.0, "4k": 60.0}
 
 class StageClock:
     """A progress callback that times a chain's stages: each stage lasts from its first
-    report to the first report of the next one; what comes before the first report (opening
-    the clip and its telemetry) is the "open" stage."""
+    report to the first report of the next one; what comes before the first report is the
+    "open" stage. A stage's first report comes after its first unit of work, so that unit
+    counts to the stage before: "open" holds the scan's first sample (the whole frame looked
+    at in tiles), "scan" the tracker's first look at the animal it was given."""
 
     def __init__(self) -> None:
         self.start = time.perf_counter()
@@ -142,6 +144,14 @@ def baseline_chain(checkout: Path, frame_size: str, device: str | None = None) -
     return json.loads(done.stdout.strip().splitlines()[-1])
 
 
+def checkout_label(checkout: Path) -> str:
+    """The commit a checkout is at (``git describe``), or its folder's name where git cannot
+    say: what a kept run names its baseline by, not a path of one machine."""
+    done = subprocess.run(["git", "-C", str(checkout), "describe", "--always", "--dirty"],
+                          capture_output=True, text=True)
+    return done.stdout.strip() if done.returncode == 0 else Path(checkout).resolve().name
+
+
 def bench_e2e(frame_sizes: Sequence[str] = tuple(FRAME_SIZES), baseline: Path | None = None,
               device: str | None = None) -> dict:
     """The chain at each of ``frame_sizes`` on ``device``, in one run; with ``baseline`` (a
@@ -153,7 +163,7 @@ def bench_e2e(frame_sizes: Sequence[str] = tuple(FRAME_SIZES), baseline: Path | 
         device = None if resolve_device(device).type == "cpu" else device
     figures: dict = {"clip_fps": SPEED_CLIP.fps, "fit_fps": FitConfig().fps, "runs": []}
     if baseline is not None:
-        figures["baseline"], figures["baseline_runs"] = str(baseline), []
+        figures["baseline"], figures["baseline_runs"] = checkout_label(baseline), []
     for frame_size in frame_sizes:
         if baseline is not None:
             figures["baseline_runs"].append(baseline_chain(baseline, frame_size, device))

@@ -57,3 +57,15 @@ def test_bad_options_exit_2_naming_them(args, message, tmp_path, capsys):
 def test_cuda_without_a_gpu_is_refused_before_any_work(capsys):
     assert main(["bench", "e2e", "--device", "cuda"]) == 2
     assert "--device cuda: torch" in capsys.readouterr().err
+
+
+def test_a_baseline_is_named_by_its_commit_not_its_path(tmp_path):
+    """A kept run names its baseline by what git says it is; a folder git knows nothing of
+    by its name, never by a path of one machine."""
+    from pathlib import Path
+
+    from dolphinfit.core.bench.e2e_bench import checkout_label
+
+    assert checkout_label(tmp_path) == tmp_path.name
+    label = checkout_label(Path(__file__).resolve().parents[3])
+    assert label and "/" not in label
