@@ -3,21 +3,27 @@ has reported (its connections' closures hold it: a cycle the collector cannot se
 
 import gc
 import threading
+import weakref
 
 from dolphinfit.core.errors import InputError
-from dolphinfit.ui.workers.background import BackgroundJobs, _Relay
+from dolphinfit.ui.workers import background
+from dolphinfit.ui.workers.background import BackgroundJobs
 
 TIMEOUT_MS = 5000
 
 
-def live_relays() -> int:
-    gc.collect()
-    return sum(type(thing) is _Relay for thing in gc.get_objects())
+def test_each_jobs_relay_is_freed_once_it_has_reported(qtbot, monkeypatch):
+    """This test's own relays, followed by weak references (relays of earlier tests, freed
+    or not meanwhile, do not count)."""
+    made = []
 
+    class FollowedRelay(background._Relay):
+        def __init__(self) -> None:
+            super().__init__()
+            made.append(weakref.ref(self))
 
-def test_each_jobs_relay_is_freed_once_it_has_reported(qtbot):
+    monkeypatch.setattr(background, "_Relay", FollowedRelay)
     jobs = BackgroundJobs()
-    before = live_relays()
     results, errors, threads = [], [], set()
 
     def fail() -> None:
@@ -31,4 +37,10 @@ def test_each_jobs_relay_is_freed_once_it_has_reported(qtbot):
     qtbot.waitUntil(lambda: len(results) + len(errors) == 21, timeout=TIMEOUT_MS)
     assert results == list(range(20)) and errors == ["no such clip"]
     assert threads == {threading.main_thread()}
-    qtbot.waitUntil(lambda: live_relays() == before, timeout=TIMEOUT_MS)
+    assert len(made) == 21
+
+    def all_freed() -> bool:
+        gc.collect()
+        return all(relay() is None for relay in made)
+
+    qtbot.waitUntil(all_freed, timeout=TIMEOUT_MS)
