@@ -49,7 +49,7 @@ def cli_page() -> str:
 
 def shortcuts_page() -> str:
     menus, actions = load_action_table()
-    rows = [f"| {a.menu} | {a.shortcut.replace('+', ' + ') if a.shortcut else ''} | {a.label} |"
+    rows = [f"| {a.where} | {a.shortcut.replace('+', ' + ') if a.shortcut else ''} | {a.label} |"
             for a in sorted(actions, key=lambda a: menus.index(a.menu))]
     mouse = [f"| {gesture.replace(CTRL, 'Ctrl+')} | {what} |" for gesture, what in MOUSE_GESTURES]
     return ("# Keyboard shortcuts\n\nEvery menu action of the app and its key, generated from "

@@ -22,7 +22,8 @@ MOUSE_GESTURES = (   # on the frame: (gesture, what it does)
 
 @dataclass(frozen=True)
 class ActionSpec:
-    """One action: its name (the window's handler is ``on_<name>``), menu, label, key.
+    """One action: its name (the window's handler is ``on_<name>``), menu (and submenu),
+    label, key.
 
     ``scope``: "window", or "canvas" for keys that act on the frame's measurement and so
     must not take the arrows, Tab or Delete from the project tree and the settings.
@@ -34,6 +35,12 @@ class ActionSpec:
     shortcut: str = ""
     checkable: bool = False
     scope: str = "window"
+    submenu: str = ""   # a submenu of ``menu`` the action sits in (e.g. "Compute device")
+
+    @property
+    def where(self) -> str:
+        """Its menu, and submenu where it has one ("Edit → Compute device")."""
+        return f"{self.menu} → {self.submenu}" if self.submenu else self.menu
 
 
 def load_action_table() -> tuple[list[str], list[ActionSpec]]:

@@ -16,6 +16,7 @@ from PySide6.QtWidgets import (
     QDockWidget,
     QLabel,
     QMainWindow,
+    QMenu,
     QVBoxLayout,
     QWidget,
 )
@@ -183,6 +184,7 @@ class MainWindow(QMainWindow):
     def _build_menus(self) -> dict[str, QAction]:
         menus, specs = load_action_table()
         bar = {name: self.menuBar().addMenu(f"&{name}") for name in menus}
+        submenus: dict[tuple[str, str], QMenu] = {}
         actions: dict[str, QAction] = {}
         mirror_group = QActionGroup(self)
         mode_group = QActionGroup(self)
@@ -210,7 +212,13 @@ class MainWindow(QMainWindow):
                 backend_group.addAction(action)
             if spec.name in DEVICE_ACTIONS:
                 device_group.addAction(action)
-            bar[spec.menu].addAction(action)
+            menu = bar[spec.menu]
+            if spec.submenu:
+                if (spec.menu, spec.submenu) not in submenus:
+                    submenus[spec.menu, spec.submenu] = menu.addMenu(spec.submenu)
+                    submenus[spec.menu, spec.submenu].setToolTipsVisible(True)
+                menu = submenus[spec.menu, spec.submenu]
+            menu.addAction(action)
             if spec.name == "open":
                 self.recent_menu = bar[spec.menu].addMenu("Open recent")
                 self.recent_menu.aboutToShow.connect(self._fill_recent_menu)

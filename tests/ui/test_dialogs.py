@@ -265,8 +265,9 @@ def test_shortcuts_list_every_action_in_menu_order_then_the_mouse(qtbot):
     table = child(dialog, QTableWidget, "shortcuts")
     assert table.rowCount() == len(actions) + len(MOUSE_GESTURES)
     rows = [[table.item(r, c).text() for c in range(3)] for r in range(table.rowCount())]
-    assert [r[0] for r in rows[:len(actions)]] == sorted((a.menu for a in actions),
-                                                         key=menus.index)
+    in_order = sorted(actions, key=lambda a: menus.index(a.menu))
+    assert [r[0] for r in rows[:len(actions)]] == [a.where for a in in_order]
+    assert "Edit → Compute device" in [r[0] for r in rows]
     assert ["File", QKeySequence("Ctrl+S").toString(QKeySequence.SequenceFormat.NativeText),
             "Save project"] in rows
     assert rows[-1][0] == "Mouse" and rows[-1][1].endswith("click")

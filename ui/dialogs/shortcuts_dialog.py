@@ -27,7 +27,7 @@ class ShortcutsDialog(QDialog):
         super().__init__(parent)
         self.setWindowTitle("Keyboard shortcuts")
         menus, actions = load_action_table()
-        rows = [(a.menu, native_key_text(a.shortcut), a.label)
+        rows = [(a.where, native_key_text(a.shortcut), a.label)
                 for a in sorted(actions, key=lambda a: menus.index(a.menu))]
         rows += [(MOUSE, gesture.replace(CTRL, _ctrl_prefix()), what)
                  for gesture, what in MOUSE_GESTURES]
