@@ -59,6 +59,10 @@ class FitData:
         """Where the tensors lie."""
         return self.images.device
 
+    def every_frame(self) -> torch.Tensor:
+        """(T,) int64 indices of all the frames, where the tensors lie."""
+        return torch.arange(self.num_frames, device=self.device)
+
     def to(self, device: torch.device | str) -> "FitData":
         """The same data with its tensors on ``device`` (the same tensors where they lie
         there already)."""

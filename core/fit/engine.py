@@ -102,7 +102,7 @@ def _fit(data: FitData, config: FitConfig, template: Template | None,
                 parts = shape_parts(problem, steps)
             else:
                 at_coarse = min(steps, max(0, config.coarse_steps - done))
-                every = torch.arange(data.num_frames, device=data.device)
+                every = data.every_frame()
                 parts = [(coarse, every, at_coarse), (problem, every, steps - at_coarse)]
             run_in_parts(params, stage, parts, fade, history)
             done += steps

@@ -62,7 +62,7 @@ class FitProblem:
 
     def use_all_frames(self) -> None:
         """Render every frame in each step."""
-        self.set_frames(torch.arange(self.data.num_frames, device=self.data.device))
+        self.set_frames(self.data.every_frame())
 
     def set_frames(self, frames: torch.Tensor) -> None:
         """Render only ``frames`` in each step, in chunks."""
@@ -103,8 +103,7 @@ class FitProblem:
                 return mask_iou(self.render_chunk(params, chunk).coverage,
                                 self.data.masks[chunk] > 0.5)
 
-        chunks = equal_chunks(torch.arange(self.data.num_frames, device=self.data.device),
-                              self.chunk_frames)
+        chunks = equal_chunks(self.data.every_frame(), self.chunk_frames)
         return torch.cat(self.map_chunks(work, chunks, cancellable=False))
 
     def restrict_to_explained_frames(self, params: SceneParams) -> list[str]:

@@ -54,8 +54,7 @@ def choose_heading(problem: FitProblem, candidates: list[SceneParams], history: 
     """Fit both headings for a few steps and keep the one with the lower loss."""
     trial_started = time.perf_counter()
     trials = []
-    problem.set_frames(evenly_spaced(torch.arange(problem.data.num_frames,
-                                                  device=problem.data.device),
+    problem.set_frames(evenly_spaced(problem.data.every_frame(),
                                      problem.config.heading_max_frames))
     try:
         for candidate in candidates:
@@ -162,8 +161,7 @@ def preview(problem: FitProblem, params: SceneParams) -> FitPreview:
 def debiased_targets(problem: FitProblem, params: SceneParams) -> torch.Tensor:
     """Soft targets with the renderer's edge profile, measured on the initial model."""
     with torch.no_grad():
-        chunk = torch.arange(min(PROFILE_FRAMES, problem.data.num_frames),
-                             device=problem.data.device)
+        chunk = problem.data.every_frame()[:PROFILE_FRAMES]
         out = problem.render_chunk(params, chunk)
     profile = edge_profile(out.soft_mask, out.coverage)
     return soft_targets(problem.data.masks, profile, problem.config.target_edge_scale)
