@@ -7,7 +7,8 @@
 #   make dist   the wheel and sdist into dist/ (the wheel carries the resources, the network weights and the manual)
 #   make check-dist   the wheel installed into a fresh venv, then `dolphinfit --help` and `dolphinfit demo --quick`
 #   make bundle   a one-folder desktop program (PyInstaller) in bundle/dolphinfit/, from the wheel
-#   make check-bundle   the bundle's --help, then the app on the sample under Xvfb (opens, quits)
+#   make check-bundle   the bundle's --help, its masks of a real image, then the app on the
+#                       sample under Xvfb (opens, quits)
 VENV ?= .venv
 PY := $(VENV)/bin/python
 STAMP := $(VENV)/.installed
@@ -77,6 +78,8 @@ bundle: dist
 check-bundle: bundle
 	cd /tmp && $(abspath bundle)/dolphinfit/dolphinfit --help > /dev/null
 	rm -rf $(BUNDLE_HOME) && mkdir -p $(BUNDLE_HOME)
+	bundle/dolphinfit/dolphinfit masks tests/data/real/minke/demo.JPG --auto \
+	  --out $(BUNDLE_HOME)/masks > /dev/null   # both networks load and run in the bundle
 	$(if $(DISPLAY),,xvfb-run -a -s "-screen 0 1600x1000x24") env \
 	  DOLPHINFIT_CACHE_DIR=$(BUNDLE_HOME)/cache DOLPHINFIT_CONFIG_DIR=$(BUNDLE_HOME)/config \
 	  bundle/dolphinfit/dolphinfit gui --sample --quit-when-shown

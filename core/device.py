@@ -2,7 +2,7 @@
 
 The user names a device (``--device``, the app's Edit → Compute device): ``auto`` is the GPU
 when torch sees one and the CPU otherwise, ``cpu`` and ``cuda`` force one. The fit, the edge
-network of the mask tracker and its training run there; the salient network (OpenCV's DNN)
+network of the mask tracker and its training run there; the salient network (ONNX Runtime)
 always runs on the CPU. A result does not record where it was computed: on the CPU it is the
 same to the last bit as before devices existed, on a GPU the same within float rounding.
 

@@ -6,7 +6,7 @@
 
 --backend picks who draws the masks: the salient-object network on a crop around the animal,
 its outline drawn by the project's edge network (default; keeps light-grey flukes over green
-water; about 0.6 s per 1080p frame on two cores), the same with the outline placed by colour
+water; about 0.4 s per 1080p frame on two cores), the same with the outline placed by colour
 (network-colour-edges, the default before the edge network), the colour tracker (fast, for
 dark animals over clear water) or SAM-2, the paper's segmenter, for users who installed its
 `sam2` package themselves: --sam2-checkpoint names the checkpoint file downloaded for it (e.g.

@@ -23,7 +23,7 @@ COLOUR = "colour"
 SAM2 = "sam2"
 BACKENDS: dict[str, str] = {
     NETWORK: "salient-object network (U²-Net small) on a crop around the animal, the outline "
-             "drawn by the project's edge network; about 0.6 s per 1080p frame and 0.9 s per 4K "
+             "drawn by the project's edge network; about 0.4 s per 1080p frame and 0.8 s per 4K "
              "frame on two cores",
     NETWORK_COLOUR_EDGES: "the same network with the outline placed by colour near its edge "
                           "(the default before the edge network)",
