@@ -68,7 +68,8 @@ def gather_corners(xy_px: torch.Tensor, faces: torch.Tensor, frame: torch.Tensor
     which is several times slower on the CPU, and whose backward is a fast ``index_add``.
     """
     flat_idx = (frame[:, None] * xy_px.shape[1] + faces[face]).reshape(-1)
-    return xy_px.reshape(-1, 2).index_select(0, flat_idx).reshape(face.shape[0], -1, 2)
+    picked = xy_px.reshape(-1, 2).index_select(0, flat_idx)
+    return picked.reshape(face.shape[0], faces.shape[1], 2)   # N may be 0: nothing in view
 
 
 def face_boxes(tri: torch.Tensor, width_px: int, height_px: int,

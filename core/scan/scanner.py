@@ -7,7 +7,7 @@ is searched as the automatic seed searches it (``auto_seed.find_animals``: the s
 network on the frame and on tiles sized by the camera, and the colour detector), which costs
 about 3 s at 1080p on two cores; on the samples between, each animal followed is looked for
 once around where it should be (``WINDOW_LENGTHS`` of its length across: one look of the
-network, about 0.35 s), and every ``search_every_s`` the network looks once at the whole
+network, about 0.3 s), and every ``search_every_s`` the network looks once at the whole
 frame for animals coming into view. The sightings join the animals' tracks (``tracks``) and each is scored
 (``frame_scores``). An animal must persist: seen in at least ``MIN_SIGHTINGS`` samples (where
 the clip has that many) and in at least ``MIN_SEEN_SHARE`` of the samples from its first

@@ -207,3 +207,21 @@ def test_a_viewport_the_animal_covers_whole_renders_with_no_soft_edge(primitives
                  RasterSettings(soft_primitives=primitives))
     assert bool(out.coverage.all())
     torch.testing.assert_close(out.soft_mask, torch.ones(1, 8, 8, dtype=torch.float64))
+
+
+@pytest.mark.parametrize("primitives", ["contour", "faces"])
+def test_a_viewport_the_animal_never_enters_renders_water_only(primitives):
+    """No covered pixel (an animal out of view; a synthetic clip once crashed on it): the
+    soft mask and coverage are empty, and the colour and gradients are still defined."""
+    verts, faces, face_uvs = (torch.as_tensor(a) for a in ellipsoid((0.5, 0.25, 0.15),
+                                                                   (0.0, 0.0, 0.0), 0))
+    cam = camera(96, 72, [1.8])
+    verts_t = verts.double()[None].clone().requires_grad_(True)
+    out = render(verts_t, faces, appearance(face_uvs.double()), cam,
+                 Viewport(torch.tensor([0]), torch.tensor([0]), 8, 8),
+                 RasterSettings(soft_primitives=primitives))
+    assert not bool(out.coverage.any())
+    assert float(out.soft_mask.max()) < 1e-6
+    assert bool(torch.isfinite(out.rgb).all())
+    (out.soft_mask.sum() + out.rgb.sum()).backward()
+    assert bool(torch.isfinite(verts_t.grad).all())
