@@ -13,7 +13,8 @@ DIR/result.json (volume_m3, length_m, mass_kg, bci, frames, timings, status, …
 (every fitted array; core.fit.result_io reads both back), DIR/rest_mesh.ply, DIR/posed/%06d.ply
 (one per fitted frame), DIR/overlays/%06d.png (frame | mask | render) and DIR/interval.json
 (the 95 % intervals below, with what they assumed). --fps sets how many
-frames per second of video are fitted (default 5). --hw names the HW table whose height/width
+frames per second of video are fitted (default 5; at most 35 frames, so a window longer than
+7 s is fitted at a lower rate, evenly spaced). --hw names the HW table whose height/width
 ratios give the heights a camera above cannot see (as `dolphinfit measure --hw`; "model"
 keeps the template's own). The figures print with their 95 % intervals
 (core.measure.fit_uncertainty: altitude and camera error, the masks' outline, the hidden
@@ -86,7 +87,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--focal-mm", type=float, default=None)
     parser.add_argument("--start", type=float, default=None, metavar="S", help="start time, s")
     parser.add_argument("--end", type=float, default=None, metavar="S", help="end time, s")
-    parser.add_argument("--fps", type=float, default=None, help="frames fitted per second")
+    parser.add_argument("--fps", type=float, default=None,
+                        help=f"frames fitted per second (at most {FitConfig().max_frames} "
+                             "frames in all)")
     parser.add_argument("--out", type=Path, default=Path("out/fit"), help="output folder")
     parser.add_argument("--no-roi", action="store_true",
                         help="whole frames at 720 px wide, as the paper (default: native crops)")

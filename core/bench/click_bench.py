@@ -39,7 +39,9 @@ def bench_click(clip: SynthConfig = SPEED_CLIP, backend: str = DEFAULT_BACKEND) 
     seed = middle_click(read_json(files.truth_json, "the clip's truth"))
     start = time.perf_counter()  # as in the app: the clip opened, the back-end made, tracked
     media = open_clip(files.video)
-    chosen = sorted({*frames_at_fps(media, FitConfig().fps).tolist(), seed.frame_idx})
+    fit = FitConfig()
+    chosen = sorted({*frames_at_fps(media, fit.fps, max_frames=fit.max_frames).tolist(),
+                     seed.frame_idx})
     with VideoReader(media, cache_bytes=0) as frames:
         first = make_segmenter(backend, only_frames=[seed.frame_idx]).segment(frames, seed)
         first_s = time.perf_counter() - start

@@ -97,7 +97,8 @@ def select_frames(clip: Clip, masks: MaskTrack,
                   config: FitConfig) -> tuple[np.ndarray, np.ndarray, list[str]]:
     """Frames to fit (in the time range, at the fit rate, with a visible dolphin inside the
     frame): their indices (T,), their masks (T, H, W) bool, and warnings."""
-    candidates = frames_at_fps(clip, config.fps, config.start_s, config.end_s)
+    candidates = frames_at_fps(clip, config.fps, config.start_s, config.end_s,
+                               config.max_frames)
     chosen, chosen_masks, skipped_border, empty = [], [], [], []
     for idx in candidates:
         mask = masks.mask(int(idx))
@@ -110,6 +111,9 @@ def select_frames(clip: Clip, masks: MaskTrack,
         chosen.append(int(idx))
         chosen_masks.append(mask)
     warnings = []
+    if empty and chosen:   # e.g. masks made for other frames than these (`masks --every`)
+        warnings.append(f"{len(empty)} frame(s) skipped: no mask marks the dolphin (first: "
+                        f"frame {empty[0]})")
     if skipped_border:
         warnings.append(f"{len(skipped_border)} frame(s) skipped: the dolphin touches the image "
                         f"border (first: frame {skipped_border[0]})")

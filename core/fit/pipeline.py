@@ -161,7 +161,8 @@ def run_fit(clip_path: Path, altitude: str | Path | float | None, masks_path: Pa
         if masks_path is not None:
             masks = read_masks(masks_path, clip)
         else:
-            fit_frames = frames_at_fps(clip, config.fps, config.start_s, config.end_s)
+            fit_frames = frames_at_fps(clip, config.fps, config.start_s, config.end_s,
+                                       config.max_frames)
             tracked = sorted({*map(int, fit_frames), *map(int, also_frames)})
             note = None
             segmenter = make_segmenter(backend, only_frames=tracked, device=device)

@@ -122,10 +122,16 @@ def frame_range(clip: Clip, start_s: float | None = None, end_s: float | None = 
 
 
 def frames_at_fps(clip: Clip, fps: float, start_s: float | None = None,
-                  end_s: float | None = None) -> np.ndarray:
+                  end_s: float | None = None, max_frames: int | None = None) -> np.ndarray:
     """Indices of the frames in [start_s, end_s) subsampled closest to ``fps`` frames per
-    second (``frame_range`` at ``step_for_fps``): the frames a fit at that rate uses."""
-    return frame_range(clip, start_s, end_s, step_for_fps(clip, fps))
+    second (``frame_range`` at ``step_for_fps``): the frames a fit at that rate uses. With
+    ``max_frames``, a window that would give more is subsampled at the smallest larger step
+    that gives at most that many (evenly spaced still, as the fit's motion priors assume)."""
+    step = step_for_fps(clip, fps)
+    if max_frames is not None:
+        window = len(frame_range(clip, start_s, end_s))
+        step = max(step, -(-window // max_frames))
+    return frame_range(clip, start_s, end_s, step)
 
 
 def step_for_fps(clip: Clip, fps: float) -> int:

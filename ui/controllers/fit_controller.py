@@ -27,7 +27,7 @@ from dolphinfit.core.project.fit_overlay import silhouette_outlines
 from dolphinfit.core.project.fit_playback import posed_at
 from dolphinfit.core.measure.hw_ratios import write_hw_csv
 from dolphinfit.core.project.comparison_view import ComparisonView, comparison_view
-from dolphinfit.core.project.fit_settings import FitSettings, fit_dir, hw_table_path
+from dolphinfit.core.project.fit_settings import FitSettings, fit_config, fit_dir, hw_table_path
 from dolphinfit.core.project.model import Animal, with_animal
 from dolphinfit.core.project.project_file import media_path, relative_media_path
 from dolphinfit.core.project.results import FrameResult, frame_altitude, project_fit_config
@@ -169,7 +169,8 @@ class FitController(QObject):
     def _frames(self, settings: FitSettings) -> np.ndarray:
         """The open clip's frames that a fit with ``settings`` uses."""
         media = self.state.session.source.clip
-        return frames_at_fps(media, settings.fps, settings.start_s, settings.end_s)
+        return frames_at_fps(media, settings.fps, settings.start_s, settings.end_s,
+                             fit_config(settings).max_frames)
 
     def fit_frames(self) -> list[int]:
         """The open clip's frames that the current animal's fit uses (default settings when

@@ -63,6 +63,16 @@ def test_end_to_end_volume_and_length_within_tolerance(clip_dir):
     assert set(result.timings_s) >= {"heading", "global", "body", "shape", "total"}
 
 
+def test_a_frame_cap_fits_fewer_frames_evenly_spaced(clip_dir):
+    """``max_frames`` below the window's count: the fit takes every k-th of its frames, the
+    smallest k that fits the cap, so its motion priors still see one interval."""
+    every = _data(clip_dir).frame_idx
+    capped = _data(clip_dir, replace(QUICK, max_frames=3)).frame_idx
+    step = -(-len(every) // 3)
+    np.testing.assert_array_equal(capped, every[::step])
+    assert len(capped) <= 3 and len(set(np.diff(capped))) == 1
+
+
 def test_initial_state_finds_position_heading_and_length(clip_dir):
     """From the masks alone: heading within 10° (mod 180°), centre within 15 cm, length 5 %."""
     truth = _truth(clip_dir)

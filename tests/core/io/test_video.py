@@ -11,7 +11,7 @@ import pytest
 import dolphinfit.core.io.video as video
 from dolphinfit.core.errors import InputError
 from dolphinfit.core.io.video import (
-    Clip, VideoReader, crop_roi, frame_range, open_clip, step_for_fps,
+    Clip, VideoReader, crop_roi, frame_range, frames_at_fps, open_clip, step_for_fps,
 )
 
 WIDTH_PX, HEIGHT_PX, FPS, NUM_FRAMES = 160, 128, 25.0, 48
@@ -193,6 +193,19 @@ def test_frame_range_and_subsampling():
     assert (step_for_fps(clip, 5.0), step_for_fps(clip, 50.0)) == (5, 1)
     with pytest.raises(InputError):
         frame_range(clip, step=0)
+
+
+def test_a_cap_on_frames_lowers_the_rate_keeping_the_spacing_even():
+    """A 10-s 25-fps clip at 5 per second gives 50 frames; capped at 35 it steps by 8 (32
+    frames), not 5 with some left out; a window within the cap keeps the rate."""
+    clip = Clip(Path("x.mp4"), 25.0, 250, 64, 48)
+    assert frames_at_fps(clip, 5.0).tolist() == list(range(0, 250, 5))
+    capped = frames_at_fps(clip, 5.0, max_frames=35)
+    assert capped.tolist() == list(range(0, 250, 8))
+    assert len(capped) == 32
+    assert frames_at_fps(clip, 5.0, 2.0, 5.0, max_frames=35).tolist() == list(range(50, 125, 5))
+    assert frames_at_fps(clip, 5.0, 2.0, 5.0, max_frames=10).tolist() == list(range(50, 125, 8))
+    assert frames_at_fps(clip, 5.0, max_frames=1).tolist() == [0]
 
 
 def test_roi_is_native_and_padded(mp4_clip):
