@@ -14,7 +14,7 @@ from dolphinfit.core.bench.mask_bench import target_clicks
 from dolphinfit.core.fit.config import FitConfig
 from dolphinfit.core.io.json_file import read_json
 from dolphinfit.core.io.masks import read_masks
-from dolphinfit.core.io.video import VideoReader, frames_at_fps, open_clip
+from dolphinfit.core.io.video import VideoReader, open_clip
 from dolphinfit.core.iou import mask_iou
 from dolphinfit.core.segment.backends import DEFAULT_BACKEND, make_segmenter
 from dolphinfit.core.segment.segmenter import BoxSeed, PointSeed
@@ -39,9 +39,7 @@ def bench_click(clip: SynthConfig = SPEED_CLIP, backend: str = DEFAULT_BACKEND) 
     seed = middle_click(read_json(files.truth_json, "the clip's truth"))
     start = time.perf_counter()  # as in the app: the clip opened, the back-end made, tracked
     media = open_clip(files.video)
-    fit = FitConfig()
-    chosen = sorted({*frames_at_fps(media, fit.fps, max_frames=fit.max_frames).tolist(),
-                     seed.frame_idx})
+    chosen = sorted({*FitConfig().frames_of(media).tolist(), seed.frame_idx})
     with VideoReader(media, cache_bytes=0) as frames:
         first = make_segmenter(backend, only_frames=[seed.frame_idx]).segment(frames, seed)
         first_s = time.perf_counter() - start

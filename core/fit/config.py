@@ -7,8 +7,11 @@ how it was made.
 
 from dataclasses import asdict, dataclass, field, fields
 
+import numpy as np
+
 from dolphinfit.core.errors import InputError
 from dolphinfit.core.io.json_file import dataclass_from_json
+from dolphinfit.core.io.video import Clip, frames_at_fps
 from dolphinfit.core.limits import FPS, check_fields, count, one_of, time_window
 from dolphinfit.core.measure.hw_ratios import DEFAULT_PRESET, FROM_MODEL
 from dolphinfit.core.render import SOFT_PRIMITIVES
@@ -189,6 +192,11 @@ class FitConfig:
         """Optimisation steps over all stages, both heading trials included."""
         return (2 * self.heading_trial_steps + self.steps_global + self.steps_body
                 + self.steps_shape)
+
+    def frames_of(self, clip: Clip) -> np.ndarray:
+        """The frames this fit takes from ``clip``: its window at its rate, at most
+        ``max_frames`` of them, evenly spaced (before frames without a usable mask drop out)."""
+        return frames_at_fps(clip, self.fps, self.start_s, self.end_s, self.max_frames)
 
     def colour_moves_geometry(self, stage: str) -> bool:
         """Whether the colour term's gradient reaches the geometry in ``stage``."""

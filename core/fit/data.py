@@ -24,7 +24,7 @@ from dolphinfit.core.intrinsics import CameraIntrinsics
 from dolphinfit.core.io.masks import MaskTrack
 from dolphinfit.core.io.report import list_some
 from dolphinfit.core.io.telemetry import Telemetry
-from dolphinfit.core.io.video import Clip, crop_roi, frames_at_fps
+from dolphinfit.core.io.video import Clip, crop_roi
 from dolphinfit.core.measure.lens import LensModel, masks_off_centre_warning
 from dolphinfit.core.progress import Progress, ProgressCallback, check_cancel
 from dolphinfit.core.render.settings import Viewport
@@ -97,8 +97,7 @@ def select_frames(clip: Clip, masks: MaskTrack,
                   config: FitConfig) -> tuple[np.ndarray, np.ndarray, list[str]]:
     """Frames to fit (in the time range, at the fit rate, with a visible dolphin inside the
     frame): their indices (T,), their masks (T, H, W) bool, and warnings."""
-    candidates = frames_at_fps(clip, config.fps, config.start_s, config.end_s,
-                               config.max_frames)
+    candidates = config.frames_of(clip)
     chosen, chosen_masks, skipped_border, empty = [], [], [], []
     for idx in candidates:
         mask = masks.mask(int(idx))

@@ -26,7 +26,7 @@ from dolphinfit.core.intrinsics import CameraIntrinsics
 from dolphinfit.core.io.frame_source import FrameSource
 from dolphinfit.core.io.masks import MaskTrack, read_masks
 from dolphinfit.core.io.telemetry import Telemetry, load_telemetry
-from dolphinfit.core.io.video import Clip, VideoReader, frames_at_fps, open_clip
+from dolphinfit.core.io.video import Clip, VideoReader, open_clip
 from dolphinfit.core.measure.altitude_calibration import AltitudeCalibration, calibrated_telemetry
 from dolphinfit.core.measure.edge_blur import edge_blur_px
 from dolphinfit.core.measure.lens import LensModel
@@ -161,9 +161,7 @@ def run_fit(clip_path: Path, altitude: str | Path | float | None, masks_path: Pa
         if masks_path is not None:
             masks = read_masks(masks_path, clip)
         else:
-            fit_frames = frames_at_fps(clip, config.fps, config.start_s, config.end_s,
-                                       config.max_frames)
-            tracked = sorted({*map(int, fit_frames), *map(int, also_frames)})
+            tracked = sorted({*map(int, config.frames_of(clip)), *map(int, also_frames)})
             note = None
             segmenter = make_segmenter(backend, only_frames=tracked, device=device)
             if isinstance(seed, AutoSeed):

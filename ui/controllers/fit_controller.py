@@ -18,7 +18,6 @@ from dolphinfit.core.errors import InputError
 from dolphinfit.core.fit.reporter import FitPreview
 from dolphinfit.core.fit.result import FitResult
 from dolphinfit.core.fit.result_io import read_fit_result
-from dolphinfit.core.io.video import frames_at_fps
 from dolphinfit.core.measure.stations import STATION_PCT
 from dolphinfit.core.model.template import load_template
 from dolphinfit.core.progress import Progress
@@ -169,8 +168,7 @@ class FitController(QObject):
     def _frames(self, settings: FitSettings) -> np.ndarray:
         """The open clip's frames that a fit with ``settings`` uses."""
         media = self.state.session.source.clip
-        return frames_at_fps(media, settings.fps, settings.start_s, settings.end_s,
-                             fit_config(settings).max_frames)
+        return fit_config(settings).frames_of(media)
 
     def fit_frames(self) -> list[int]:
         """The open clip's frames that the current animal's fit uses (default settings when
