@@ -2,7 +2,7 @@
 
   dolphinfit masks CLIP|IMAGE|FOLDER (--seed X,Y | --box X,Y,W,H | --auto) --out DIR [--frame N]
                    [--backend network|network-colour-edges|colour|sam2
-                    [--sam2-checkpoint PATH]] [--every K] [--device auto|cpu|cuda]
+                    [--sam2-checkpoint PATH]] [--every K|fit] [--device auto|cpu|cuda]
 
 --backend picks who draws the masks: the salient-object network on a crop around the animal,
 its outline drawn by the project's edge network (default; keeps light-grey flukes over green
@@ -11,7 +11,8 @@ water; about 0.4 s per 1080p frame on two cores), the same with the outline plac
 dark animals over clear water) or SAM-2, the paper's segmenter, for users who installed its
 `sam2` package themselves: --sam2-checkpoint names the checkpoint file downloaded for it (e.g.
 sam2.1_hiera_tiny.pt); it needs --seed or --box. --every K runs the network or SAM-2 on every
-K-th frame only (the others are written empty), e.g. the frames a fit will use. --device is
+K-th frame only (the others are written empty); --every fit on the frames a `dolphinfit fit`
+with its default rate and frame cap takes. --device is
 where the edge network and SAM-2 run: auto (the default) takes a CUDA GPU when the installed
 torch sees one, else the CPU; the salient network and the colour tracker always run on the
 CPU.
@@ -29,12 +30,14 @@ are used by writing them in one of these formats.
 
 import argparse
 import sys
-from collections.abc import Collection
+from collections.abc import Collection, Sequence
 from pathlib import Path
 
 from dolphinfit.app.commands.device_option import add_device_argument, chosen_device
 from dolphinfit.app.progress import is_tenth
 from dolphinfit.core.errors import InputError
+from dolphinfit.core.fit.config import FitConfig
+from dolphinfit.core.io.frame_source import Clip
 from dolphinfit.core.io.masks import MaskTrack, check_mask_output, write_masks
 from dolphinfit.core.io.report import format_runs
 from dolphinfit.core.io.media import open_media
@@ -61,8 +64,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--backend", choices=tuple(BACKENDS), default=DEFAULT_BACKEND,
                         help=f"who draws the masks (default {DEFAULT_BACKEND})")
     add_sam2_argument(parser)
-    parser.add_argument("--every", type=int, default=1, metavar="K",
-                        help="network and SAM-2: segment every K-th frame only (default 1)")
+    parser.add_argument("--every", default="1", metavar="K|fit",
+                        help="network and SAM-2: segment every K-th frame only (default 1), or "
+                             "'fit': the frames a default `dolphinfit fit` takes")
     add_device_argument(parser, "where the edge network and SAM-2 run (the salient network "
                                 "and the colour tracker run on the CPU)")
 
@@ -129,12 +133,24 @@ def summary(track: MaskTrack, out: Path) -> str:
     return text + (f"; lost in frames {format_runs(lost)}" if lost.any() else "")
 
 
+def segmented_frames(every: str, clip: Clip) -> Sequence[int]:
+    """The frames ``--every`` names: every K-th, or those a default fit takes ("fit");
+    InputError naming the option otherwise."""
+    if every == "fit":
+        return FitConfig().frames_of(clip).tolist()
+    try:
+        step = int(every)
+    except ValueError:
+        raise InputError(f"--every {every!r}: expected a whole number of frames, at least 1, "
+                         "or 'fit'") from None
+    return range(0, clip.num_frames, count(step, 1, "--every"))
+
+
 def run(args: argparse.Namespace) -> int:
     """Track from the seed and write the masks."""
     check_mask_output(args.out)
     seed = parse_seed(args)
     checkpoint = sam2_checkpoint(args, (args.backend,))
-    every = count(args.every, 1, "--every")
     device = chosen_device(args)
     with open_media(args.clip) as frames:  # a video, a still or a folder of frames
         clip = frames.clip
@@ -146,7 +162,7 @@ def run(args: argparse.Namespace) -> int:
         except InputError as exc:
             raise InputError(f"{'--seed' if args.seed is not None else '--box'}: "
                              f"{exc}") from None
-        segmenter = make_segmenter(args.backend, range(0, clip.num_frames, every), checkpoint,
+        segmenter = make_segmenter(args.backend, segmented_frames(args.every, clip), checkpoint,
                                    device)
         try:
             track = segmenter.segment(frames, seed, progress=_progress)

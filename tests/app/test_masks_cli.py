@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 
 from dolphinfit.app.cli import main
+from dolphinfit.core.fit.config import FitConfig
 from dolphinfit.core.io.masks import read_masks
 from dolphinfit.core.io.video import open_clip
 
@@ -102,6 +103,20 @@ def test_network_backend_on_every_kth_frame(clip, tmp_path, capsys):
     for t in (0, 4, 8):
         got, truth = track.mask(t), _truth(t)
         assert (got & truth).sum() / (got | truth).sum() > 0.85
+
+
+def test_every_fit_segments_the_frames_a_default_fit_takes(clip, tmp_path, capsys):
+    """--every fit: masks on exactly the frames ``dolphinfit fit`` would take by default, so
+    that a fit of them finds every frame it wants; a word other than 'fit' exits 2."""
+    out = tmp_path / "masks.npz"
+    assert main(["masks", str(clip), "--seed", "40,50", "--every", "fit", "--out",
+                 str(out)]) == 0
+    wanted = FitConfig().frames_of(open_clip(clip)).tolist()
+    assert 1 < len(wanted) < 12
+    assert list(np.flatnonzero(read_masks(out).is_visible)) == wanted
+    assert main(["masks", str(clip), "--seed", "40,50", "--every", "fitted", "--out",
+                 str(tmp_path / "m")]) == 2
+    assert "--every 'fitted': expected a whole number" in capsys.readouterr().err
 
 
 def test_a_still_image_gets_its_mask(clip, tmp_path, capsys):
