@@ -127,11 +127,11 @@ def frames_at_fps(clip: Clip, fps: float, start_s: float | None = None,
     second (``frame_range`` at ``step_for_fps``): the frames a fit at that rate uses. With
     ``max_frames``, a window that would give more is subsampled at the smallest larger step
     that gives at most that many (evenly spaced still, as the fit's motion priors assume)."""
+    window = frame_range(clip, start_s, end_s)
     step = step_for_fps(clip, fps)
     if max_frames is not None:
-        window = len(frame_range(clip, start_s, end_s))
-        step = max(step, -(-window // max_frames))
-    return frame_range(clip, start_s, end_s, step)
+        step = max(step, -(-len(window) // max_frames))
+    return window[::step]
 
 
 def step_for_fps(clip: Clip, fps: float) -> int:
