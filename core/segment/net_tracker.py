@@ -16,7 +16,9 @@ built-in tracker, on every frame or only on chosen ones (the frames a fit will u
    looked at again.
    Pixels with saliency ≥ ``threshold``: the component that overlaps the prediction (at the
    seed: under the click) with parts a seam cuts off; a neighbour touching the animal is
-   split off (``nearer_to``, ``own_body``).
+   split off (``nearer_to``, ``own_body``). Other animals seen beside it in the last look
+   (``Seen.others``) move with it; what lies nearer to them than to the prediction is
+   theirs, so that two animals touching only at their flukes each keep their own.
 3. **Edges**: the network sees the crop at 320 px, coarser than the frame, and misses what
    shows faintly (fluke lobes a little under the surface). By default the edge network
    (``edge_net.LearnedEdges``) draws the outline again at the frame's resolution from the
@@ -49,7 +51,7 @@ from dolphinfit.core.progress import ProgressCallback, check_cancel
 from dolphinfit.core.segment.auto_seed import describe
 from dolphinfit.core.segment.colour import ColourModel, separation
 from dolphinfit.core.segment.edge_steps import EdgeStep
-from dolphinfit.core.segment.net_look import NetLook
+from dolphinfit.core.segment.net_look import NetLook, Seen
 from dolphinfit.core.segment.net_seed import NetSeeder
 from dolphinfit.core.segment.net_settings import NetSettings
 from dolphinfit.core.segment.regions import centroid, models_near, shifted
@@ -78,6 +80,7 @@ class _State:
     velocity_px: np.ndarray = field(default_factory=lambda: np.zeros(2))
     moving: bool = False               # whether velocity_px was measured
     lost_steps: int = 0
+    others: np.ndarray | None = None   # other animals seen beside it in the last look
 
 
 class NetTracker:
@@ -139,7 +142,7 @@ class NetTracker:
         else:
             prediction = state.last_seen
             growth = settings.search_growth ** min(state.lost_steps, 3)
-        mask = None
+        seen = None
         if prediction.any():
             near_window = self.look.around(frame_rgb, prediction, growth)
             if growth > 1.0:
@@ -149,26 +152,32 @@ class NetTracker:
             focus_px = (round(settings.focus_fraction * longer_side(state.last_seen))
                         if state.moving else None)
             near_focus = None if focus_px is None else dilate(prediction, focus_px)
-            found = self.look.masked_in(frame_rgb, *near_window, prediction, focus=near_focus)
-            candidates = [found]
+            others = (shifted(state.others, state.velocity_px)
+                      if state.mask is not None and state.others is not None else None)
+            first = self.look.look_at(frame_rgb, *near_window, prediction, focus=near_focus,
+                                      others=others)
+            found = first.mask
+            candidates = [first]
             if not found.any() or mask_iou(found, prediction) < settings.follow_iou:
                 # moved off its prediction, or out of the window (where the network loses
                 # what the window cuts): look again around both, or wider
                 anchor = found if found.any() else prediction
                 both = found | prediction
                 wider = 1.0 if found.any() else settings.search_growth
-                candidates.append(self.look.masked_in(
+                candidates.append(self.look.look_at(
                     frame_rgb, *self.look.around(frame_rgb, both, wider), anchor, near=False,
-                    focus=None if focus_px is None else dilate(both, focus_px)))
-            animals = [c for c in candidates if self._is_animal(frame_rgb, c, state)]
+                    focus=None if focus_px is None else dilate(both, focus_px),
+                    others=others))
+            animals = [c for c in candidates if self._is_animal(frame_rgb, c.mask, state)]
             if animals:  # the one whose area is closest to the animal's
-                mask = min(animals, key=lambda c: abs(np.log(np.count_nonzero(c)
+                seen = min(animals, key=lambda c: abs(np.log(np.count_nonzero(c.mask)
                                                              / state.area_px)))
             elif state.mask is not None:  # tracked until now: try its colours
                 by_colour = colour_follow(frame_rgb, prediction, state.animal, state.water,
                                           COLOUR_SETTINGS)
                 if self._is_animal(frame_rgb, by_colour, state):
-                    mask = by_colour
+                    seen = Seen(by_colour, np.zeros_like(by_colour))
+        mask = None if seen is None else seen.mask
         if mask is None:
             state.mask = None
             state.lost_steps += 1
@@ -179,6 +188,7 @@ class NetTracker:
         state.area_px = ((1 - settings.model_rate) * state.area_px
                          + settings.model_rate * float(np.count_nonzero(mask)))
         state.mask = state.last_seen = mask
+        state.others = seen.others if seen.others.any() else None
         state.animal, state.water = models_near(frame_rgb, mask)
         state.lost_steps = 0
         return mask
