@@ -2,13 +2,15 @@
 the square window around a mask, the salient network's probability there (looked at again
 with another animal painted out when it marks that one), the component attached to the
 prediction, split from a neighbour touching it, the outline drawn by the edge step, and the
-other animals the window shows beside it."""
+other animals the window shows beside it. The network's look (``View``) is kept apart from
+its reading, so that a step can read a look again (``net_tracker`` step 4)."""
 
 from dataclasses import dataclass
 
 import cv2
 import numpy as np
 
+from dolphinfit.core.segment.auto_seed import cut_by_window
 from dolphinfit.core.segment.bodies import MIN_CORE_SHARE, nearer_to, own_body
 from dolphinfit.core.segment.edge_steps import EdgeStep, make_edge_step
 from dolphinfit.core.segment.net_settings import PAIR_AREA_RATIO, NetSettings
@@ -26,12 +28,35 @@ OTHER_MIN_ELONGATION = 3.0
 
 
 @dataclass(frozen=True, eq=False)
+class View:
+    """One look's window of a frame and what the salient network saw there: the crop as it is
+    (the edge step draws on it), its (h, w) saliency, and ``unfaded``: where the look faded
+    nothing (None: nowhere faded)."""
+
+    rows: slice
+    cols: slice
+    crop: np.ndarray
+    saliency: np.ndarray
+    unfaded: np.ndarray | None
+    frame_shape: tuple[int, int]
+
+    def shows_whole(self, mask: np.ndarray) -> bool:
+        """Whether a (frame-sized) mask read from this view lies where the view showed the
+        frame as it is: off the window's sides (but those on the frame's edge) and inside
+        what it did not fade. Where it does not, the window may have cut the animal."""
+        inside = self.unfaded is None or not (mask[self.rows, self.cols] & ~self.unfaded).any()
+        return inside and not cut_by_window(mask, self.rows, self.cols)
+
+
+@dataclass(frozen=True, eq=False)
 class Seen:
-    """What one look at a window found: the animal's (H, W) bool mask, and ``others``: the
-    salient bodies in the window apart from it that look like other animals."""
+    """What one look at a window found: the animal's (H, W) bool mask, ``others``: the
+    salient bodies in the window apart from it that look like other animals, and the
+    ``view`` it was read from (None where no network look found it)."""
 
     mask: np.ndarray
     others: np.ndarray
+    view: View | None = None
 
 
 class NetLook:
@@ -54,25 +79,42 @@ class NetLook:
     def look_at(self, frame_rgb: np.ndarray, rows: slice, cols: slice,
                 prediction: np.ndarray, near: bool = True, focus: np.ndarray | None = None,
                 others: np.ndarray | None = None) -> Seen:
-        """Steps 2 and 3 in one window: the mask attached to ``prediction``, kept near it
-        unless ``near`` is False (at the seed, or after the animal moved off its prediction,
-        where the prediction may be only a part of the animal). ``focus``: where the animal
-        can be; what lies beyond is faded out first. ``others``: where other animals are
+        """Steps 2 and 3 in one window: the network's look (``view``) and its reading
+        (``read``). ``focus``: where the animal can be; what lies beyond is faded out
+        first."""
+        local = prediction[rows, cols]
+        if not local.any():
+            empty = np.zeros(frame_rgb.shape[:2], bool)
+            return Seen(empty, empty.copy())
+        return self.read(self.view(frame_rgb, rows, cols, local, focus), prediction, near,
+                         others)
+
+    def view(self, frame_rgb: np.ndarray, rows: slice, cols: slice, local: np.ndarray,
+             focus: np.ndarray | None = None) -> View:
+        """The network's look at a window where the animal is expected at ``local`` (in the
+        window), what lies beyond ``focus`` (in the frame) faded out first."""
+        crop = np.ascontiguousarray(frame_rgb[rows, cols])
+        unfaded = None if focus is None else focus[rows, cols]
+        crop_seen = crop if unfaded is None else faded(
+            crop, unfaded, self.settings.fade_fraction * longer_side(local))
+        return View(rows, cols, crop, self.saliency(crop_seen, local), unfaded,
+                    frame_rgb.shape[:2])
+
+    def read(self, view: View, prediction: np.ndarray, near: bool = True,
+             others: np.ndarray | None = None) -> Seen:
+        """The mask attached to ``prediction`` in a view, kept near it unless ``near`` is
+        False (at the seed, or after the animal moved off its prediction, where the
+        prediction may be only a part of the animal). ``others``: where other animals are
         predicted; salient pixels nearer to them than to ``prediction`` are theirs (two
         animals touching only at their flukes make one component that no stricter level
         parts, and a split by distance alone gives the nearer animal the other's flukes)."""
-        settings = self.settings
-        crop = np.ascontiguousarray(frame_rgb[rows, cols])
+        settings, rows, cols, saliency = self.settings, view.rows, view.cols, view.saliency
         local = prediction[rows, cols]
-        mask = np.zeros(frame_rgb.shape[:2], bool)
+        mask = np.zeros(view.frame_shape, bool)
         seen_others = np.zeros_like(mask)
         if not local.any():
-            return Seen(mask, seen_others)
-        length_px = longer_side(local)
-        near_px = max(settings.min_near_px, round(settings.near_fraction * length_px))
-        crop_seen = crop if focus is None else faded(
-            crop, focus[rows, cols], settings.fade_fraction * length_px)
-        saliency = self.saliency(crop_seen, local)
+            return Seen(mask, seen_others, view)
+        near_px = max(settings.min_near_px, round(settings.near_fraction * longer_side(local)))
         all_salient = saliency >= settings.threshold
         theirs = _theirs(all_salient, local, others, rows, cols)
         salient = all_salient & ~theirs
@@ -84,9 +126,9 @@ class NetLook:
             found = attached(nearer_to(found, local & found, beyond), local, settings.gap_px)
         elif found.any():
             found = own_body(found, local, saliency, expected_px)
-        mask[rows, cols] = self.edges(crop, saliency, found) & ~theirs
+        mask[rows, cols] = self.edges(view.crop, saliency, found) & ~theirs
         seen_others[rows, cols] = _bodies_apart(all_salient, mask[rows, cols], settings.gap_px)
-        return Seen(mask, seen_others)
+        return Seen(mask, seen_others, view)
 
     def saliency(self, crop: np.ndarray, expected: np.ndarray) -> np.ndarray:
         """(h, w) saliency of a crop. The network marks one salient object, not necessarily

@@ -20,6 +20,7 @@ from dolphinfit.core.progress import Cancelled
 from dolphinfit.core.segment.backends import make_segmenter
 from dolphinfit.core.segment.colour import separation
 from dolphinfit.core.segment.evaluate import box_seed_from
+from dolphinfit.core.segment.net_settings import NetSettings
 from dolphinfit.core.segment.net_tracker import BACKEND_NAME, NetTracker, _State
 from dolphinfit.core.segment.windows import faded, square_window
 from dolphinfit.core.segment.regions import models_near
@@ -180,12 +181,12 @@ class _AllSalient:
 
 
 def _animal_frame(center_xy: tuple[int, int], water_rgb=(150, 170, 150),
-                  animal_rgb=(60, 60, 62)) -> tuple[np.ndarray, np.ndarray]:
-    """A 240 × 320 frame of noisy water with a dark dolphin-like ellipse (elongation 5), and
-    its mask."""
+                  animal_rgb=(60, 60, 62), width_px: int = 320) -> tuple[np.ndarray, np.ndarray]:
+    """A 240 × ``width_px`` frame of noisy water with a dark dolphin-like ellipse (elongation
+    5), and its mask."""
     rng = np.random.default_rng(center_xy[0])
-    frame = np.clip(np.array(water_rgb) + rng.normal(0, 4, (240, 320, 3)), 0, 255)
-    mask = np.zeros((240, 320), np.uint8)
+    frame = np.clip(np.array(water_rgb) + rng.normal(0, 4, (240, width_px, 3)), 0, 255)
+    mask = np.zeros((240, width_px), np.uint8)
     cv2.ellipse(mask, center_xy, (60, 12), 20, 0, 360, 1, -1)
     frame[mask == 1] = animal_rgb
     return frame.astype(np.uint8), mask == 1
@@ -372,3 +373,40 @@ def test_a_companion_whose_flukes_touch_the_animals_keeps_them():
     assert np.count_nonzero(beside.mask & companion) < 0.01 * area
     assert mask_iou(beside.mask, animal) > 0.93 > mask_iou(alone, animal)
     assert mask_iou(beside.others, companion) > 0.95
+
+
+class _Counted:
+    """A stand-in network that counts its looks."""
+
+    def __init__(self, net) -> None:
+        self.net, self.looks = net, 0
+
+    def saliency(self, crop_rgb: np.ndarray) -> np.ndarray:
+        self.looks += 1
+        return self.net.saliency(crop_rgb)
+
+
+class _AsChosen:
+    """A stand-in outline step that keeps the component chosen from the saliency."""
+
+    name = "as chosen"
+
+    def __call__(self, crop_rgb: np.ndarray, saliency: np.ndarray,
+                 mask: np.ndarray) -> np.ndarray:
+        return mask
+
+
+@pytest.mark.parametrize("moved_px, looks", [(16, 1), (60, 2)])
+def test_an_animal_off_its_prediction_is_looked_at_again_only_where_the_window_cut_it(
+        moved_px, looks):
+    """An animal that moved off its prediction (IoU with it under ``follow_iou``) is read
+    again from the same look where that look showed it whole (16 px along its axis); where
+    the window cut it (60 px, beyond the window's side), the network looks again around
+    both. Either way it is found whole."""
+    before, mask_before = _animal_frame((180, 120), width_px=480)
+    after, mask_after = _animal_frame((180 + moved_px, 120), width_px=480)
+    assert mask_iou(mask_before, mask_after) < NetSettings().follow_iou
+    net = _Counted(_DarkIsSalient())
+    found = NetTracker(net=net, edges=_AsChosen())._next(after, _tracked(before, mask_before))
+    assert net.looks == looks
+    assert found is not None and mask_iou(found, mask_after) > 0.95
