@@ -15,7 +15,7 @@ from dolphinfit.core.segment.edge_data import (
 )
 from dolphinfit.core.segment.edge_net import (
     MAX_SIDE_PX, WEIGHTS_PATH, EdgeNet, EdgeWeights, LearnedEdges, load_weights, net_input,
-    padded_to_multiple, save_weights,
+    _reach, padded_to_multiple, save_weights,
 )
 from dolphinfit.core.segment.edge_training import (
     PRIOR_CUT_KEEP, TrainSettings, cut_prior, loss_of, train, training_patch,
@@ -136,6 +136,20 @@ def test_a_large_window_is_looked_at_downscaled_and_answered_at_full_size():
     probability = edges.probability(window.crop_rgb, window.saliency / 255.0, window.prior)
     assert probability.shape == window.prior.shape
     assert mask_iou(probability >= 0.5, window.target) > 0.95
+
+
+def test_the_network_run_around_the_prior_outlines_as_over_the_whole_window():
+    """Run only on the prior's box grown by ``REACH_PX`` (here a third of the window), the
+    bundled network gives the outline it gives over the whole window, to the pixel."""
+    window = _ellipse_window(400, half_length=0.25, half_width=0.04)
+    edges = LearnedEdges()
+    x = torch.from_numpy(net_input(window.crop_rgb, window.saliency / 255.0, window.prior))
+    with torch.inference_mode():
+        whole = edges.weights.net(padded_to_multiple(x[None]))[0, 0, :400, :400].numpy() >= 0.0
+    around = edges.probability(window.crop_rgb, window.saliency / 255.0, window.prior) >= 0.5
+    rows, cols = _reach(window.prior)
+    assert (rows.stop - rows.start) * (cols.stop - cols.start) < 0.4 * 400 ** 2
+    assert whole.any() and np.array_equal(around, whole)
 
 
 def test_training_clips_are_drawn_widely_and_never_as_the_suite():
