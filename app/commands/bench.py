@@ -41,7 +41,8 @@ truth. Clips are rendered once into the cache.
 masks: each mask back-end from the same click on the target, on the frames a suite fit uses
 (every 4th): IoU against the true masks, IoU around the flukes and around the rostrum (the
 parts that decide the length), the outline offset (how far the outline lies outside or
-inside the true one, in pixels: what volume follows) and seconds per frame; the same from
+inside the true one, in pixels: what volume follows) and seconds per frame, in all and apart
+(the seed, once per clip, then each frame tracked after it); the same from
 the automatic seed and from a box around the target (--seeds, default click,auto,box; the
 click always). The default back-ends are those that need nothing beyond dolphinfit (network,
 network-colour-edges, colour); SAM-2 joins them with --backends network,colour,sam2
@@ -308,7 +309,8 @@ def _print_mask_score(score) -> None:
     others = "".join(f"  {kind} IoU {s.mean_iou:.3f}" for kind, s in score.seeds.items())
     print(f"{score.clip:{CLIP_WIDTH}s} {score.backend:20s} IoU {score.mean_iou:.3f}  flukes "
           f"{score.flukes_iou:.3f}  rostrum {score.rostrum_iou:.3f}  outline "
-          f"{score.outline_offset_px:+.2f} px  {score.seconds_per_frame:.2f} s/frame{others} "
+          f"{score.outline_offset_px:+.2f} px  {score.seconds_per_frame:.2f} s/frame (seed "
+          f"{score.seed_seconds:.2f} s, then {score.seconds_per_tracked_frame:.2f}){others} "
           f"{score.error}", file=sys.stderr, flush=True)
 
 
@@ -317,13 +319,14 @@ def format_masks(figures: dict) -> str:
     the other seeds (IoU, flukes, rostrum IoU of each)."""
     kinds = list(figures["clips"][0]["seeds"])
     lines = [f"{'clip':{CLIP_WIDTH}s} back-end              IoU    min    flukes rostrum "
-             "outline px s/frame"
+             "outline px s/frame seed s then"
              + "".join(f"  {kind:>5s}: IoU  fl    ro" for kind in kinds)]
     for c in figures["clips"]:
         errors = [c["error"]] + [c["seeds"][kind]["error"] for kind in kinds]
         lines.append(f"{c['clip']:{CLIP_WIDTH}s} {c['backend']:20s}  {c['mean_iou']:.3f}  "
                      f"{c['min_iou']:.3f}  {c['flukes_iou']:.3f}  {c['rostrum_iou']:.3f}   "
-                     f"{c['outline_offset_px']:+6.2f}     {c['seconds_per_frame']:.2f}"
+                     f"{c['outline_offset_px']:+6.2f}     {c['seconds_per_frame']:.2f}   "
+                     f"{c['seed_seconds']:5.2f}  {c['seconds_per_tracked_frame']:.2f}"
                      + "".join(f"        {_ious(c['seeds'][kind])}" for kind in kinds)
                      + "".join(f"  ({e})" for e in errors if e))
     lines.append("")
@@ -332,7 +335,9 @@ def format_masks(figures: dict) -> str:
                      f"{s['worst_clip_iou']:.3f}), flukes {s['flukes_iou']:.3f}, rostrum "
                      f"{s['rostrum_iou']:.3f}, outline offset {s['mean_abs_outline_offset_px']:.2f} "
                      f"px (worst clip {s['worst_outline_offset_px']:.2f}), "
-                     f"{s['seconds_per_frame']:.2f} s per frame"
+                     f"{s['seconds_per_frame']:.2f} s per frame (the seed "
+                     f"{s['seed_seconds']:.2f} s, then {s['seconds_per_tracked_frame']:.2f} s "
+                     f"per frame tracked)"
                      + "".join(f"; {kind}: {t['mean_iou']:.3f} (worst clip "
                                f"{t['worst_clip_iou']:.3f})" for kind, t in s["seeds"].items()))
     return "\n".join(lines)

@@ -15,7 +15,9 @@ is scored on those frames:
   pixels, averaged over the scored frames (``evaluate.outline_offset_px``): the figure volume
   follows, where IoU does not say in which direction a mask errs;
 - **seconds per segmented frame**, wall time of the whole pass (for SAM-2 including
-  building its model from the checkpoint, once per clip).
+  building its model from the checkpoint, once per clip); and the same pass apart: the
+  **seed's** seconds (from the start to the first frame's mask: finding the animal, once per
+  clip) and the seconds per frame **tracked** after it (what a longer clip costs a frame).
 
 The same scores from the other ways a user starts (``SEED_KINDS``): the automatic seed in
 that frame (sized by the clip's camera and altitudes, as ``dolphinfit fit`` sizes it), and a
@@ -40,7 +42,7 @@ from dolphinfit.core.limits import one_of
 from dolphinfit.core.segment.backends import ALWAYS_AVAILABLE, COLOUR, make_segmenter
 from dolphinfit.core.segment.evaluate import box_seed_from, outline_offset_px
 from dolphinfit.core.segment.seed import dilate
-from dolphinfit.core.segment.segmenter import AutoSeed, PointSeed, Seed
+from dolphinfit.core.segment.segmenter import AutoSeed, Frames, PointSeed, Seed, Segmenter
 from dolphinfit.core.synth.config import SynthConfig
 from dolphinfit.core.synth.files import ClipFiles, read_part_masks
 
@@ -61,6 +63,18 @@ class SeedScore:
     seconds_per_frame: float
     outline_offset_px: float = float("nan")   # mean over the frames where the target shows
     error: str = ""       # why the back-end gave no masks at all (scored as empty masks)
+    seed_seconds: float = float("nan")                # to the first frame's mask
+    seconds_per_tracked_frame: float = float("nan")   # each frame after it
+
+
+@dataclass(frozen=True)
+class PassTime:
+    """How long one segmenting pass took: in all, to its first frame's mask (the seed: the
+    back-ends report each frame as it is done, the seed's first) and after it."""
+
+    seconds: float
+    seed_seconds: float = float("nan")   # NaN: no frame reported
+    after_seed_seconds: float = float("nan")
 
 
 @dataclass(frozen=True)
@@ -79,6 +93,8 @@ class MaskScore:
     outline_offset_px: float = float("nan")
     error: str = ""       # why the back-end gave no masks at all (scored as empty masks)
     seeds: dict[str, SeedScore] = field(default_factory=dict)
+    seed_seconds: float = float("nan")
+    seconds_per_tracked_frame: float = float("nan")
 
 
 def target_clicks(truth: dict) -> list[PointSeed]:
@@ -135,27 +151,41 @@ def score_backend(name: str, files: ClipFiles, backend: str, stride: int = DEFAU
     by_kind = {}
     segmenter = make_segmenter(backend, only_frames=scored, checkpoint=checkpoint)
     for kind in dict.fromkeys((CLICK, *seeds)):
-        error = ""
-        with VideoReader(clip) as frames:
-            start = time.perf_counter()
-            try:
-                track = segmenter.segment(frames, seed_of(kind, click, truth, auto))
-            except InputError as exc:  # the seed found nothing: every frame scores as empty
-                track, error = None, str(exc)
-            seconds = time.perf_counter() - start
-        by_kind[kind] = _scores(track, truth, parts, scored, seconds / segmented, error)
+        with VideoReader(clip) as frames:   # no masks: every frame scores as empty
+            track, timed, error = timed_pass(segmenter, frames, seed_of(kind, click, truth, auto))
+        by_kind[kind] = _scores(track, truth, parts, scored, timed, segmented, error)
     first = by_kind.pop(CLICK)
     return MaskScore(clip=name, backend=backend, mean_iou=first.mean_iou,
                      min_iou=first.min_iou, flukes_iou=first.flukes_iou,
                      rostrum_iou=first.rostrum_iou, frames=len(scored),
                      seconds_per_frame=first.seconds_per_frame,
                      outline_offset_px=first.outline_offset_px, error=first.error,
-                     seeds=by_kind)
+                     seeds=by_kind, seed_seconds=first.seed_seconds,
+                     seconds_per_tracked_frame=first.seconds_per_tracked_frame)
+
+
+def timed_pass(segmenter: Segmenter, frames: Frames,
+               seed: Seed) -> tuple[MaskTrack | None, PassTime, str]:
+    """``segmenter.segment(frames, seed)``, how long it took (``PassTime``) and why it gave
+    no masks ("" when it did; None and the InputError's message where the seed found
+    nothing)."""
+    reported = []
+    start = time.perf_counter()
+    try:
+        track, error = segmenter.segment(
+            frames, seed, progress=lambda _report: reported.append(time.perf_counter())), ""
+    except InputError as exc:
+        track, error = None, str(exc)
+    end = time.perf_counter()
+    if not reported:
+        return track, PassTime(end - start), error
+    return track, PassTime(end - start, reported[0] - start, end - reported[0]), error
 
 
 def _scores(track: MaskTrack | None, truth: MaskTrack, parts: dict[str, np.ndarray],
-            scored: list[int], seconds_per_frame: float, error: str) -> SeedScore:
-    """The IoUs of ``track`` (None: no masks) on the scored frames."""
+            scored: list[int], timed: PassTime, segmented: int, error: str) -> SeedScore:
+    """The IoUs of ``track`` (None: no masks) on the scored frames; the pass's time per
+    frame of the ``segmented``, and apart (``PassTime``)."""
     ious, offsets, part_ious = [], [], {part: [] for part in ("flukes", "rostrum")}
     for t in scored:
         target = truth.mask(t)
@@ -171,9 +201,11 @@ def _scores(track: MaskTrack | None, truth: MaskTrack, parts: dict[str, np.ndarr
                   for part, values in part_ious.items()}
     return SeedScore(mean_iou=float(np.mean(ious)), min_iou=float(np.min(ious)),
                      flukes_iou=part_means["flukes"], rostrum_iou=part_means["rostrum"],
-                     seconds_per_frame=seconds_per_frame,
+                     seconds_per_frame=timed.seconds / segmented,
                      outline_offset_px=float(np.mean(offsets)) if offsets else float("nan"),
-                     error=error)
+                     error=error, seed_seconds=timed.seed_seconds,
+                     seconds_per_tracked_frame=(timed.after_seed_seconds / (segmented - 1)
+                                                if segmented > 1 else float("nan")))
 
 
 def _means(scores: list[SeedScore | MaskScore]) -> dict[str, float]:
@@ -186,7 +218,17 @@ def _means(scores: list[SeedScore | MaskScore]) -> dict[str, float]:
             "worst_clip_iou": float(np.min([s.mean_iou for s in scores])),
             "flukes_iou": float(np.nanmean([s.flukes_iou for s in scores])),
             "rostrum_iou": float(np.nanmean([s.rostrum_iou for s in scores])),
-            "seconds_per_frame": float(np.mean([s.seconds_per_frame for s in scores]))}
+            "seconds_per_frame": float(np.mean([s.seconds_per_frame for s in scores])),
+            "seed_seconds": _known_mean([s.seed_seconds for s in scores]),
+            "seconds_per_tracked_frame": _known_mean([s.seconds_per_tracked_frame
+                                                      for s in scores])}
+
+
+def _known_mean(values: list[float]) -> float:
+    """The mean of the values that are not NaN (a pass that found no animal has no seed
+    time); NaN when none is."""
+    known = [value for value in values if not np.isnan(value)]
+    return float(np.mean(known)) if known else float("nan")
 
 
 def summarize(scores: list[MaskScore]) -> dict[str, dict]:

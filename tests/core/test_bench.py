@@ -141,6 +141,9 @@ def test_mask_bench_scores_each_back_end_from_the_click_the_automatic_seed_and_a
         assert 0.0 <= figures_of["rostrum_iou"] <= 1.0
         assert abs(figures_of["outline_offset_px"]) < 0.6
     assert set(network["seeds"]) == {"auto", "box"}
+    assert network["seed_seconds"] > 0 and network["seconds_per_tracked_frame"] > 0
+    assert 2 * network["seconds_per_frame"] == pytest.approx(
+        network["seed_seconds"] + network["seconds_per_tracked_frame"])   # 2 frames
     for kind in ("auto", "box"):
         assert network["seeds"][kind]["mean_iou"] > 0.85
         assert not network["seeds"][kind]["error"]
@@ -152,6 +155,36 @@ def test_mask_bench_scores_each_back_end_from_the_click_the_automatic_seed_and_a
     assert summary["seeds"]["box"]["mean_iou"] == network["seeds"]["box"]["mean_iou"]
     with pytest.raises(InputError, match="seed kind: one of click, auto, box, got 'lasso'"):
         bench_masks({}, seeds=("lasso",))
+
+
+class _Clocked:
+    """A stand-in back-end on a stand-in clock: 3 s to find the animal, then 1 s a frame,
+    each frame reported as done; or an InputError after 3 s."""
+
+    def __init__(self, clock: list[float], frames: int, finds: bool = True) -> None:
+        self.clock, self.frames, self.finds = clock, frames, finds
+
+    def segment(self, frames, seed, progress=None, cancel=None):
+        self.clock[0] += 3.0
+        if not self.finds:
+            raise InputError("no animal at the seed")
+        for done in range(1, self.frames + 1):
+            progress(done)
+            self.clock[0] += 1.0
+        return "masks"
+
+
+def test_a_pass_is_timed_in_all_and_apart_for_the_seed_and_the_frames_after_it(monkeypatch):
+    from dolphinfit.core.bench import mask_bench
+
+    clock = [100.0]
+    monkeypatch.setattr(mask_bench.time, "perf_counter", lambda: clock[0])
+    track, timed, error = mask_bench.timed_pass(_Clocked(clock, 5), [], None)
+    assert (track, error) == ("masks", "")
+    assert timed == mask_bench.PassTime(8.0, 3.0, 5.0)
+    track, timed, error = mask_bench.timed_pass(_Clocked(clock, 5, finds=False), [], None)
+    assert (track, error) == (None, "no animal at the seed")
+    assert timed.seconds == 3.0 and timed.seed_seconds != timed.seed_seconds   # NaN
 
 
 def test_suite_clips_by_name_keep_the_order_given_and_refuse_unknown_names(capsys):
@@ -187,7 +220,8 @@ def test_masks_table_shows_each_seed_beside_the_click():
 
     def scores(iou, error=""):
         return {"mean_iou": iou, "min_iou": iou, "flukes_iou": 0.5, "rostrum_iou": 0.6,
-                "seconds_per_frame": 1.0, "outline_offset_px": -0.25, "error": error}
+                "seconds_per_frame": 1.0, "outline_offset_px": -0.25, "error": error,
+                "seed_seconds": 2.5, "seconds_per_tracked_frame": 0.75}
 
     clip = {"clip": "grey_green", "backend": "network", "frames": 8, **scores(0.9),
             "seeds": {"auto": scores(0.0, "no animal"), "box": scores(0.88)}}
@@ -200,6 +234,8 @@ def test_masks_table_shows_each_seed_beside_the_click():
     assert "auto: IoU" in header and "box: IoU" in header
     assert "0.000 0.500 0.600" in row and "0.880 0.500 0.600" in row and "(no animal)" in row
     assert "outline px" in header and " -0.25 " in row and "outline offset 0.25 px" in total
+    assert "seed s then" in header and "1.00    2.50  0.75" in row
+    assert "1.00 s per frame (the seed 2.50 s, then 0.75 s per frame tracked)" in total
     assert total.endswith("; auto: 0.000 (worst clip 0.000); box: 0.880 (worst clip 0.880)")
 
 
