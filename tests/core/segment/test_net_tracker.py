@@ -387,26 +387,32 @@ class _Counted:
 
 
 class _AsChosen:
-    """A stand-in outline step that keeps the component chosen from the saliency."""
+    """A stand-in outline step that keeps the component chosen from the saliency, and counts
+    its calls."""
 
     name = "as chosen"
 
+    def __init__(self) -> None:
+        self.calls = 0
+
     def __call__(self, crop_rgb: np.ndarray, saliency: np.ndarray,
                  mask: np.ndarray) -> np.ndarray:
+        self.calls += 1
         return mask
 
 
-@pytest.mark.parametrize("moved_px, looks", [(16, 1), (60, 2)])
+@pytest.mark.parametrize("moved_px, looks, outlines", [(16, 1, 1), (60, 2, 2)])
 def test_an_animal_off_its_prediction_is_looked_at_again_only_where_the_window_cut_it(
-        moved_px, looks):
+        moved_px, looks, outlines):
     """An animal that moved off its prediction (IoU with it under ``follow_iou``) is read
     again from the same look where that look showed it whole (16 px along its axis); where
     the window cut it (60 px, beyond the window's side), the network looks again around
-    both. Either way it is found whole."""
+    both. Either way it is found whole. Read again, the look gives the component it gave
+    first, whose outline is not drawn again."""
     before, mask_before = _animal_frame((180, 120), width_px=480)
     after, mask_after = _animal_frame((180 + moved_px, 120), width_px=480)
     assert mask_iou(mask_before, mask_after) < NetSettings().follow_iou
-    net = _Counted(_DarkIsSalient())
-    found = NetTracker(net=net, edges=_AsChosen())._next(after, _tracked(before, mask_before))
-    assert net.looks == looks
+    net, edges = _Counted(_DarkIsSalient()), _AsChosen()
+    found = NetTracker(net=net, edges=edges)._next(after, _tracked(before, mask_before))
+    assert (net.looks, edges.calls) == (looks, outlines)
     assert found is not None and mask_iou(found, mask_after) > 0.95
