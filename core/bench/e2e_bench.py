@@ -92,12 +92,12 @@ def _clip_dir(frame_size: str):
     return cache_dir() / E2E_CACHE / frame_size
 
 
-def bench_chain(frame_size: str, config: FitConfig = FitConfig(),
-                device: str | None = None) -> dict:
-    """One run of the chain on the speed clip at ``frame_size``: seconds by stage and in
-    all, peak memory, frames, errors of volume and length, and whether the interval holds
-    the true volume. ``device``: where the fit and the edge network run (core.device; None:
-    the engine's default, the CPU, as an engine from before devices has it)."""
+def bench_chain(frame_size: str, device: str | None = None) -> dict:
+    """One run of the chain, with the default fit, on the speed clip at ``frame_size``:
+    seconds by stage and in all, peak memory, frames, errors of volume and length, and
+    whether the interval holds the true volume. ``device``: where the fit and the edge
+    network run (core.device; None: the engine's default, the CPU, as an engine from before
+    devices has it)."""
     on_device = {} if device is None else {"device": device}
     clip = clip_of(frame_size)
     files = ensure_clip(clip, _clip_dir(frame_size))
@@ -106,7 +106,7 @@ def bench_chain(frame_size: str, config: FitConfig = FitConfig(),
 
     def chain():
         clock = StageClock()
-        run = run_fit(files.video, files.srt, None, synth_camera(clip), config,
+        run = run_fit(files.video, files.srt, None, synth_camera(clip), FitConfig(),
                       clip.launch_height_m, progress=clock, **on_device)
         clock.mark(INTERVAL_STAGE)
         interval = run_interval(run, errors)
