@@ -74,7 +74,10 @@ class PassTime:
 
     seconds: float
     seed_seconds: float = float("nan")   # NaN: no frame reported
-    after_seed_seconds: float = float("nan")
+
+    @property
+    def after_seed_seconds(self) -> float:
+        return self.seconds - self.seed_seconds
 
 
 @dataclass(frozen=True)
@@ -176,10 +179,8 @@ def timed_pass(segmenter: Segmenter, frames: Frames,
             frames, seed, progress=lambda _report: reported.append(time.perf_counter())), ""
     except InputError as exc:
         track, error = None, str(exc)
-    end = time.perf_counter()
-    if not reported:
-        return track, PassTime(end - start), error
-    return track, PassTime(end - start, reported[0] - start, end - reported[0]), error
+    seed_seconds = reported[0] - start if reported else float("nan")
+    return track, PassTime(time.perf_counter() - start, seed_seconds), error
 
 
 def _scores(track: MaskTrack | None, truth: MaskTrack, parts: dict[str, np.ndarray],
