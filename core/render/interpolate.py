@@ -7,13 +7,17 @@ vertex positions through d(weights)/d(2-D vertex); depth gets none.
 
 import torch
 
-from dolphinfit.core.render.rasterize import Fragments, edge_weights, gather_corners
+from dolphinfit.core.render.rasterize import Fragments, row_weights
 
 
 def barycentrics(xy_px: torch.Tensor, faces: torch.Tensor, frags: Fragments) -> torch.Tensor:
-    """(C, 3) weights of the covered pixels in their faces; xy_px: (T, V, 2)."""
-    tri = gather_corners(xy_px, faces, frags.frame, frags.face)  # (C, 3, 2)
-    return edge_weights(tri, frags.pixel_centres(xy_px.dtype))
+    """(3, C) weights of the covered pixels in their faces, a row per corner (the layout the
+    CPU runs fastest); xy_px: (T, V, 2)."""
+    flat_idx = frags.frame * xy_px.shape[1] + faces.index_select(0, frags.face).T   # (3, C)
+    corners = xy_px.reshape(-1, 2).index_select(0, flat_idx.reshape(-1))
+    corners = corners.reshape(*flat_idx.shape, 2)
+    centres = frags.pixel_centres(xy_px.dtype)
+    return row_weights(corners[..., 0] - centres[:, 0], corners[..., 1] - centres[:, 1])
 
 
 def interpolate_vertex_values(values: torch.Tensor, faces: torch.Tensor, frags: Fragments,
@@ -31,9 +35,9 @@ def interpolate_corner_values(corner_values: torch.Tensor, frags: Fragments,
 
 
 def weighted_sum(weights: torch.Tensor, values: torch.Tensor) -> torch.Tensor:
-    """(C, D) Σ_k weights[:, k] · values[:, k] for weights (C, K) and values (C, K, D),
+    """(C, D) Σ_k weights[k] · values[:, k] for weights (K, C) and values (C, K, D),
     written out over k: torch reduces a short middle axis several times slower."""
-    total = weights[:, :1] * values[:, 0]
-    for k in range(1, weights.shape[1]):
-        total = total + weights[:, k:k + 1] * values[:, k]
+    total = weights[0, :, None] * values[:, 0]
+    for k in range(1, weights.shape[0]):
+        total = total + weights[k, :, None] * values[:, k]
     return total

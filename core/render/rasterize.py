@@ -45,9 +45,18 @@ def cross2(a: torch.Tensor, b: torch.Tensor) -> torch.Tensor:
 
 def edge_weights(tri: torch.Tensor, point: torch.Tensor) -> torch.Tensor:
     """(..., 3) normalised barycentric weights of ``point`` (..., 2) in ``tri`` (..., 3, 2)."""
-    a, b, c = (corner - point for corner in tri.unbind(-2))
-    w = torch.stack([cross2(b, c), cross2(c, a), cross2(a, b)], dim=-1)
-    total = w.sum(-1, keepdim=True)
+    offset = (tri - point[..., None, :]).movedim(-2, 0)     # (3, ..., 2)
+    return row_weights(offset[..., 0], offset[..., 1]).movedim(0, -1)
+
+
+def row_weights(dx: torch.Tensor, dy: torch.Tensor) -> torch.Tensor:
+    """(3, ...) normalised barycentric weights of points whose offsets to a triangle's three
+    corners are ``dx``, ``dy`` (3, ...): corner minus point. Corners along the first axis let
+    the raster run its pairs as contiguous rows, several times faster on the CPU than a
+    trailing axis of 2 or 3."""
+    w = torch.stack([dx[1] * dy[2] - dy[1] * dx[2], dx[2] * dy[0] - dy[2] * dx[0],
+                     dx[0] * dy[1] - dy[0] * dx[1]])
+    total = w[0] + w[1] + w[2]
     return w / (total + BARY_EPS * torch.sign(total))
 
 
@@ -105,23 +114,29 @@ def rasterize(xy_px: torch.Tensor, depth: torch.Tensor, faces: torch.Tensor, hei
         area2 = cross2(tri[:, :, 1] - tri[:, :, 0], tri[:, :, 2] - tri[:, :, 0])
         front = area2 < 0
         frame, face = torch.nonzero(front & (tri_depth > 0).all(-1), as_tuple=True)
-        front_tri = gather_corners(xy_px, faces, frame, face)  # (N, 3, 2)
-        front_depth = tri_depth.reshape(-1, 3)[frame * faces.shape[0] + face]
+        flat = frame * faces.shape[0] + face
+        front_tri = tri.reshape(-1, 3, 2).index_select(0, flat)          # (N, 3, 2)
+        corner_x, corner_y = front_tri.permute(2, 1, 0).contiguous()    # (3, N) each
+        corner_depth = tri_depth.reshape(-1, 3).index_select(0, flat).T.contiguous()
         col_min, col_max, row_min, row_max = face_boxes(front_tri, width_px, height_px)
 
         zbuf = torch.full((num_frames * num_pixels,), torch.inf, dtype=xy_px.dtype,
                           device=xy_px.device)
         hits_pixel, hits_face, hits_depth = [], [], []
         for pairs in box_pair_chunks(col_min, col_max, row_min, row_max, max_pairs):
-            point = torch.stack([pairs.col, pairs.row], dim=-1).to(xy_px.dtype)
-            weights = edge_weights(front_tri.index_select(0, pairs.owner), point)
-            inside = (weights >= 0).all(-1)
-            owner = pairs.owner[inside]
-            z = (weights[inside] * front_depth.index_select(0, owner)).sum(-1)
-            pixel = frame[owner] * num_pixels + pairs.row[inside] * width_px + pairs.col[inside]
+            weights = row_weights(
+                corner_x.index_select(1, pairs.owner) - pairs.col.to(xy_px.dtype),
+                corner_y.index_select(1, pairs.owner) - pairs.row.to(xy_px.dtype))
+            # one index list for all that is kept: a boolean mask would search it each time
+            inside = torch.nonzero(weights.amin(0) >= 0, as_tuple=True)[0]   # NaN stays out
+            owner = pairs.owner.index_select(0, inside)
+            z = weights.index_select(1, inside) * corner_depth.index_select(1, owner)
+            z = z[0] + z[1] + z[2]
+            pixel = (frame.index_select(0, owner) * num_pixels
+                     + (pairs.row * width_px + pairs.col).index_select(0, inside))
             zbuf.scatter_reduce_(0, pixel, z, reduce="amin")
             hits_pixel.append(pixel)
-            hits_face.append(face[owner])
+            hits_face.append(face.index_select(0, owner))
             hits_depth.append(z)
         face_buf = torch.full((num_frames * num_pixels,), -1, dtype=torch.int64,
                               device=xy_px.device)
