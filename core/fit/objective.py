@@ -129,24 +129,25 @@ class FitProblem:
                           params.transl[frames], self.profile(params)).verts
 
     def render_chunk(self, params: SceneParams, chunk: torch.Tensor) -> RenderOutput:
-        """Render frames ``chunk`` at ``params``."""
-        return self.render_verts(params, chunk, self.posed_verts(params, chunk))
+        """The silhouettes of frames ``chunk`` at ``params``, unshaded."""
+        return self.render_verts(params, chunk, self.posed_verts(params, chunk), shade=False)
 
     def render_verts(self, params: SceneParams, chunk: torch.Tensor,
-                     verts: torch.Tensor) -> RenderOutput:
+                     verts: torch.Tensor, shade: bool = True) -> RenderOutput:
         """Render the posed meshes ``verts`` (len(chunk), V, 3) of frames ``chunk``."""
         appearance = Appearance(params.albedo, self.face_uvs, params.light(), params.f_water)
         viewport = Viewport(self.data.viewport.x0_px[chunk], self.data.viewport.y0_px[chunk],
                             self.data.viewport.width_px, self.data.viewport.height_px)
         return render(verts, self.model.faces, appearance, self.data.camera.select(chunk),
-                      viewport, self.settings, self.edges)
+                      viewport, self.settings, self.edges, shade)
 
     def step_loss(self, params: SceneParams, pyramid_weight: float,
-                  leaves: list[torch.Tensor], colour_geometry: bool
+                  leaves: list[torch.Tensor], colour: bool, colour_geometry: bool
                   ) -> tuple[dict, torch.Tensor]:
         """Set the gradients of ``leaves`` (the parameters being optimised: autograd skips
-        what only the others need) to those of the total loss, the colour term's on the
-        geometry only with ``colour_geometry``; returns term values and per-frame IoU.
+        what only the others need) to those of the total loss, with the colour term only
+        with ``colour`` and its gradient on the geometry only with ``colour_geometry``;
+        returns term values and per-frame IoU.
 
         The model poses every frame of the step at once, here; the chunks render their
         frames' meshes as their own leaves and return the gradients of the loss for them,
@@ -155,7 +156,7 @@ class FitProblem:
         posed = self.posed_verts(params, self.frames)
         meshes = posed.detach().split([len(chunk) for chunk in self.chunks])
         chunks = self.map_chunks(
-            lambda item: self.chunk_loss(params, *item, pyramid_weight, leaves,
+            lambda item: self.chunk_loss(params, *item, pyramid_weight, leaves, colour,
                                          colour_geometry),
             list(zip(self.chunks, meshes)))
         weights = self.config.weights
@@ -168,28 +169,31 @@ class FitProblem:
         for leaf, parts in zip(leaves, zip(*grads)):
             leaf.grad = reduce(torch.add, parts)
         terms = {name: sum(chunk_terms[name] for chunk_terms, _, _, _ in chunks)
-                 for name in ("mask", "rgb", "pyramid", "total")}
+                 for name in chunks[0][0]}
         terms.update({name: float(value.detach()) for name, value in prior_terms.items()})
         terms["total"] += float(prior_total.detach())
         return terms, torch.cat([iou for _, _, _, iou in chunks])
 
     def chunk_loss(self, params: SceneParams, chunk: torch.Tensor, verts: torch.Tensor,
-                   pyramid_weight: float, leaves: list[torch.Tensor],
+                   pyramid_weight: float, leaves: list[torch.Tensor], colour: bool,
                    colour_geometry: bool
                    ) -> tuple[dict[str, float], torch.Tensor, tuple[torch.Tensor, ...],
                               torch.Tensor]:
-        """One chunk's loss terms, the gradients of its total for its posed meshes ``verts``
-        (detached; without the colour term's unless ``colour_geometry``) and for ``leaves``,
-        and its frames' IoU (thread-safe: it changes nothing shared)."""
+        """One chunk's loss terms (the colour term, "rgb", only with ``colour``), the
+        gradients of its total for its posed meshes ``verts`` (detached; without the colour
+        term's unless ``colour_geometry``) and for ``leaves``, and its frames' IoU
+        (thread-safe: it changes nothing shared)."""
         weights = self.config.weights
         num_frames = self.num_used
         verts = verts.requires_grad_()
-        out = self.render_verts(params, chunk, verts)
+        out = self.render_verts(params, chunk, verts, shade=colour)
         mask_term = losses.soft_iou_loss(out.soft_mask, self.targets[chunk]) / num_frames
-        rgb_term = self.rgb_term(out, chunk) / num_frames
-        total = weights.mask * mask_term + weights.rgb * rgb_term
-        terms = {"mask": float(mask_term.detach()), "rgb": float(rgb_term.detach()),
-                 "pyramid": 0.0}
+        terms = {"mask": float(mask_term.detach()), "pyramid": 0.0}
+        total = weights.mask * mask_term
+        if colour:
+            rgb_term = self.rgb_term(out, chunk) / num_frames
+            total = total + weights.rgb * rgb_term
+            terms["rgb"] = float(rgb_term.detach())
         if pyramid_weight > 0:
             pyramid_term = (pyramid_loss(out.soft_mask, [level[chunk] for level in
                                                          self.target_pyramid])
@@ -197,7 +201,7 @@ class FitProblem:
             total = total + pyramid_weight * pyramid_term
             terms["pyramid"] = float(pyramid_term.detach())
         terms["total"] = float(total.detach())
-        if colour_geometry:
+        if colour_geometry or not colour:
             vert_grad, *grads = torch.autograd.grad(total, [verts, *leaves],
                                                     materialize_grads=True)
         else:   # the meshes are the only way to the geometry: the colour term skips them

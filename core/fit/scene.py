@@ -105,9 +105,15 @@ def stage_groups(params: SceneParams, stage: str, config: FitConfig) -> list[dic
         # pose stages cannot explain are set aside (dives would otherwise shrink it)
         shape = [params.log_scale, params.betas] + ([params.profile] if config.profile_field
                                                      else [])
-        groups += [{"params": shape, "lr": lr.shape},
-                   {"params": [params.albedo], "lr": lr.albedo},
+        groups.append({"params": shape, "lr": lr.shape})
+    if fits_appearance(stage):
+        groups += [{"params": [params.albedo], "lr": lr.albedo},
                    {"params": [params.f_water], "lr": lr.water},
                    {"params": [params.light_axes, params.light_sharpness,
                                params.light_amplitude], "lr": lr.light}]
     return groups
+
+
+def fits_appearance(stage: str) -> bool:
+    """Whether ``stage`` fits albedo, water and light (the shape stage only)."""
+    return stage == "shape"

@@ -13,7 +13,7 @@ from dolphinfit.core.fit.data import downscaled
 from dolphinfit.core.fit.objective import FitProblem, evenly_spaced
 from dolphinfit.core.fit.reporter import HEADING_STAGE, FitPreview, FitReporter
 from dolphinfit.core.fit.result import STATUS_CANCELLED, STATUS_DIVERGED
-from dolphinfit.core.fit.scene import SceneParams, stage_groups
+from dolphinfit.core.fit.scene import SceneParams, fits_appearance, stage_groups
 from dolphinfit.core.fit.target import edge_profile, soft_targets
 from dolphinfit.core.progress import Cancelled
 
@@ -124,11 +124,14 @@ def run_stage(problem: FitProblem, params: SceneParams, stage: str, steps: int,
     total = math.inf
     leaves = [leaf for group in optimiser.param_groups for leaf in group["params"]]
     colour_geometry = problem.config.colour_moves_geometry(stage)
+    # the colour term is read where it moves the geometry, where the stage fits the
+    # appearance, and in the heading trials, whose choice compares totals
+    colour = colour_geometry or fits_appearance(stage) or label == HEADING_STAGE
     for k in range(steps):
         weight = problem.config.weights.pyramid * pyramid_fade(k)
         problem.reporter.step_started()
         try:
-            terms, iou = problem.step_loss(params, weight, leaves, colour_geometry)
+            terms, iou = problem.step_loss(params, weight, leaves, colour, colour_geometry)
         except Cancelled:
             params.restore(best)
             raise Stop(STATUS_CANCELLED, "cancelled by the user", label, best_total,

@@ -31,14 +31,15 @@ class Appearance:
 @dataclass(frozen=True, eq=False)
 class RenderOutput:
     """Per-frame images of the viewport; shapes (T, H, W, …). Colour and height are kept at
-    the covered pixels; their whole images are built when first read (the fit never does)."""
+    the covered pixels; their whole images are built when first read (the fit never does).
+    A render without shading has neither."""
 
     soft_mask: torch.Tensor     # (T, H, W) DIB-R soft silhouette
     coverage: torch.Tensor      # (T, H, W) bool hard coverage
     face_idx: torch.Tensor      # (T, H, W) int64 front face, −1 where uncovered
     pixel: torch.Tensor         # (C,) int64 flat index t·H·W + row·W + col of covered pixels
-    pixel_rgb: torch.Tensor     # (C, 3) their shaded, water-filtered colour
-    pixel_height: torch.Tensor  # (C,) their world height of the surface (z), metres
+    pixel_rgb: torch.Tensor | None      # (C, 3) their shaded, water-filtered colour
+    pixel_height: torch.Tensor | None   # (C,) their world height of the surface (z), metres
 
     @cached_property
     def rgb(self) -> torch.Tensor:
@@ -50,7 +51,9 @@ class RenderOutput:
         """(T, H, W) world height of the surface, 0 where uncovered."""
         return self._image(self.pixel_height)
 
-    def _image(self, values: torch.Tensor) -> torch.Tensor:
+    def _image(self, values: torch.Tensor | None) -> torch.Tensor:
+        if values is None:
+            raise ValueError("a render without shading has no colour or height image")
         shape = self.face_idx.shape
         flat = torch.zeros(shape.numel(), *values.shape[1:], dtype=values.dtype,
                            device=values.device)
@@ -69,8 +72,9 @@ def project_to_viewport(verts_world: torch.Tensor, camera: NadirCamera,
 def render(verts_world: torch.Tensor, faces: torch.Tensor, appearance: Appearance,
            camera: NadirCamera, viewport: Viewport,
            settings: RasterSettings = RasterSettings(),
-           edges: MeshEdges | None = None) -> RenderOutput:
-    """Render meshes (T, V, 3) (world frame, metres) into the viewports of ``camera``.
+           edges: MeshEdges | None = None, shade: bool = True) -> RenderOutput:
+    """Render meshes (T, V, 3) (world frame, metres) into the viewports of ``camera``; without
+    ``shade`` the silhouette only (a fifth to a third less work where no colour is read).
 
     ``edges``: ``mesh_edges(faces)``, to save recomputing it in every call.
     """
@@ -78,7 +82,8 @@ def render(verts_world: torch.Tensor, faces: torch.Tensor, appearance: Appearanc
     frags = rasterize(xy_px, depth, faces, viewport.height_px, viewport.width_px,
                       settings.max_pairs_per_chunk)
     silhouette = soft_mask(xy_px, depth, faces, frags, settings, edges)
-    colour, height = shade_fragments(verts_world, xy_px, faces, frags, appearance)
+    colour, height = (shade_fragments(verts_world, xy_px, faces, frags, appearance) if shade
+                      else (None, None))
     return RenderOutput(soft_mask=silhouette, coverage=frags.covered, face_idx=frags.face_idx,
                         pixel=frags.pixel, pixel_rgb=colour, pixel_height=height)
 

@@ -65,9 +65,9 @@ def test_heading_and_shape_render_subsets_and_the_shape_ends_on_all(
     seen = []
     original = objective.FitProblem.step_loss
 
-    def record(problem, params, pyramid_weight, leaves, colour_geometry):
+    def record(problem, params, pyramid_weight, leaves, colour, colour_geometry):
         seen.append((problem.num_used, problem.data.viewport.width_px, colour_geometry))
-        return original(problem, params, pyramid_weight, leaves, colour_geometry)
+        return original(problem, params, pyramid_weight, leaves, colour, colour_geometry)
 
     monkeypatch.setattr(objective.FitProblem, "step_loss", record)
     result = fit(data, config)
@@ -79,6 +79,9 @@ def test_heading_and_shape_render_subsets_and_the_shape_ends_on_all(
     assert [w for _, w, _ in seen] == [coarse] * 7 + [native] * 6
     assert [c for _, _, c in seen] == [False] * 13   # colour_geometry "none", the default
     assert [h["step"] for h in result.loss_history] == [0, 1] * 2 + [0, 1] * 2 + list(range(5))
+    # the colour term is read where something reads it: the heading trials compare totals,
+    # the shape stage fits the appearance; the pose stages between are not shaded
+    assert ["rgb" in h for h in result.loss_history] == [True] * 4 + [False] * 4 + [True] * 5
     assert np.isfinite(result.volume_m3) and result.iou.shape == (data.num_frames,)
 
 
@@ -115,18 +118,22 @@ def test_colour_term_kept_off_the_geometry_fits_only_the_appearance(clip_dir):
     leaves = [params.betas, params.albedo, params.f_water, params.light_amplitude]
     chunk = torch.tensor([0, 2, 4])
 
-    def gradients(config, colour_geometry):
+    def gradients(config, colour, colour_geometry):
         problem = objective.FitProblem(data, model, template, config, FitReporter(1, None), None)
         verts = problem.posed_verts(params, chunk).detach()
         _, vert_grad, grads, _ = problem.chunk_loss(params, chunk, verts, 2.0, leaves,
-                                                    colour_geometry)
+                                                    colour, colour_geometry)
         return vert_grad, grads
 
-    with_colour, with_colour_grads = gradients(FitConfig(), True)
-    kept_off, kept_off_grads = gradients(FitConfig(), False)
-    no_colour, _ = gradients(FitConfig(weights=LossWeights(rgb=0.0)), True)
+    with_colour, with_colour_grads = gradients(FitConfig(), True, True)
+    kept_off, kept_off_grads = gradients(FitConfig(), True, False)
+    no_colour, _ = gradients(FitConfig(weights=LossWeights(rgb=0.0)), True, True)
+    unshaded, unshaded_grads = gradients(FitConfig(), False, False)
     assert float(with_colour.abs().max()) > 0
     torch.testing.assert_close(kept_off, no_colour, rtol=1e-5, atol=1e-9)
+    # not shaded at all: the meshes get the same gradient, to the bit, the appearance none
+    assert torch.equal(unshaded, kept_off)
+    assert all(float(grad.abs().max()) == 0.0 for grad in unshaded_grads)
     assert not torch.allclose(kept_off, with_colour, rtol=1e-3, atol=1e-9)
     for off, on in zip(kept_off_grads[1:], with_colour_grads[1:]):
         assert float(on.abs().max()) > 0
@@ -147,7 +154,7 @@ def test_colour_loss_at_covered_pixels_equals_the_whole_image_formula(clip_dir):
                                     silhouette_centroid_offset(model))
     chunk = torch.tensor([3, 0, 5])
     with torch.no_grad():
-        out = problem.render_chunk(params, chunk)
+        out = problem.render_verts(params, chunk, problem.posed_verts(params, chunk))
         both = (out.coverage & (data.masks[chunk] > 0.5)).double()
         error = ((out.rgb.double() - data.images[chunk].double()) ** 2).sum(-1) * both
         expected = (error.sum((1, 2)) / both.sum((1, 2)).clamp(min=1.0)).sum()
