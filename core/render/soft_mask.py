@@ -129,8 +129,8 @@ def candidate_pairs(corners: torch.Tensor, frame: torch.Tensor, frags: Fragments
 
     uncovered = ~frags.covered.reshape(-1)
     uncovered_pixels = torch.nonzero(uncovered, as_tuple=True)[0]
-    before = torch.zeros(uncovered.shape[0] + 1, dtype=torch.int64, device=uncovered.device)
-    torch.cumsum(uncovered, 0, out=before[1:])
+    # (a cumsum written into a slice of a zeroed tensor took ten times as long)
+    before = torch.nn.functional.pad(torch.cumsum(uncovered, 0, dtype=torch.int64), (1, 0))
 
     parts = []
     for segments in ragged_chunks(rows, settings.max_pairs_per_chunk):
