@@ -73,6 +73,34 @@ def test_a_frame_cap_fits_fewer_frames_evenly_spaced(clip_dir):
     assert len(capped) <= 3 and len(set(np.diff(capped))) == 1
 
 
+@pytest.mark.parametrize("width_px, cap_px, factor", [
+    (28.0, 0, 1), (28.0, 15, 1), (28.0, 14, 2), (28.0, 7, 4), (28.0, 1, 4), (60.0, 20, 2)])
+def test_the_fit_shrinks_by_a_power_of_two_that_keeps_the_animal_as_wide_as_asked(
+        width_px, cap_px, factor):
+    """The largest power of two that leaves the animal at least fit_width_px wide; 1080 rows
+    stop it at 4, where the coarse level (1/8) still divides the frame."""
+    from dolphinfit.core.fit.data import fit_factor
+    assert fit_factor(width_px, INTRINSICS, replace(QUICK, fit_width_px=cap_px)) == factor
+
+
+def test_a_wide_animal_is_fitted_at_half_the_resolution_with_the_same_metric(clip_dir):
+    """The clip's animal is about 28 px wide: asked to keep 13 px, the fit sees crops at half
+    the resolution (each pixel the mean of 2 × 2), through a camera of half the focal length,
+    the animal a quarter of the pixels; its volume and length come back within the
+    full-resolution test's tolerances."""
+    truth = _truth(clip_dir)
+    native = _data(clip_dir)
+    half = _data(clip_dir, replace(QUICK, fit_width_px=13))
+    assert half.camera.intrinsics.focal_px == pytest.approx(native.camera.intrinsics.focal_px / 2)
+    assert half.camera.intrinsics.width_px == 960
+    assert abs(2 * half.viewport.width_px - native.viewport.width_px) <= 16
+    assert np.abs(2 * half.viewport.x0_px.numpy() - native.viewport.x0_px.numpy()).max() <= 8
+    assert float(4 * half.masks.sum() / native.masks.sum()) == pytest.approx(1.0, abs=0.03)
+    result = fit(half, QUICK)
+    assert abs(result.volume_m3 / truth["volume_m3"] - 1) < 0.05
+    assert abs(result.length_m / truth["length_m"] - 1) < 0.03
+
+
 def test_initial_state_finds_position_heading_and_length(clip_dir):
     """From the masks alone: heading within 10° (mod 180°), centre within 15 cm, length 5 %."""
     truth = _truth(clip_dir)
@@ -336,7 +364,7 @@ def test_an_animal_too_few_pixels_wide_is_warned_about():
     its width and what a tenth of a pixel costs; widest_px reads a disc's diameter."""
     import cv2
 
-    from dolphinfit.core.fit.data import narrow_animal_warnings, widest_px
+    from dolphinfit.core.fit.data import median_width_px, narrow_animal_warnings, widest_px
 
     def ellipses(width_px: int) -> np.ndarray:
         mask = np.zeros((3, 120, 240), np.uint8)
@@ -347,9 +375,9 @@ def test_an_animal_too_few_pixels_wide_is_warned_about():
     disc = np.zeros((100, 100), np.uint8)
     cv2.circle(disc, (50, 50), 20, 1, -1)
     assert widest_px(disc.astype(bool)) == pytest.approx(41.0, abs=1.5)
-    (warning,) = narrow_animal_warnings(ellipses(12))
+    (warning,) = narrow_animal_warnings(median_width_px(ellipses(12)))
     assert "only 13 px wide" in warning and "about 3 %" in warning
-    assert narrow_animal_warnings(ellipses(30)) == []
+    assert narrow_animal_warnings(median_width_px(ellipses(30))) == []
 
 
 def test_cli_fit_with_an_altitude_calibration(clip_dir, tiny_run, tmp_path, capsys):
