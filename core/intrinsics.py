@@ -79,6 +79,16 @@ class CameraIntrinsics:
             width_px=width_px, height_px=height_px,
         )
 
+    def binned(self, factor: int) -> Self:
+        """Intrinsics of the image whose pixels are ``factor`` × ``factor`` blocks of this
+        one's, from its top-left pixel (a last part block dropped): centres map as
+        c' = (c + 0.5) / factor − 0.5 and f' = f / factor whatever the image's size (a
+        20-megapixel still 1985 rows high included)."""
+        return replace(self, focal_px=self.focal_px / factor,
+                       cx_px=(self.cx_px + 0.5) / factor - 0.5,
+                       cy_px=(self.cy_px + 0.5) / factor - 0.5,
+                       width_px=self.width_px // factor, height_px=self.height_px // factor)
+
     def resized(self, width_px: int, height_px: int) -> Self:
         """Intrinsics of the whole image rescaled to ``width_px`` × ``height_px``.
 

@@ -79,18 +79,17 @@ class FitData:
 def downscaled(data: FitData, factor: int, keep_area: bool = False) -> FitData | None:
     """The same frames at 1/``factor`` of the resolution (each pixel the mean of factor ×
     factor pixels, masks where at least half was dolphin, or with ``keep_area`` where the
-    ``majority`` was), or None where the windows and the frame are not whole multiples of
-    ``factor`` (the metric is exact only then)."""
+    ``majority`` was), or None where the windows are not whole multiples of ``factor``
+    (their blocks are then not the frame's, and the metric would not be exact)."""
     viewport, intrinsics = data.viewport, data.camera.intrinsics
-    sizes = (viewport.width_px, viewport.height_px, intrinsics.width_px, intrinsics.height_px)
+    sizes = (viewport.width_px, viewport.height_px)
     if (any(size % factor for size in sizes) or bool((viewport.x0_px % factor).any())
             or bool((viewport.y0_px % factor).any())):
         return None
     images = F.avg_pool2d(data.images.permute(0, 3, 1, 2), factor).permute(0, 2, 3, 1)
     share = F.avg_pool2d(data.masks[:, None], factor)[:, 0]
     masks = (majority(share) if keep_area else share >= 0.5).to(data.masks.dtype)
-    camera = replace(data.camera, intrinsics=intrinsics.resized(intrinsics.width_px // factor,
-                                                                intrinsics.height_px // factor))
+    camera = replace(data.camera, intrinsics=intrinsics.binned(factor))
     coarse_viewport = Viewport(viewport.x0_px // factor, viewport.y0_px // factor,
                                viewport.width_px // factor, viewport.height_px // factor)
     return replace(data, images=images.contiguous(), masks=masks, camera=camera,
@@ -210,7 +209,7 @@ def prepare_data(clip: Clip, read_frame: Callable[[int], np.ndarray], masks: Mas
     frames = _read_frames(read_frame, frame_idx, config.total_steps, progress, cancel)
     factor = 1
     if config.use_roi:
-        factor = fit_factor(animal_width, intrinsics, config)
+        factor = fit_factor(animal_width, config)
         x0, y0, width, height = _roi_windows(masks_np, config.roi_margin_px, factor)
         images = np.stack([crop_roi(frame, int(a), int(b), width, height)
                            for frame, a, b in zip(frames, x0, y0)])
@@ -235,15 +234,12 @@ def prepare_data(clip: Clip, read_frame: Callable[[int], np.ndarray], masks: Mas
     return data if factor == 1 else downscaled(data, factor, keep_area=True)
 
 
-def fit_factor(width_px: float, intrinsics: CameraIntrinsics, config: FitConfig) -> int:
+def fit_factor(width_px: float, config: FitConfig) -> int:
     """The power of two the crops are shrunk by for the fit: the largest that leaves the
-    animal (``width_px`` wide at native resolution) at least ``config.fit_width_px`` wide,
-    and the frame a whole number of pixels at it and at its coarse level (1 where
-    ``fit_width_px`` is 0)."""
+    animal (``width_px`` wide at native resolution) at least ``config.fit_width_px`` wide
+    (1 where that is 0)."""
     factor = 1
-    while (config.fit_width_px and width_px / (2 * factor) >= config.fit_width_px
-           and not (intrinsics.width_px % (2 * factor * config.coarse_factor)
-                    or intrinsics.height_px % (2 * factor * config.coarse_factor))):
+    while config.fit_width_px and width_px / (2 * factor) >= config.fit_width_px:
         factor *= 2
     return factor
 

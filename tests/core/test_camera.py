@@ -130,6 +130,23 @@ def test_resized_intrinsics_scale_about_pixel_centres(fhd, size):
     assert (small.project(points) - expected).abs().max().item() < 1e-9
 
 
+@pytest.mark.parametrize("factor", [2, 4])
+def test_binned_intrinsics_map_pixel_centres_exactly_at_any_size(factor):
+    """A 2978 × 1985 still (odd rows): a point seen at pixel u in the full image is seen at
+    (u + 0.5) / factor − 0.5 with the binned intrinsics; on 1920 × 1080 they equal the
+    resized ones."""
+    still = CameraIntrinsics.from_sensor(8.8, 13.2, 2978, 1985)
+    full = _camera(still, [30.0])
+    binned = _camera(still.binned(factor), [30.0])
+    points = torch.tensor([[3.0, -2.0, -1.2], [-7.5, 4.0, 0.0], [0.0, 0.0, -0.5]], dtype=F64)
+    expected = (full.project(points) + 0.5) / factor - 0.5
+    assert (binned.project(points) - expected).abs().max().item() < 1e-9
+    assert (still.binned(factor).width_px, still.binned(factor).height_px) == (
+        2978 // factor, 1985 // factor)
+    fhd = CameraIntrinsics.from_sensor(12.29, 17.27, 1920, 1080)
+    assert fhd.binned(factor) == fhd.resized(1920 // factor, 1080 // factor)
+
+
 def test_project_dtype_follows_input(fhd):
     """float32 points give float32 pixels within 2e-3 px of the float64 result."""
     camera = NadirCamera(fhd, torch.tensor([20.0]))

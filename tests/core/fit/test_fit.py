@@ -74,13 +74,12 @@ def test_a_frame_cap_fits_fewer_frames_evenly_spaced(clip_dir):
 
 
 @pytest.mark.parametrize("width_px, cap_px, factor", [
-    (28.0, 0, 1), (28.0, 15, 1), (28.0, 14, 2), (28.0, 7, 4), (28.0, 1, 4), (60.0, 20, 2)])
+    (28.0, 0, 1), (28.0, 15, 1), (28.0, 14, 2), (28.0, 7, 4), (28.0, 1, 16), (60.0, 20, 2)])
 def test_the_fit_shrinks_by_a_power_of_two_that_keeps_the_animal_as_wide_as_asked(
         width_px, cap_px, factor):
-    """The largest power of two that leaves the animal at least fit_width_px wide; 1080 rows
-    stop it at 4, where the coarse level (1/8) still divides the frame."""
+    """The largest power of two that leaves the animal at least fit_width_px wide."""
     from dolphinfit.core.fit.data import fit_factor
-    assert fit_factor(width_px, INTRINSICS, replace(QUICK, fit_width_px=cap_px)) == factor
+    assert fit_factor(width_px, replace(QUICK, fit_width_px=cap_px)) == factor
 
 
 def test_a_wide_animal_is_fitted_at_half_the_resolution_with_the_same_metric(clip_dir):
