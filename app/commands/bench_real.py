@@ -11,7 +11,7 @@ import sys
 from pathlib import Path
 
 from dolphinfit.app.commands.bench_output import emit
-from dolphinfit.core.bench.real_bench import DEFAULT_PARTS, PARTS, SEEDS, bench_real
+from dolphinfit.core.bench.real_bench import PARTS, SEEDS, bench_real
 from dolphinfit.core.limits import count, one_of
 from dolphinfit.core.segment.backends import ALWAYS_AVAILABLE, DEFAULT_BACKEND, make_segmenter
 
@@ -20,9 +20,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     """The data folder, the seeds and back-end of the masks, how many outlines."""
     parser.add_argument("--data", type=Path, default=None, metavar="DIR",
                         help="the real data sets (default: the clone's tests/data/real)")
-    parser.add_argument("--parts", default=",".join(DEFAULT_PARTS),
-                        help=f"comma-separated, of {', '.join(PARTS)} (default all but fit, "
-                             "which takes minutes)")
+    parser.add_argument("--parts", default=",".join(PARTS),
+                        help=f"comma-separated, of {', '.join(PARTS)} (default all)")
     parser.add_argument("--seeds", default=",".join(SEEDS),
                         help=f"comma-separated, of {', '.join(SEEDS)} (default all)")
     parser.add_argument("--backend", choices=ALWAYS_AVAILABLE, default=DEFAULT_BACKEND,

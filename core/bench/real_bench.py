@@ -20,8 +20,8 @@ Four parts, each on data in ``core.bench.real_data``:
    that station against the person's (the straight distance between their points), beside
    the outline's own width along the person's line (how far the outline and the hand points
    disagree in the data itself).
-5. **Fit** (``core.bench.real_fit``, not among the default parts: it takes minutes): the 3D
-   fit on the minke still against the two people, with its 95 % intervals.
+5. **Fit** (``core.bench.real_fit``): the 3D fit on the minke still against the two people,
+   with its 95 % intervals.
 """
 
 import time
@@ -290,10 +290,9 @@ def outline_scores(data: WhaleOutlines, limit: int | None = None) -> dict:
 
 
 PARTS = ("replay", "minke", "right-whale", "outlines", "fit")
-DEFAULT_PARTS = PARTS[:-1]   # the fit takes minutes: asked for by name
 
 
-def bench_real(folder: Path | None = None, parts: tuple[str, ...] = DEFAULT_PARTS,
+def bench_real(folder: Path | None = None, parts: tuple[str, ...] = PARTS,
                seeds: tuple[str, ...] = SEEDS, backend: str = DEFAULT_BACKEND,
                outlines_limit: int | None = None,
                progress: Callable[[str], None] | None = None,
