@@ -82,8 +82,8 @@ class CameraIntrinsics:
     def binned(self, factor: int) -> Self:
         """Intrinsics of the image whose pixels are ``factor`` × ``factor`` blocks of this
         one's, from its top-left pixel (a last part block dropped): centres map as
-        c' = (c + 0.5) / factor − 0.5 and f' = f / factor whatever the image's size (a
-        20-megapixel still 1985 rows high included)."""
+        c' = (c + 0.5) / factor − 0.5 and f' = f / factor whatever the image's size (a still
+        1985 rows high included)."""
         return replace(self, focal_px=self.focal_px / factor,
                        cx_px=(self.cx_px + 0.5) / factor - 0.5,
                        cy_px=(self.cy_px + 0.5) / factor - 0.5,

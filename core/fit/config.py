@@ -131,7 +131,8 @@ class FitConfig:
     # pixels did not make the volume better: the tuning split at 4K (animals 43–82 px wide)
     # gave a mean |volume| error of 2.99 % at full resolution and 2.88 % with 8 of its 12
     # animals fitted at half; lengths came out 0.16 points shorter (mean −1.36 % against
-    # −1.20 %). At 1080p the splits' animals (13–43 px) are fitted whole. `dolphinfit bench fit --suite --frame-size 4k`, docs/decisions/0023.
+    # −1.20 %). At 1080p the splits' animals (13–43 px) are fitted whole (`dolphinfit bench
+    # fit --suite --frame-size 4k`, docs/decisions/0023).
     fit_width_px: int = 28
     paper_width_px: int = 720       # whole-frame width when use_roi is off (the paper's)
     init_depth_m: float = 0.15      # root depth at the start (back at the surface)

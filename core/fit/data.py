@@ -27,6 +27,7 @@ from dolphinfit.core.io.masks import MaskTrack
 from dolphinfit.core.io.report import list_some
 from dolphinfit.core.io.telemetry import Telemetry
 from dolphinfit.core.io.video import Clip, crop_roi
+from dolphinfit.core.measure.edge_blur import edge_blur_px
 from dolphinfit.core.measure.lens import LensModel, masks_off_centre_warning
 from dolphinfit.core.progress import Progress, ProgressCallback, check_cancel
 from dolphinfit.core.render.settings import Viewport
@@ -37,6 +38,7 @@ ROI_MULTIPLE_PX = 8
 # outline δ px off (width and height both grow by 2 δ), 2 % per tenth of a pixel at 20 px
 MIN_WIDTH_PX = 20
 ROI_ALIGN_PX = 2   # window corners on even pixels, so a 2× coarser copy of them is exact
+EDGE_BLUR_FRAMES = 5   # frames the edge's blur is measured on (a fit has 8–35)
 
 
 @dataclass(frozen=True, eq=False)
@@ -50,6 +52,9 @@ class FitData:
     camera: NadirCamera          # T altitudes; intrinsics of the (possibly resized) frame
     viewport: Viewport           # the window of each frame
     warnings: tuple[str, ...]
+    # the blur index of the animal's edge (``edge_blur_of``), clip px, read before any binning
+    # (binning by 2 doubled it); NaN: not measured
+    edge_blur_px: float = float("nan")
 
     @property
     def num_frames(self) -> int:
@@ -106,6 +111,19 @@ def majority(share: torch.Tensor) -> torch.Tensor:
     rows = torch.arange(share.shape[1], device=share.device)[:, None]
     cols = torch.arange(share.shape[2], device=share.device)
     return (share > 0.5) | ((share == 0.5) & ((rows + cols) % 2 == 0))
+
+
+def edge_blur_of(data: FitData, clip_focal_px: float,
+                 max_frames: int = EDGE_BLUR_FRAMES) -> float:
+    """The median blur index (core.measure.edge_blur) of the animal's edge over up to
+    ``max_frames`` of ``data``'s frames, evenly spread, in pixels of the clip whose focal
+    length is ``clip_focal_px`` (the paper's whole-frame mode resizes the frames); NaN where
+    no frame shows an edge."""
+    picks = np.unique(np.linspace(0, data.num_frames - 1, max_frames).round().astype(int))
+    blurs = [edge_blur_px(data.images[t].numpy(), data.masks[t].numpy() > 0.5) for t in picks]
+    blurs = [b for b in blurs if np.isfinite(b)]
+    scale = clip_focal_px / data.camera.intrinsics.focal_px
+    return float(np.median(blurs)) * scale if blurs else float("nan")
 
 
 def select_frames(clip: Clip, masks: MaskTrack,
@@ -196,6 +214,7 @@ def prepare_data(clip: Clip, read_frame: Callable[[int], np.ndarray], masks: Mas
     core.fit.reporter) and raises core.progress.Cancelled between frames once ``cancel`` is set.
     """
     frame_idx, masks_np, warnings = select_frames(clip, masks, config)
+    clip_focal_px = intrinsics.focal_px
     if lens is None:
         warnings += [w for w in [masks_off_centre_warning(masks_np, intrinsics)] if w]
     else:
@@ -231,6 +250,7 @@ def prepare_data(clip: Clip, read_frame: Callable[[int], np.ndarray], masks: Mas
                    images=torch.as_tensor(images, dtype=torch.float32) / 255.0,
                    masks=torch.as_tensor(cut, dtype=torch.float32), camera=camera,
                    viewport=viewport, warnings=tuple(warnings + altitude_warnings))
+    data = replace(data, edge_blur_px=edge_blur_of(data, clip_focal_px))
     return data if factor == 1 else downscaled(data, factor, keep_area=True)
 
 

@@ -13,7 +13,6 @@ from collections.abc import Sequence
 from dataclasses import dataclass, replace
 from pathlib import Path
 
-import numpy as np
 import torch
 
 from dolphinfit.core.camera_presets import DEFAULT_PRESET, get_preset
@@ -28,7 +27,6 @@ from dolphinfit.core.io.masks import MaskTrack, read_masks
 from dolphinfit.core.io.telemetry import Telemetry, load_telemetry
 from dolphinfit.core.io.video import Clip, VideoReader, open_clip
 from dolphinfit.core.measure.altitude_calibration import AltitudeCalibration, calibrated_telemetry
-from dolphinfit.core.measure.edge_blur import edge_blur_px
 from dolphinfit.core.measure.lens import LensModel
 from dolphinfit.core.progress import ProgressCallback
 from dolphinfit.core.scan.clip_scan import scan_telemetry
@@ -67,7 +65,6 @@ class CameraChoice:
             return False
         return get_preset(self.preset or DEFAULT_PRESET).approximate
 
-EDGE_BLUR_FRAMES = 5   # frames the edge's blur is measured on (a fit has 10–50)
 
 
 @dataclass(frozen=True, eq=False)
@@ -91,20 +88,8 @@ def fit_clip(frames: FrameSource, telemetry: Telemetry, masks: MaskTrack,
     data = prepare_data(frames.clip, frames.frame, masks, telemetry, intrinsics, config,
                         progress=progress, cancel=cancel, lens=lens)
     result = fit(data, config, progress=progress, cancel=cancel, device=device)
-    result = replace(result, edge_blur_px=fitted_edge_blur(data, frames.clip.width_px))
+    result = replace(result, edge_blur_px=data.edge_blur_px)
     return FitRun(clip=frames.clip, telemetry=telemetry, masks=masks, data=data, result=result)
-
-
-def fitted_edge_blur(data: FitData, clip_width_px: int,
-                     max_frames: int = EDGE_BLUR_FRAMES) -> float:
-    """The median blur index (core.measure.edge_blur) of the animal's edge over up to
-    ``max_frames`` of the fitted frames, evenly spread, in pixels of the clip (the fit's frames
-    may be downscaled); NaN where no frame shows an edge."""
-    picks = np.unique(np.linspace(0, data.num_frames - 1, max_frames).round().astype(int))
-    blurs = [edge_blur_px(data.images[t].numpy(), data.masks[t].numpy() > 0.5) for t in picks]
-    blurs = [b for b in blurs if np.isfinite(b)]
-    scale = clip_width_px / data.camera.intrinsics.width_px
-    return float(np.median(blurs)) * scale if blurs else float("nan")
 
 
 def sized_auto_seed(frame_idx: int, intrinsics: CameraIntrinsics,

@@ -85,8 +85,9 @@ def test_the_fit_shrinks_by_a_power_of_two_that_keeps_the_animal_as_wide_as_aske
 def test_a_wide_animal_is_fitted_at_half_the_resolution_with_the_same_metric(clip_dir):
     """The clip's animal is about 28 px wide: asked to keep 13 px, the fit sees crops at half
     the resolution (each pixel the mean of 2 × 2), through a camera of half the focal length,
-    the animal a quarter of the pixels; its volume and length come back within the
-    full-resolution test's tolerances."""
+    the animal a quarter of the pixels, its edge's blur read before the binning; its volume
+    and length come back within the full-resolution test's tolerances."""
+    from dolphinfit.core.fit.data import edge_blur_of
     truth = _truth(clip_dir)
     native = _data(clip_dir)
     half = _data(clip_dir, replace(QUICK, fit_width_px=13))
@@ -95,6 +96,9 @@ def test_a_wide_animal_is_fitted_at_half_the_resolution_with_the_same_metric(cli
     assert abs(2 * half.viewport.width_px - native.viewport.width_px) <= 16
     assert np.abs(2 * half.viewport.x0_px.numpy() - native.viewport.x0_px.numpy()).max() <= 8
     assert float(4 * half.masks.sum() / native.masks.sum()) == pytest.approx(1.0, abs=0.03)
+    # the edge's blur is read before the binning, which would have doubled it
+    assert half.edge_blur_px == pytest.approx(native.edge_blur_px, rel=0.02)
+    assert edge_blur_of(half, INTRINSICS.focal_px) > 1.5 * native.edge_blur_px
     result = fit(half, QUICK)
     assert abs(result.volume_m3 / truth["volume_m3"] - 1) < 0.05
     assert abs(result.length_m / truth["length_m"] - 1) < 0.03
