@@ -51,6 +51,7 @@ class FitData:
     masks: torch.Tensor          # (T, H, W) float32, 1 = dolphin
     camera: NadirCamera          # T altitudes; intrinsics of the (possibly resized) frame
     viewport: Viewport           # the window of each frame
+    clip_focal_px: float         # the clip's own focal length, px (the windows may be binned)
     warnings: tuple[str, ...]
     # the blur index of the animal's edge (``edge_blur_of``), clip px, read before any binning
     # (binning by 2 doubled it); NaN: not measured
@@ -65,6 +66,12 @@ class FitData:
     def device(self) -> torch.device:
         """Where the tensors lie."""
         return self.images.device
+
+    @property
+    def clip_px_per_px(self) -> float:
+        """Pixels of the clip per pixel of the windows (2 where binned by 2; 1920 / 720 in the
+        paper's whole-frame mode)."""
+        return self.clip_focal_px / self.camera.intrinsics.focal_px
 
     def every_frame(self) -> torch.Tensor:
         """(T,) int64 indices of all the frames, where the tensors lie."""
@@ -113,17 +120,14 @@ def majority(share: torch.Tensor) -> torch.Tensor:
     return (share > 0.5) | ((share == 0.5) & ((rows + cols) % 2 == 0))
 
 
-def edge_blur_of(data: FitData, clip_focal_px: float,
-                 max_frames: int = EDGE_BLUR_FRAMES) -> float:
+def edge_blur_of(data: FitData, max_frames: int = EDGE_BLUR_FRAMES) -> float:
     """The median blur index (core.measure.edge_blur) of the animal's edge over up to
-    ``max_frames`` of ``data``'s frames, evenly spread, in pixels of the clip whose focal
-    length is ``clip_focal_px`` (the paper's whole-frame mode resizes the frames); NaN where
-    no frame shows an edge."""
+    ``max_frames`` of ``data``'s frames, evenly spread, in pixels of the clip; NaN where no
+    frame shows an edge."""
     picks = np.unique(np.linspace(0, data.num_frames - 1, max_frames).round().astype(int))
     blurs = [edge_blur_px(data.images[t].numpy(), data.masks[t].numpy() > 0.5) for t in picks]
     blurs = [b for b in blurs if np.isfinite(b)]
-    scale = clip_focal_px / data.camera.intrinsics.focal_px
-    return float(np.median(blurs)) * scale if blurs else float("nan")
+    return float(np.median(blurs)) * data.clip_px_per_px if blurs else float("nan")
 
 
 def select_frames(clip: Clip, masks: MaskTrack,
@@ -249,8 +253,9 @@ def prepare_data(clip: Clip, read_frame: Callable[[int], np.ndarray], masks: Mas
     data = FitData(frame_idx=frame_idx, time_s=clip.frame_time_s(frame_idx),
                    images=torch.as_tensor(images, dtype=torch.float32) / 255.0,
                    masks=torch.as_tensor(cut, dtype=torch.float32), camera=camera,
-                   viewport=viewport, warnings=tuple(warnings + altitude_warnings))
-    data = replace(data, edge_blur_px=edge_blur_of(data, clip_focal_px))
+                   viewport=viewport, clip_focal_px=clip_focal_px,
+                   warnings=tuple(warnings + altitude_warnings))
+    data = replace(data, edge_blur_px=edge_blur_of(data))
     return data if factor == 1 else downscaled(data, factor, keep_area=True)
 
 

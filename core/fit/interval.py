@@ -39,7 +39,7 @@ def run_interval(run: FitRun, errors: ErrorModel,
     template's own heights, which state none)."""
     camera, width = run.data.camera, run.clip.width_px
     fitted_m_per_px = camera.intrinsics.gsd_m_per_px(float(camera.altitude_m.median()))
-    m_per_px = fitted_m_per_px * camera.intrinsics.width_px / width  # frames may be resized
+    m_per_px = fitted_m_per_px / run.data.clip_px_per_px  # the fit's pixels may be larger
     table = run.result.config.hw_table
     hw = load_hw_preset() if table is None else resolve_hw(table)
     return result_interval(run.result, m_per_px, errors, hw,

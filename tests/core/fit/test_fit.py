@@ -98,7 +98,8 @@ def test_a_wide_animal_is_fitted_at_half_the_resolution_with_the_same_metric(cli
     assert float(4 * half.masks.sum() / native.masks.sum()) == pytest.approx(1.0, abs=0.03)
     # the edge's blur is read before the binning, which would have doubled it
     assert half.edge_blur_px == pytest.approx(native.edge_blur_px, rel=0.02)
-    assert edge_blur_of(half, INTRINSICS.focal_px) > 1.5 * native.edge_blur_px
+    assert half.clip_px_per_px == 2.0 and native.clip_px_per_px == 1.0
+    assert edge_blur_of(half) > 1.5 * native.edge_blur_px
     result = fit(half, QUICK)
     assert abs(result.volume_m3 / truth["volume_m3"] - 1) < 0.05
     assert abs(result.length_m / truth["length_m"] - 1) < 0.03
