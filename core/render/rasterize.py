@@ -7,6 +7,7 @@ as DIB-R does; the smallest wins, ties go to the larger face index.
 """
 
 from dataclasses import dataclass
+from functools import reduce
 
 import torch
 
@@ -88,7 +89,8 @@ def face_boxes(tri: torch.Tensor, width_px: int, height_px: int,
     Without margin: pixel centres inside the closed box. With margin m: centres c with
     min − m ≤ c < max + m (half-open, as DIB-R's enlarged box). Clamped to the image.
     """
-    lo, hi = tri.amin(-2), tri.amax(-2)
+    # written out over the corners: torch reduces a short middle axis four times slower
+    lo, hi = (reduce(pick, tri.unbind(-2)) for pick in (torch.minimum, torch.maximum))
     if margin_px:
         first = torch.ceil(lo - margin_px)
         last = torch.ceil(hi + margin_px) - 1
