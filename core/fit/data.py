@@ -304,7 +304,7 @@ def _read_frames(read_frame: Callable[[int], np.ndarray], frame_idx: np.ndarray,
 
 
 def _roi_windows(masks: np.ndarray, margin_px: int,
-                 factor: int = 1) -> tuple[np.ndarray, np.ndarray, int, int]:
+                 factor: int) -> tuple[np.ndarray, np.ndarray, int, int]:
     """Top-left corners (T,) and the common size of windows around every mask's box, whole
     multiples of ``factor`` times the alignments (so that a copy at 1/``factor`` of the
     resolution, and its coarse level, are exact)."""

@@ -66,7 +66,6 @@ class CameraChoice:
         return get_preset(self.preset or DEFAULT_PRESET).approximate
 
 
-
 @dataclass(frozen=True, eq=False)
 class FitRun:
     """A finished fit with what it was fitted to."""
