@@ -21,7 +21,7 @@ from dolphinfit.core.measure.elliptical import TAIL_MEASURED, elliptical_volume
 from dolphinfit.core.model.hw_from_model import hw_from_template, station_extents
 from dolphinfit.core.model.sections import section_area_factor
 from dolphinfit.core.model.template import load_template
-from dolphinfit.core.synth.clip import synth_animal
+from dolphinfit.core.synth.animal import synth_animal
 from dolphinfit.core.synth.config import SynthConfig
 
 

@@ -19,6 +19,8 @@ import torch
 import torch.nn.functional as F
 
 from dolphinfit.core.camera import NadirCamera
+from dolphinfit.core.coverage import majority as coverage_majority
+from dolphinfit.core.coverage import white_squares
 from dolphinfit.core.errors import InputError
 from dolphinfit.core.fit.config import FitConfig
 from dolphinfit.core.fit.reporter import PREPARE_STAGE
@@ -109,15 +111,14 @@ def downscaled(data: FitData, factor: int, keep_area: bool = False) -> FitData |
 
 
 def majority(share: torch.Tensor) -> torch.Tensor:
-    """(T, H, W) bool: pixels more than half dolphin (``share`` (T, H, W)), and those exactly
-    half dolphin on a chessboard's white squares. Counting every tie in made the masks at
-    half resolution 3.5 % larger in area (ties lie all along the outline); half of them
-    keeps it (0.998 and 0.9997 of the area on the speed clip at 1080p and 4K). The coarse
-    level of the fit keeps the rule it was tuned with: this one moved single clips of the
-    tuning split by up to 2 points of volume (mean |volume| error 2.59 → 2.75 %)."""
-    rows = torch.arange(share.shape[1], device=share.device)[:, None]
-    cols = torch.arange(share.shape[2], device=share.device)
-    return (share > 0.5) | ((share == 0.5) & ((rows + cols) % 2 == 0))
+    """(T, H, W) bool: ``core.coverage.majority`` of ``share`` (T, H, W). Counting every tie
+    in made the masks at half resolution 3.5 % larger in area (ties lie all along the
+    outline); half of them keeps it (0.998 and 0.9997 of the area on the speed clip at 1080p
+    and 4K). The coarse level of the fit keeps the rule it was tuned with: this one moved
+    single clips of the tuning split by up to 2 points of volume (mean |volume| error 2.59 →
+    2.75 %)."""
+    white = torch.as_tensor(white_squares(*share.shape[1:]), device=share.device)
+    return coverage_majority(share, white)
 
 
 def edge_blur_of(data: FitData, max_frames: int = EDGE_BLUR_FRAMES) -> float:

@@ -159,13 +159,15 @@ def composite(sea_rgb: np.ndarray, layer: DolphinLayer | None) -> tuple[np.ndarr
     return frame, contrast
 
 
-def layer_mask(layer: DolphinLayer | None, height_px: int, width_px: int) -> np.ndarray:
-    """(H, W) uint8 mask, 255 where the layer covers at least half a pixel."""
-    mask = np.zeros((height_px, width_px), dtype=np.uint8)
-    if layer is not None:
+def layer_coverage(layer: DolphinLayer | None, height_px: int, width_px: int,
+                   part: int | None = None) -> np.ndarray:
+    """(H, W) float32 share of each pixel the layer covers (``part``: that part's share)."""
+    share = np.zeros((height_px, width_px), dtype=np.float32)
+    if layer is not None and (part is None or layer.parts is not None):
         h, w = layer.alpha.shape
-        mask[layer.y0:layer.y0 + h, layer.x0:layer.x0 + w] = np.where(layer.alpha >= 0.5, 255, 0)
-    return mask
+        share[layer.y0:layer.y0 + h, layer.x0:layer.x0 + w] = (
+            layer.alpha if part is None else layer.parts[..., part])
+    return share
 
 
 def finish(frame: np.ndarray, glints: np.ndarray, blur_px: float, noise_sd: float,

@@ -12,6 +12,9 @@ from dolphinfit.core.synth.config import SynthConfig
 
 LOSSY_CODEC = ("mp4v", ".mp4")       # OpenCV's writable lossy codec (reference/platform.md §5)
 LOSSLESS_CODEC = ("FFV1", ".mkv")
+# 2: true masks by core.coverage.majority of the coverage downscaled by area (1 counted every
+# half-covered pixel of the supersampled scene in, 0.03–0.21 px outside the outline)
+TRUTH_SCHEMA_VERSION = 2
 
 
 @dataclass(frozen=True)
@@ -36,13 +39,15 @@ def clip_files(out_dir: Path, config: SynthConfig) -> ClipFiles:
 
 def made_from(files: ClipFiles, config: SynthConfig) -> bool:
     """Whether the clip in ``files`` is whole (truth, video and part masks) and was made from
-    ``config``: its truth's recorded configuration reads back equal to it (fields added since
-    it was made take their defaults, which render clips as before them)."""
+    ``config`` by the current rules: its truth's schema is ``TRUTH_SCHEMA_VERSION`` and its
+    recorded configuration reads back equal to it (fields added since it was made take their
+    defaults, which render clips as before them)."""
     if not (files.truth_json.exists() and files.video.exists() and files.parts.exists()):
         return False
     try:
-        recorded = json.loads(files.truth_json.read_text(encoding="utf-8"))["config"]
-        return SynthConfig.from_json(recorded) == config
+        truth = json.loads(files.truth_json.read_text(encoding="utf-8"))
+        return (truth.get("schema_version") == TRUTH_SCHEMA_VERSION
+                and SynthConfig.from_json(truth["config"]) == config)
     except (OSError, ValueError, KeyError, TypeError, InputError):
         return False
 

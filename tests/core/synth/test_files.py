@@ -6,7 +6,7 @@ from dataclasses import replace
 import pytest
 
 from dolphinfit.core.synth.config import SynthConfig
-from dolphinfit.core.synth.files import clip_files, made_from
+from dolphinfit.core.synth.files import TRUTH_SCHEMA_VERSION, clip_files, made_from
 
 CONFIG = SynthConfig(seed=3, width_px=320, height_px=240)
 
@@ -15,7 +15,8 @@ def _cached(tmp_path, recorded: dict):
     files = clip_files(tmp_path, CONFIG)
     files.video.write_bytes(b"video")
     files.parts.write_bytes(b"parts")
-    files.truth_json.write_text(json.dumps({"config": recorded}))
+    files.truth_json.write_text(json.dumps({"schema_version": TRUTH_SCHEMA_VERSION,
+                                            "config": recorded}))
     return files
 
 
@@ -35,8 +36,13 @@ def test_unreadable_or_foreign_truths_are_stale(tmp_path):
     assert not made_from(files, CONFIG)
     files.truth_json.write_text("{not json")
     assert not made_from(files, CONFIG)
-    files.truth_json.write_text(json.dumps({"config": CONFIG.to_json()}))
+    files.truth_json.write_text(json.dumps({"schema_version": TRUTH_SCHEMA_VERSION,
+                                            "config": CONFIG.to_json()}))
     assert made_from(files, CONFIG)
+    files.truth_json.write_text(json.dumps({"config": CONFIG.to_json()}))
+    assert not made_from(files, CONFIG)      # true masks by the rules before schema 2
+    files.truth_json.write_text(json.dumps({"schema_version": TRUTH_SCHEMA_VERSION,
+                                            "config": CONFIG.to_json()}))
     files.parts.unlink()     # a clip cut short before its part masks
     assert not made_from(files, CONFIG)
     files.truth_json.unlink()

@@ -20,7 +20,8 @@ from dolphinfit.core.model.hw_from_model import station_extents
 from dolphinfit.core.measure.mesh import body_length
 from dolphinfit.core.measure.stations import STATION_FRACTIONS
 from dolphinfit.core.model.template import load_template
-from dolphinfit.core.synth.clip import make_clip, synth_animal
+from dolphinfit.core.synth.animal import synth_animal
+from dolphinfit.core.synth.clip import make_clip
 from dolphinfit.core.synth.config import BODIES, Effects, SynthConfig
 from dolphinfit.core.synth.foreign import FOREIGN_BODIES, foreign_template
 
