@@ -19,12 +19,16 @@ if TYPE_CHECKING:
 
 NETWORK = "network"
 NETWORK_COLOUR_EDGES = "network-colour-edges"
+NETWORK_AS_DRAWN = "network-as-drawn"
 COLOUR = "colour"
 SAM2 = "sam2"
 BACKENDS: dict[str, str] = {
     NETWORK: "salient-object network (U²-Net small) on a crop around the animal, the outline "
-             "drawn by the project's edge network; about 0.4 s per 1080p frame and 0.8 s per 4K "
-             "frame on two cores",
+             "drawn by the project's edge network, then moved to where the image's step from "
+             "body to water is half-way; about 0.4 s per 1080p frame and 0.8 s per 4K frame "
+             "on two cores",
+    NETWORK_AS_DRAWN: "the same network with the outline as the edge network draws it (the "
+                      "default before the outline was fitted to the image's edge)",
     NETWORK_COLOUR_EDGES: "the same network with the outline placed by colour near its edge "
                           "(the default before the edge network)",
     COLOUR: "colour models of the animal and the water; fast (about 0.05 s per frame) but "
@@ -33,7 +37,8 @@ BACKENDS: dict[str, str] = {
           "both installed by the user); slow on the CPU, so only on the frames to be fitted",
 }
 DEFAULT_BACKEND = NETWORK
-ALWAYS_AVAILABLE = (NETWORK, NETWORK_COLOUR_EDGES, COLOUR)  # need only dolphinfit's own files
+# need only dolphinfit's own files
+ALWAYS_AVAILABLE = (NETWORK, NETWORK_AS_DRAWN, NETWORK_COLOUR_EDGES, COLOUR)
 
 
 def make_segmenter(backend: str = DEFAULT_BACKEND, only_frames: Sequence[int] | None = None,
@@ -44,11 +49,12 @@ def make_segmenter(backend: str = DEFAULT_BACKEND, only_frames: Sequence[int] | 
     ``checkpoint``: SAM-2's checkpoint file, required for it (the others ignore it).
     ``device`` (core.device): where the edge network and SAM-2 run; the salient network
     (OpenCV) and the colour tracker always run on the CPU."""
-    if backend in (NETWORK, NETWORK_COLOUR_EDGES):
+    if backend in (NETWORK, NETWORK_COLOUR_EDGES, NETWORK_AS_DRAWN):
         from dolphinfit.core.segment.edge_steps import make_edge_step
         from dolphinfit.core.segment.net_settings import NetSettings
         from dolphinfit.core.segment.net_tracker import NetTracker
-        settings = NetSettings(edges="network" if backend == NETWORK else "colour")
+        settings = NetSettings(edges="colour" if backend == NETWORK_COLOUR_EDGES else "network",
+                               fit_outline=backend != NETWORK_AS_DRAWN)
         return NetTracker(settings, only_frames=only_frames,
                           edges=make_edge_step(settings, device))
     if backend == COLOUR:

@@ -35,6 +35,7 @@ class NetSettings:
     follow_iou: float = 0.8          # below this overlap with its prediction, look again
     max_area_ratio: float = PAIR_AREA_RATIO  # larger than this × its area: merged with another
     edges: str = "network"           # the outline step (module doc, step 3): EDGE_STEPS
+    fit_outline: bool = True         # the outline moved to the image's edge (step 6)
     # longer than this, the animal is tracked downscaled (``working_scale``): the bench
     # suite's dolphins are 100–500 px long at 1080p and 4K, a whale near the drone thousands
     max_length_px: int = 640

@@ -37,6 +37,10 @@ built-in tracker, on every frame or only on chosen ones (the frames a fit will u
    (``tracker.colour_follow``) may be.
 5. **Lost** when no mask is plausible; while lost, the last window grown by
    ``search_growth`` is searched each frame for a mask of about the reference area.
+6. **On the edge**: the networks learnt where an outline lies from one renderer's blur and
+   contrast; each frame's mask has its outline moved to where the image's own step from body
+   to water is half-way (``outline_fit``; ``fit_outline``). The tracking itself follows the
+   masks as the networks drew them.
 
 The seed (a click, a box or the automatic seed) and the working scale at which a large
 animal is tracked are ``net_seed``'s; the look at one window is ``net_look``'s; the loop over
@@ -58,7 +62,8 @@ from dolphinfit.core.segment.edge_steps import EdgeStep
 from dolphinfit.core.segment.net_look import NetLook, Seen
 from dolphinfit.core.segment.net_seed import NetSeeder
 from dolphinfit.core.segment.net_settings import NetSettings
-from dolphinfit.core.segment.regions import centroid, models_near, shifted
+from dolphinfit.core.segment.outline_fit import refine_outline
+from dolphinfit.core.segment.regions import centroid, models_near, shifted, window
 from dolphinfit.core.segment.salient import SalientNet
 from dolphinfit.core.segment.seed import dilate
 from dolphinfit.core.segment.segmenter import AutoSeed, Frames, Seed
@@ -69,6 +74,7 @@ from dolphinfit.core.segment.working_scale import ScaledFrames, upscaled
 
 BACKEND_NAME = "network (U²-Net small)"
 COLOUR_SETTINGS = TrackerSettings()  # the colour tracker's, for frames the network misses
+OUTLINE_MARGIN_PX = 12               # the outline is fitted in the mask's box grown by this
 
 
 @dataclass
@@ -124,18 +130,29 @@ class NetTracker:
             frames = ScaledFrames(frames, scale, height, width)
             first = frames[seed.frame_idx]
         animal, water = models_near(first, mask)
-        source = f"{BACKEND_NAME}, {self.look.edges.name}, from {seed}{note}" + (
+        fitted = ", outline on the image's edge" if self.settings.fit_outline else ""
+        source = f"{BACKEND_NAME}, {self.look.edges.name}{fitted}, from {seed}{note}" + (
             f"; tracked at {scale:.3g}× (the animal is longer than "
             f"{self.settings.max_length_px} px)" if scale < 1.0 else "")
         seen_height, seen_width = first.shape[:2]
         paste = None if scale >= 1.0 else (lambda crop: upscaled(
             crop.paste(seen_height, seen_width), height, width))
         return track_both_ways(
-            frames, seed.frame_idx, mask, chosen,
+            frames, seed.frame_idx, self._on_edge(first, mask), chosen,
             lambda: _State(mask, mask, float(mask.sum()), separation(animal, water), animal,
                            water),
-            self._next, lambda crops: track_of(crops, num_frames, width, height, source, paste),
+            lambda frame_rgb, state: self._on_edge(frame_rgb, self._next(frame_rgb, state)),
+            lambda crops: track_of(crops, num_frames, width, height, source, paste),
             progress, cancel)
+
+    def _on_edge(self, frame_rgb: np.ndarray, mask: np.ndarray | None) -> np.ndarray | None:
+        """The frame's mask with its outline where the image puts it (step 6)."""
+        if mask is None or not self.settings.fit_outline:
+            return mask
+        rows, cols = window(mask, OUTLINE_MARGIN_PX)
+        fitted = mask.copy()
+        fitted[rows, cols] = refine_outline(frame_rgb[rows, cols], mask[rows, cols]).mask
+        return fitted
 
     def _next(self, frame_rgb: np.ndarray, state: _State) -> np.ndarray | None:
         """The mask in the next chosen frame (None if lost), updating ``state``."""

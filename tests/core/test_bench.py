@@ -244,7 +244,7 @@ def test_bench_masks_defaults_to_the_back_ends_that_always_work():
     from dolphinfit.app.cli import build_parser
 
     assert build_parser("bench").parse_args(["bench", "masks"]).backends == \
-        "network,network-colour-edges,colour"
+        "network,network-as-drawn,network-colour-edges,colour"
 
 
 @pytest.mark.parametrize("args, problem", [

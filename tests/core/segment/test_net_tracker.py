@@ -144,8 +144,11 @@ def test_back_ends_by_name():
     assert type(make_segmenter("colour")).__name__ == "MaskTracker"
     assert make_segmenter("network-colour-edges").look.edges.name == "colour edges"
     assert make_segmenter("network").look.edges.name == "edge network"
-    with pytest.raises(InputError, match="unknown; choose one of network, network-colour-edges, "
-                                         "colour"):
+    assert make_segmenter("network").settings.fit_outline
+    assert not make_segmenter("network-as-drawn").settings.fit_outline
+    assert make_segmenter("network-as-drawn").look.edges.name == "edge network"
+    with pytest.raises(InputError, match="unknown; choose one of network, network-as-drawn, "
+                                         "network-colour-edges, colour"):
         make_segmenter("sam")
 
 
