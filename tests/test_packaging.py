@@ -7,7 +7,7 @@ import tomllib
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
-FOLDERS = ("core", "app", "ui")
+FOLDERS = ("core", "app", "ui", "vtk_clips")
 
 
 def test_every_package_folder_is_listed_under_the_dolphinfit_namespace():

@@ -1,16 +1,17 @@
 """Measure speed and accuracy side by side in one run.
 
   dolphinfit bench render [--json] [--repeats N] [--quick]
-  dolphinfit bench fit (--suite [--split P] [--clips N] [--shapes S] [--frame-size F]
+  dolphinfit bench fit (--suite [--splits P,…] [--clips N] [--shapes S] [--frame-size F]
                        [--variants V,…] | --speed) [--json]
-  dolphinfit bench masks [--split P] [--clips N | --only NAME,…] [--shapes S] [--frame-size F]
+  dolphinfit bench masks [--splits P,…] [--clips N | --only NAME,…] [--shapes S]
+                         [--frame-size F]
                          [--backends B,…] [--seeds S,…] [--sam2-checkpoint PATH] [--stride K]
                          [--json]
   dolphinfit bench app [--parts startup,click,scan] [--repeats N] [--bundle PROGRAM] [--json]
   dolphinfit bench batch [--clips N] [--quick] [--json]
   dolphinfit bench batch --faults [--tasks N] [--json]
   dolphinfit bench real [--data DIR] [--seeds S,…] [--backend B] [--outlines N] [--json]
-  dolphinfit bench scan [--splits tuning,held-out] [--clips N] [--no-speed] [--json]
+  dolphinfit bench scan [--splits tuning,held-out,vtk] [--clips N] [--no-speed] [--json]
   dolphinfit bench e2e [--frame-sizes 1080p,4k] [--json]
 
 render: forward+backward time of the differentiable renderer per frame at the paper's setting
@@ -88,6 +89,7 @@ from pathlib import Path
 
 from dolphinfit.app.commands import bench_e2e, bench_faults, bench_real, bench_scan
 from dolphinfit.app.commands.bench_output import emit
+from dolphinfit.app.commands.bench_splits import load_renderers
 from dolphinfit.app.commands.masks import add_sam2_argument, sam2_checkpoint
 from dolphinfit.core.bench.batch_bench import bench_batch
 from dolphinfit.core.bench.click_bench import bench_click
@@ -97,8 +99,7 @@ from dolphinfit.core.bench.mask_bench import DEFAULT_STRIDE, SEED_KINDS, bench_m
 from dolphinfit.core.bench.render_bench import RenderBench, bench_render, bench_to_json
 from dolphinfit.core.bench.scenario import Scenario, ensure_scenario
 from dolphinfit.core.bench.suites import (
-    DEFAULT_FRAME_SIZE, DEFAULT_SHAPES, DEFAULT_SPLIT, FRAME_SIZES, SHAPES, SPLITS, SUITE,
-    scenarios, scenarios_named,
+    DEFAULT_FRAME_SIZE, DEFAULT_SHAPES, FRAME_SIZES, SHAPES, SPLITS, scenarios,
 )
 from dolphinfit.core.bench.timing import command_seconds
 from dolphinfit.core.errors import InputError
@@ -126,8 +127,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     which.add_argument("--suite", action="store_true", help="accuracy over the clip suite")
     which.add_argument("--speed", action="store_true", help="speed on a 10 s clip")
     _add_split_argument(fit)
-    fit.add_argument("--clips", type=int, default=len(SUITE),
-                     help="the split's first N clips (default all)")
+    fit.add_argument("--clips", type=int, default=None,
+                     help="each split's first N clips (default all)")
     fit.add_argument("--shapes", choices=SHAPES, default=DEFAULT_SHAPES,
                      help=f"the suite's animals (default {DEFAULT_SHAPES}; see above)")
     fit.add_argument("--frame-size", choices=tuple(FRAME_SIZES), default=DEFAULT_FRAME_SIZE,
@@ -138,8 +139,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     fit.add_argument("--json", action="store_true", help="one JSON object on stdout")
     masks = suites.add_parser("masks", help="mask back-ends against the truth on the suite")
     _add_split_argument(masks)
-    masks.add_argument("--clips", type=int, default=len(SUITE),
-                       help="the split's first N clips (default all)")
+    masks.add_argument("--clips", type=int, default=None,
+                       help="each split's first N clips (default all)")
     masks.add_argument("--only", default="",
                        help="comma-separated suite clip names to run instead (e.g. "
                             "grey_green,dark_sandy)")
@@ -206,6 +207,8 @@ def run(args: argparse.Namespace) -> int:
             raise InputError("--tasks goes with --faults")
         figures = bench_batch(max(1, args.clips), quick=args.quick)
         return emit(args, figures, format_batch)
+    if args.suite_name in ("masks", "fit"):
+        load_renderers(_split_names(args))
     if args.suite_name == "masks":
         backends = tuple(args.backends.split(","))
         checkpoint = sam2_checkpoint(args, backends)
@@ -214,31 +217,66 @@ def run(args: argparse.Namespace) -> int:
         seeds = tuple(args.seeds.split(","))
         for kind in seeds:
             one_of(kind, SEED_KINDS, "--seeds")
-        chosen = (scenarios_named(args.only.split(","), args.shapes, args.frame_size,
-                                  args.split)
-                  if args.only else _first_clips(args))
-        figures = bench_masks({sc.name: ensure_scenario(sc) for sc in chosen}, backends,
-                              count(args.stride, 1, "--stride"), seeds,
-                              progress=_print_mask_score, checkpoint=checkpoint)
-        return emit(args, figures, format_masks)
+        figures = {"splits": {}}
+        for split, chosen in _chosen_clips(args).items():
+            print(f"the {split} split", file=sys.stderr, flush=True)
+            figures["splits"][split] = bench_masks(
+                {sc.name: ensure_scenario(sc) for sc in chosen}, backends,
+                count(args.stride, 1, "--stride"), seeds, progress=_print_mask_score,
+                checkpoint=checkpoint)
+        return emit(args, figures, _per_split(format_masks))
     if args.suite_name == "fit":
-        chosen = _first_clips(args)
-        figures = (bench_suite(chosen, variants=tuple(args.variants.split(",")),
-                               progress=_print_score)
-                   if args.suite else bench_speed())
-        return emit(args, figures, format_suite if args.suite else format_speed)
+        if not args.suite:
+            return emit(args, bench_speed(), format_speed)
+        variants = tuple(args.variants.split(","))
+        figures = {"splits": {}}
+        for split, chosen in _chosen_clips(args).items():
+            print(f"the {split} split", file=sys.stderr, flush=True)
+            figures["splits"][split] = bench_suite(chosen, variants=variants,
+                                                   progress=_print_score)
+        return emit(args, figures, _per_split(format_suite))
     result = bench_render(repeats=max(1, args.repeats), quick=args.quick)
     return emit(args, bench_to_json(result), lambda _: format_render(result))
 
 
 def _add_split_argument(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("--split", choices=SPLITS, default=DEFAULT_SPLIT,
-                        help="the tuning split (default) or the held-out one, never tuned on")
+    parser.add_argument("--splits", default=",".join(SPLITS),
+                        help=f"comma-separated, of {', '.join(SPLITS)} (default all, reported "
+                             "apart): the tuning split, the held-out one and the one VTK draws "
+                             "(neither ever tuned on)")
 
 
-def _first_clips(args: argparse.Namespace) -> tuple[Scenario, ...]:
-    """The first --clips scenarios of the chosen split."""
-    return scenarios(args.shapes, args.frame_size, args.split)[:count(args.clips, 1, "--clips")]
+def _split_names(args: argparse.Namespace) -> tuple[str, ...]:
+    """The --splits asked for, each checked."""
+    names = tuple(dict.fromkeys(args.splits.split(",")))
+    for name in names:
+        one_of(name, SPLITS, "--splits")
+    return names
+
+
+def _chosen_clips(args: argparse.Namespace) -> dict[str, tuple[Scenario, ...]]:
+    """Per split asked for, its first --clips scenarios, or those --only names in the order
+    given (each from the split that has it; InputError for a name none has)."""
+    splits = {name: scenarios(args.shapes, args.frame_size, name)
+              for name in _split_names(args)}
+    if not getattr(args, "only", ""):
+        most = count(args.clips, 1, "--clips") if args.clips is not None else None
+        return {name: chosen[:most] for name, chosen in splits.items()}
+    names = args.only.split(",")
+    known = {sc.name for chosen in splits.values() for sc in chosen}
+    for name in names:
+        one_of(name, tuple(known), "--only")
+    picked = {split: tuple(by_name[name] for name in names if name in by_name)
+              for split, by_name in ((split, {sc.name: sc for sc in chosen})
+                                     for split, chosen in splits.items())}
+    return {split: chosen for split, chosen in picked.items() if chosen}
+
+
+def _per_split(format_split):
+    """A formatter of ``{"splits": {name: figures}}`` that formats each split's figures
+    under its name."""
+    return lambda figures: "\n\n".join(f"== the {split} split ==\n{format_split(part)}"
+                                        for split, part in figures["splits"].items())
 
 
 def bench_app(repeats: int, bundle: Path | None = None) -> dict:

@@ -1,13 +1,14 @@
-"""``dolphinfit bench scan``: the scan's picks against random frames on both suite splits,
+"""``dolphinfit bench scan``: the scan's picks against random frames on each suite split,
 and its speed (core/bench/scan_bench.py).
 
-  dolphinfit bench scan [--splits tuning,held-out] [--clips N] [--no-speed] [--json]
+  dolphinfit bench scan [--splits tuning,held-out,vtk] [--clips N] [--no-speed] [--json]
 """
 
 import argparse
 import sys
 
 from dolphinfit.app.commands.bench_output import emit
+from dolphinfit.app.commands.bench_splits import load_renderers
 from dolphinfit.core.bench.scan_bench import AIM_S_PER_MINUTE, BEST, bench_scan
 from dolphinfit.core.bench.suites import SPLITS, scenarios
 from dolphinfit.core.limits import count, one_of
@@ -18,7 +19,7 @@ CLIP_WIDTH = 21
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     """Which splits, how many clips of each, and whether to time the speed clip."""
     parser.add_argument("--splits", default=",".join(SPLITS),
-                        help=f"comma-separated, of {', '.join(SPLITS)} (default both, "
+                        help=f"comma-separated, of {', '.join(SPLITS)} (default all, "
                              "reported apart)")
     parser.add_argument("--clips", type=int, default=None, metavar="N",
                         help="the first N clips of each split (default all)")
@@ -71,6 +72,7 @@ def run(args: argparse.Namespace) -> int:
     names = tuple(args.splits.split(","))
     for name in names:
         one_of(name, SPLITS, "--splits")
+    load_renderers(names)
     most = None if args.clips is None else count(args.clips, 1, "--clips")
     figures = bench_scan({name: scenarios(split=name)[:most] for name in names},
                          speed=not args.no_speed, progress=_print_clip)

@@ -1,14 +1,25 @@
-"""A named synthetic clip of a benchmark suite, and where its rendered files are cached."""
+"""A named synthetic clip of a benchmark suite, where its rendered files are cached, and the
+renderers that draw them.
 
+Clips are drawn by dolphinfit's own renderer (``core.synth``) unless a scenario names
+another; a renderer outside the engine (VTK's, ``dolphinfit.vtk_clips``, which the engine
+never imports) registers its clip maker here when it is imported.
+"""
+
+from collections.abc import Callable
 from dataclasses import dataclass
+from pathlib import Path
 
+from dolphinfit.core.errors import InputError
 from dolphinfit.core.fit.pipeline import CameraChoice
 from dolphinfit.core.progress import ProgressCallback
 from dolphinfit.core.synth.config import SynthConfig
-from dolphinfit.core.synth.files import ClipFiles
+from dolphinfit.core.synth.files import OWN_RENDERER, ClipFiles, clip_files, made_from
 from dolphinfit.core.synth.sample import cache_dir, ensure_clip
 
 SUITE_NAME = "bench-suite-v2"          # the tuning split with the template's shapes
+ClipMaker = Callable[[SynthConfig, Path, ProgressCallback | None], ClipFiles]
+_RENDERERS: dict[str, ClipMaker] = {}
 
 
 @dataclass(frozen=True)
@@ -19,13 +30,30 @@ class Scenario:
     config: SynthConfig
     shows: str
     suite: str = SUITE_NAME
+    renderer: str = OWN_RENDERER
 
 
 def ensure_scenario(scenario: Scenario,
                     progress: ProgressCallback | None = None) -> ClipFiles:
-    """One scenario's clip, rendered first if it is missing or was made from another
-    configuration (only rendering loads the model stack)."""
-    return ensure_clip(scenario.config, cache_dir() / scenario.suite / scenario.name, progress)
+    """One scenario's clip, rendered first by its renderer if it is missing or was made from
+    another configuration or by another renderer (only rendering loads the model stack).
+    InputError where its renderer is not registered (``register_renderer``)."""
+    out_dir = cache_dir() / scenario.suite / scenario.name
+    if scenario.renderer == OWN_RENDERER:
+        return ensure_clip(scenario.config, out_dir, progress)
+    files = clip_files(out_dir, scenario.config)
+    if made_from(files, scenario.config, scenario.renderer):
+        return files
+    if scenario.renderer not in _RENDERERS:
+        raise InputError(f"{scenario.name}: drawn by the {scenario.renderer!r} renderer, which "
+                         f"is not loaded (import dolphinfit.vtk_clips first)")
+    out_dir.mkdir(parents=True, exist_ok=True)
+    return _RENDERERS[scenario.renderer](scenario.config, out_dir, progress)
+
+
+def register_renderer(name: str, maker: ClipMaker) -> None:
+    """Let scenarios drawn by ``name`` be made by ``maker(config, out_dir, progress)``."""
+    _RENDERERS[name] = maker
 
 
 def synth_camera(config: SynthConfig) -> CameraChoice:

@@ -23,13 +23,15 @@ from dataclasses import replace
 
 from dolphinfit.core.bench.held_out import HELD_OUT
 from dolphinfit.core.bench.scenario import Scenario
+from dolphinfit.core.bench.vtk_split import VTK_SPLIT
 from dolphinfit.core.limits import one_of
 from dolphinfit.core.measure.hw_ratios import DEFAULT_PRESET
 from dolphinfit.core.synth.config import Effects, SynthConfig
 from dolphinfit.core.synth.water import with_water
 
 VARIED_SUITE_NAME = "bench-suite-v3-shapes"
-SPLITS = ("tuning", "held-out")    # held-out: core.bench.held_out, never tuned on
+# held-out: core.bench.held_out, never tuned on; vtk: core.bench.vtk_split, drawn by VTK
+SPLITS = ("tuning", "held-out", "vtk")
 DEFAULT_SPLIT = "tuning"
 SHAPES = ("varied", "template")
 DEFAULT_SHAPES = "varied"
@@ -91,12 +93,14 @@ SUITE: tuple[Scenario, ...] = (
 def scenarios(shapes: str = DEFAULT_SHAPES, frame_size: str = DEFAULT_FRAME_SIZE,
               split: str = DEFAULT_SPLIT) -> tuple[Scenario, ...]:
     """The tuning split's scenarios with the animals of ``shapes`` at ``frame_size`` (module
-    doc), or the held-out split's (which has its own animals and frame sizes)."""
+    doc), or the held-out or VTK split's (which have their own animals and frame sizes)."""
     one_of(shapes, SHAPES, "suite shapes")
     one_of(frame_size, tuple(FRAME_SIZES), "suite frame size")
     one_of(split, SPLITS, "suite split")
     if split == "held-out":
         return HELD_OUT
+    if split == "vtk":
+        return VTK_SPLIT
     chosen = SUITE if shapes == "template" else tuple(
         replace(scenario, suite=VARIED_SUITE_NAME,
                 config=replace(scenario.config, hw_table=DEFAULT_PRESET,
@@ -108,14 +112,3 @@ def scenarios(shapes: str = DEFAULT_SHAPES, frame_size: str = DEFAULT_FRAME_SIZE
     return tuple(replace(scenario, suite=f"{scenario.suite}-{frame_size}",
                          config=replace(scenario.config, width_px=width, height_px=height))
                  for scenario in chosen)
-
-
-def scenarios_named(names: list[str], shapes: str = DEFAULT_SHAPES,
-                    frame_size: str = DEFAULT_FRAME_SIZE,
-                    split: str = DEFAULT_SPLIT) -> tuple[Scenario, ...]:
-    """The scenarios of ``scenarios(shapes, frame_size, split)`` of these names, in the
-    order given; InputError on an unknown one."""
-    by_name = {scenario.name: scenario for scenario in scenarios(shapes, frame_size, split)}
-    for name in names:
-        one_of(name, tuple(by_name), "suite clip")
-    return tuple(by_name[name] for name in names)

@@ -19,14 +19,13 @@ from dolphinfit.core.synth.compose import (
     render_layer, ripple,
 )
 from dolphinfit.core.synth.config import SynthConfig
-from dolphinfit.core.synth.files import ClipFiles
+from dolphinfit.core.synth.files import OWN_RENDERER, ClipFiles
 from dolphinfit.core.synth.parts import PART_NAMES, part_faces
 from dolphinfit.core.synth.recorder import ClipRecorder
 from dolphinfit.core.synth.sea import Sea
 from dolphinfit.core.synth.whitewater import Whitewater
 
 RENDER_STAGE = "render"
-RENDERER = "dolphinfit"       # truth.json names the renderer that drew the clip
 
 
 def make_clip(config: SynthConfig, out_dir: Path, progress: ProgressCallback | None = None,
@@ -67,7 +66,7 @@ def make_clip(config: SynthConfig, out_dir: Path, progress: ProgressCallback | N
             layer = ripple(layer, slope, float(altitude[t]) / intrinsics.focal_px)
         return layer
 
-    with ClipRecorder(config, out_dir, RENDERER) as recorder:
+    with ClipRecorder(config, out_dir, OWN_RENDERER) as recorder:
         for t in range(config.num_frames):
             check_cancel(cancel)
             sea_frame = sea.frame(float(motion.time_s[t]), float(altitude[t]))

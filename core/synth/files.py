@@ -15,6 +15,7 @@ LOSSLESS_CODEC = ("FFV1", ".mkv")
 # 2: true masks by core.coverage.majority of the coverage downscaled by area (1 counted every
 # half-covered pixel of the supersampled scene in, 0.03–0.21 px outside the outline)
 TRUTH_SCHEMA_VERSION = 2
+OWN_RENDERER = "dolphinfit"      # truth.json names the renderer that drew the clip
 
 
 @dataclass(frozen=True)
@@ -37,16 +38,18 @@ def clip_files(out_dir: Path, config: SynthConfig) -> ClipFiles:
                      truth_json=out_dir / "truth.json", parts=out_dir / "parts.npz")
 
 
-def made_from(files: ClipFiles, config: SynthConfig) -> bool:
+def made_from(files: ClipFiles, config: SynthConfig, renderer: str = OWN_RENDERER) -> bool:
     """Whether the clip in ``files`` is whole (truth, video and part masks) and was made from
-    ``config`` by the current rules: its truth's schema is ``TRUTH_SCHEMA_VERSION`` and its
-    recorded configuration reads back equal to it (fields added since it was made take their
-    defaults, which render clips as before them)."""
+    ``config`` by ``renderer`` under the current rules: its truth's schema is
+    ``TRUTH_SCHEMA_VERSION``, it names the renderer (dolphinfit's own where it names none) and
+    its recorded configuration reads back equal to it (fields added since it was made take
+    their defaults, which render clips as before them)."""
     if not (files.truth_json.exists() and files.video.exists() and files.parts.exists()):
         return False
     try:
         truth = json.loads(files.truth_json.read_text(encoding="utf-8"))
         return (truth.get("schema_version") == TRUTH_SCHEMA_VERSION
+                and truth.get("renderer", OWN_RENDERER) == renderer
                 and SynthConfig.from_json(truth["config"]) == config)
     except (OSError, ValueError, KeyError, TypeError, InputError):
         return False

@@ -7,7 +7,7 @@ from dataclasses import asdict, replace
 import pytest
 import torch
 
-from dolphinfit.app.cli import main
+from dolphinfit.app.cli import build_parser, main
 from dolphinfit.core.bench import render_bench
 from dolphinfit.core.errors import InputError
 from dolphinfit.core.bench.timing import median_ms, median_phases_ms, peak_rss_mb_of
@@ -188,12 +188,13 @@ def test_a_pass_is_timed_in_all_and_apart_for_the_seed_and_the_frames_after_it(m
 
 
 def test_suite_clips_by_name_keep_the_order_given_and_refuse_unknown_names(capsys):
-    from dolphinfit.core.bench.suites import scenarios_named
+    from dolphinfit.app.commands.bench import _chosen_clips
 
-    assert [s.name for s in scenarios_named(["turn_right", "grey_green"])] == \
-        ["turn_right", "grey_green"]
-    with pytest.raises(InputError, match="suite clip: one of grey_green, .*got 'nope'"):
-        scenarios_named(["grey_green", "nope"])
+    args = build_parser("bench").parse_args(
+        ["bench", "masks", "--only", "turn_right,small_5k_pair,grey_green"])
+    chosen = _chosen_clips(args)
+    assert {split: [s.name for s in part] for split, part in chosen.items()} == \
+        {"tuning": ["turn_right", "grey_green"], "held-out": ["small_5k_pair"]}
     assert main(["bench", "masks", "--only", "nope"]) == 2
     assert "got 'nope'" in capsys.readouterr().err
 
@@ -241,7 +242,6 @@ def test_masks_table_shows_each_seed_beside_the_click():
 
 def test_bench_masks_defaults_to_the_back_ends_that_always_work():
     """SAM-2 is never in the default list: the bench must not fail where it is not installed."""
-    from dolphinfit.app.cli import build_parser
 
     assert build_parser("bench").parse_args(["bench", "masks"]).backends == \
         "network,network-as-drawn,network-colour-edges,colour"
@@ -262,20 +262,19 @@ def test_bench_masks_checks_the_sam2_checkpoint_before_any_work(tmp_path, capsys
     assert problem.format(tmp=tmp_path) in capsys.readouterr().err
 
 
-def test_the_held_out_split_is_chosen_by_name_and_kept_apart(capsys):
-    from dolphinfit.core.bench.suites import scenarios_named
+def test_the_splits_are_chosen_by_name_and_kept_apart(capsys):
+    from dolphinfit.app.commands.bench import _chosen_clips
+    from dolphinfit.core.bench.suites import scenarios
 
-    assert [s.name for s in scenarios_named(["small_5k_pair"], split="held-out")] == \
-        ["small_5k_pair"]
-    with pytest.raises(InputError, match="suite clip: one of robust_turquoise, .*"
-                                         "got 'grey_green'"):
-        scenarios_named(["grey_green"], split="held-out")
-    with pytest.raises(InputError, match="suite split: one of tuning, held-out"):
-        scenarios_named(["grey_green"], split="test")
-    with pytest.raises(SystemExit) as exit_:
-        main(["bench", "masks", "--split", "test"])
-    assert exit_.value.code == 2
-    assert "--split: invalid choice: 'test'" in capsys.readouterr().err
+    args = build_parser("bench").parse_args(["bench", "fit", "--suite", "--clips", "2"])
+    chosen = _chosen_clips(args)
+    assert list(chosen) == ["tuning", "held-out", "vtk"]
+    assert [s.name for s in chosen["vtk"]] == [s.name for s in scenarios(split="vtk")[:2]]
+    assert {s.renderer for s in chosen["vtk"]} == {"vtk"}
+    with pytest.raises(InputError, match="suite split: one of tuning, held-out, vtk"):
+        scenarios(split="test")
+    assert main(["bench", "masks", "--splits", "tuning,test"]) == 2
+    assert "--splits: one of tuning, held-out, vtk, got 'test'" in capsys.readouterr().err
 
 
 def test_the_click_bench_clicks_the_middle_frame_and_prints_its_waits(capsys):
