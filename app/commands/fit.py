@@ -31,10 +31,15 @@ compute: auto (the default) takes a CUDA GPU when the installed torch sees one, 
 the salient network always runs on the CPU. The result is the same wherever it ran, to float
 rounding on a GPU.
 
-Exit codes: 0 the fit completed; 2 bad input; 1 an internal error, or a fit that ended early
-(status "diverged": the loss turned non-finite; "cancelled" comes only from callers of
-core.fit with a cancel event): its best state is still written, with the reason in
-result.json's status_message and on stderr, because its figures are not a complete fit's.
+The last line says the fit's status: "complete", or "unreliable" with the reasons its figures
+cannot be trusted (too few frames, a poor fit, a partial body, too few pixels:
+core.fit.reliability), also in result.json's status and reasons.
+
+Exit codes: 0 the fit ran to its end (complete or unreliable); 2 bad input; 1 an internal
+error, or a fit that ended early (status "diverged": the loss turned non-finite; "cancelled"
+comes only from callers of core.fit with a cancel event): its best state is still written,
+with the reason in result.json's status_message and on stderr, because its figures are not a
+complete fit's.
 """
 
 import argparse
@@ -50,7 +55,7 @@ from dolphinfit.core.fit.config import FitConfig, fit_hw_table
 from dolphinfit.core.fit.interval import run_interval
 from dolphinfit.core.fit.outputs import check_fit_folder, write_outputs
 from dolphinfit.core.fit.pipeline import CameraChoice, FitRun, run_fit
-from dolphinfit.core.fit.result import STATUS_COMPLETE, FitResult
+from dolphinfit.core.fit.result import STATUS_UNRELIABLE, FitResult
 from dolphinfit.core.io.json_file import read_json, write_json
 from dolphinfit.core.measure.annotation import ALTITUDE_SOURCE_OF_KIND, ALTITUDE_SOURCES
 from dolphinfit.core.measure.fit_uncertainty import FitInterval
@@ -221,7 +226,7 @@ def report(fit_run: FitRun, out_dir: Path, camera: CameraChoice,
     A completed fit with an implausible length, or a volume or mass that is not positive, is
     refused (exit 2) and not written."""
     result = fit_run.result
-    if result.status == STATUS_COMPLETE:
+    if result.finished:
         result_figures({"length_m": result.length_m, "volume_m3": result.volume_m3,
                         "mass_kg": result.mass_kg},
                        f"fit of {fit_run.clip.path.name} (check the altitude and the camera)")
@@ -246,8 +251,17 @@ def report(fit_run: FitRun, out_dir: Path, camera: CameraChoice,
                                                  if w not in fit_run.data.warnings):
         print(f"warning: {warning}")
     print(f"wrote {len(written)} files to {out_dir}")
-    if result.status == STATUS_COMPLETE:
+    if result.finished:
+        print(status_line(result))
         return 0
     print(f"dolphinfit: error: fit {result.status}: {result.status_message}",
           file=sys.stderr)
     return 1
+
+
+def status_line(result: FitResult) -> str:
+    """The command's last line: the fit's status, and why it cannot be trusted where it
+    cannot."""
+    if result.status == STATUS_UNRELIABLE:
+        return f"status: unreliable: {result.status_message}"
+    return f"status: {result.status}"

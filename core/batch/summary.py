@@ -17,7 +17,8 @@ COLUMNS = ("clip", "animal_id", "status", "error", "notes", "folder", "reused", 
            "ell_frame",
            *(f"{key}_{suffix}" for key, _, _ in QUANTITIES
              for suffix in ("ell", "ell_lo95", "ell_hi95", "fit", "fit_lo95", "fit_hi95")),
-           "fit_status", "fit_frames", "fit_mean_iou", "fit_warnings", "seconds")
+           "fit_status", "fit_unreliable_because", "fit_frames", "fit_mean_iou", "fit_warnings",
+           "seconds")
 
 
 def elliptical_values(estimate: BaselineEstimate, record: dict, image_id: str,
@@ -36,7 +37,8 @@ def elliptical_values(estimate: BaselineEstimate, record: dict, image_id: str,
 def fit_values(result: FitResult) -> dict[str, Any]:
     """The fit's columns."""
     values: dict[str, Any] = {f"{key}_fit": float(getattr(result, key)) for key, _, _ in QUANTITIES}
-    values.update(fit_status=result.status, fit_frames=len(result.frame_idx),
+    values.update(fit_status=result.status, fit_unreliable_because=" | ".join(result.reasons),
+                  fit_frames=len(result.frame_idx),
                   fit_mean_iou=float(result.iou.mean()),
                   fit_warnings=" | ".join(result.warnings))
     return values

@@ -22,7 +22,6 @@ from dolphinfit.core.device import CPU, resolve_device
 from dolphinfit.core.errors import InputError
 from dolphinfit.core.fit.outputs import write_outputs
 from dolphinfit.core.fit.pipeline import FitRun, run_fit
-from dolphinfit.core.fit.result import STATUS_COMPLETE as FIT_COMPLETE
 from dolphinfit.core.io.atomic import atomic_folder
 from dolphinfit.core.measure.baseline import BaselineEstimate
 from dolphinfit.core.measure.records import write_exports
@@ -78,7 +77,7 @@ def _run_methods(task: BatchTask, folder: Path,
         try:
             run = _fit(task, folder, device)
             values.update(fit_values(run.result))
-            if run.result.status != FIT_COMPLETE:
+            if not run.result.finished:
                 errors.append(f"fit {run.result.status}: {run.result.status_message}")
         except Exception as exc:  # noqa: BLE001 (recorded; the batch goes on)
             errors.append(f"fit: {describe(exc)}")

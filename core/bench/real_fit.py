@@ -46,7 +46,8 @@ def fit_minke(minke: MinkeImage, backend: str, config: FitConfig = FitConfig()) 
             "length_in_interval": low <= human.length_m <= high,
             "median_width_error_share": float(np.median(np.abs(
                 widths[measured] / theirs[measured] - 1)))})
-    return {"status": result.status, "length_m": result.length_m,
+    return {"status": result.status, "reasons": list(result.reasons),
+            "length_m": result.length_m,
             "volume_m3": result.volume_m3, "mass_kg": result.mass_kg,
             "interval": {key: {"low": float(getattr(interval, key).low),
                                "high": float(getattr(interval, key).high)}

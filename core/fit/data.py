@@ -24,6 +24,7 @@ from dolphinfit.core.coverage import white_squares
 from dolphinfit.core.errors import InputError
 from dolphinfit.core.fit.config import FitConfig
 from dolphinfit.core.fit.reporter import PREPARE_STAGE
+from dolphinfit.core.fit.whole_body import elongation, length_px, partial, widest_px
 from dolphinfit.core.intrinsics import CameraIntrinsics
 from dolphinfit.core.io.masks import MaskTrack
 from dolphinfit.core.io.report import list_some
@@ -37,8 +38,6 @@ from dolphinfit.core.segment.regions import touches_border
 
 ROI_MULTIPLE_PX = 8
 # Narrower than this the volume is unreliable: a volume moves by about 4 δ / width for an
-# outline δ px off (width and height both grow by 2 δ), 2 % per tenth of a pixel at 20 px
-MIN_WIDTH_PX = 20
 ROI_ALIGN_PX = 2   # window corners on even pixels, so a 2× coarser copy of them is exact
 EDGE_BLUR_FRAMES = 5   # frames the edge's blur is measured on (a fit has 8–35)
 
@@ -58,6 +57,10 @@ class FitData:
     # the blur index of the animal's edge (``edge_blur_of``), clip px, read before any binning
     # (binning by 2 doubled it); NaN: not measured
     edge_blur_px: float = float("nan")
+    # the masks' medians: the animal's width at its widest, clip px, and how many times as
+    # long as wide they are (core.fit.whole_body); NaN: not measured
+    animal_width_px: float = float("nan")
+    elongation: float = float("nan")
 
     @property
     def num_frames(self) -> int:
@@ -164,32 +167,6 @@ def select_frames(clip: Clip, masks: MaskTrack,
     return np.asarray(chosen, dtype=np.int64), np.stack(chosen_masks), warnings
 
 
-def widest_px(mask: np.ndarray) -> float:
-    """The animal's greatest width in a (H, W) bool mask, px: the diameter of the largest
-    disc inside it (its widest cross-section, where the body is widest)."""
-    rows, cols = np.nonzero(mask)
-    crop = np.pad(mask[rows.min():rows.max() + 1, cols.min():cols.max() + 1], 1)
-    return 2.0 * float(cv2.distanceTransform(crop.astype(np.uint8), cv2.DIST_L2,
-                                             cv2.DIST_MASK_PRECISE).max())
-
-
-def median_width_px(masks: np.ndarray) -> float:
-    """The animal's widest width (``widest_px``), median over the masks (T, H, W)."""
-    return float(np.median([widest_px(mask) for mask in masks]))
-
-
-def narrow_animal_warnings(width: float) -> list[str]:
-    """A warning when the animal is fewer than ``MIN_WIDTH_PX`` wide at its widest (``width``,
-    ``median_width_px`` of the fitted frames' masks): a tenth of a pixel of outline is then
-    several per cent of volume."""
-    if width >= MIN_WIDTH_PX:
-        return []
-    return [f"the animal is only {width:.0f} px wide at its widest (under {MIN_WIDTH_PX} px): "
-            f"each tenth of a pixel of outline moves the volume by about "
-            f"{100 * 4 * 0.1 / width:.0f} %, so the volume and mass are unreliable; fly "
-            f"lower or record at a higher resolution"]
-
-
 def frame_altitudes(telemetry: Telemetry, frame_idx: np.ndarray) -> tuple[np.ndarray, list[str]]:
     """Altitude of each chosen frame, interpolating missing ones (with a warning)."""
     altitude = telemetry.altitude_m
@@ -227,9 +204,11 @@ def prepare_data(clip: Clip, read_frame: Callable[[int], np.ndarray], masks: Mas
         frame_idx, masks_np, lens_warnings = _masks_through_lens(clip, frame_idx, masks_np, lens)
         warnings += lens_warnings + [w for w in [lens.focal_warning(intrinsics)] if w]
         read_frame = _through_lens(read_frame, lens)
-    animal_width = median_width_px(masks_np)
-    warnings += narrow_animal_warnings(animal_width)
     altitude, altitude_warnings = frame_altitudes(telemetry, frame_idx)
+    kept, partial_warnings = _whole_frames(frame_idx, masks_np, altitude, clip_focal_px)
+    frame_idx, masks_np, altitude = frame_idx[kept], masks_np[kept], altitude[kept]
+    warnings += partial_warnings
+    animal_width = float(np.median([widest_px(mask) for mask in masks_np]))
     frames = _read_frames(read_frame, frame_idx, config.total_steps, progress, cancel)
     factor = 1
     if config.use_roi:
@@ -255,9 +234,23 @@ def prepare_data(clip: Clip, read_frame: Callable[[int], np.ndarray], masks: Mas
                    images=torch.as_tensor(images, dtype=torch.float32) / 255.0,
                    masks=torch.as_tensor(cut, dtype=torch.float32), camera=camera,
                    viewport=viewport, clip_focal_px=clip_focal_px,
-                   warnings=tuple(warnings + altitude_warnings))
+                   warnings=tuple(warnings + altitude_warnings), animal_width_px=animal_width,
+                   elongation=float(np.median([elongation(mask) for mask in masks_np])))
     data = replace(data, edge_blur_px=edge_blur_of(data))
     return data if factor == 1 else downscaled(data, factor, keep_area=True)
+
+
+def _whole_frames(frame_idx: np.ndarray, masks: np.ndarray, altitude_m: np.ndarray,
+                  focal_px: float) -> tuple[np.ndarray, list[str]]:
+    """(T,) bool: the frames whose masks show the whole animal (``core.fit.whole_body``), all
+    of them where none would be left; a warning naming those left out."""
+    lengths_m = np.array([length_px(mask) for mask in masks]) * altitude_m / focal_px
+    short = partial(lengths_m)
+    if short.all() or not short.any():
+        return np.ones(len(frame_idx), bool), []
+    return ~short, [f"{int(short.sum())} frame(s) skipped: the mask is shorter than the animal "
+                    f"is in the clip's other frames (diving, pitched or partly hidden: frames "
+                    f"{list_some([str(int(t)) for t in frame_idx[short]])})"]
 
 
 def fit_factor(width_px: float, config: FitConfig) -> int:

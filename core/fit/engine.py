@@ -21,7 +21,10 @@ from dolphinfit.core.fit.data import FitData
 from dolphinfit.core.fit.init import initial_state, silhouette_centroid_offset
 from dolphinfit.core.fit.objective import FitProblem
 from dolphinfit.core.fit.reporter import PREPARE_STAGE, RESULT_STAGE, FitReporter
-from dolphinfit.core.fit.result import STATUS_CANCELLED, STATUS_COMPLETE, FitResult
+from dolphinfit.core.fit.reliability import unreliable_reasons
+from dolphinfit.core.fit.result import (
+    STATUS_CANCELLED, STATUS_COMPLETE, STATUS_UNRELIABLE, FitResult,
+)
 from dolphinfit.core.fit.scene import SceneParams, initial_params
 from dolphinfit.core.fit.schedule import (
     STAGES, Stop, choose_heading, coarse_problem, debiased_targets, run_in_parts, shape_parts,
@@ -39,7 +42,6 @@ from dolphinfit.core.runtime import single_thread_workers
 # Mean fit IoU below which a fit is flagged: on the widened bench suite good masks gave
 # 0.76–0.94 per clip, and masks of a seagrass patch or of glitter 0.56 (0.61 and 0.65 with
 # the exhaustive fit).
-POOR_FIT_IOU = 0.7
 
 
 def fitted_template(template: Template, config: FitConfig) -> Template:
@@ -120,18 +122,6 @@ def _fit(data: FitData, config: FitConfig, template: Template | None,
     return result
 
 
-def quality_warnings(ious: np.ndarray) -> tuple[str, ...]:
-    """A warning when the fitted model explains its masks poorly (mean IoU below
-    ``POOR_FIT_IOU``): the masks may not show a dolphin at all (a seagrass patch, glitter),
-    and a fit of them must not pass as a good one."""
-    mean = float(np.mean(ious)) if len(ious) else 0.0
-    if mean >= POOR_FIT_IOU:
-        return ()
-    return (f"poor fit: the model explains the masks with a mean IoU of {mean:.2f} (below "
-            f"{POOR_FIT_IOU:.2f}); check that the masks show the dolphin, the figures are "
-            f"unreliable",)
-
-
 def _result(problem: FitProblem, params: SceneParams, history: list[dict],
             timings: dict[str, float], warnings: tuple[str, ...], status: str,
             status_message: str) -> FitResult:
@@ -146,7 +136,11 @@ def _result(problem: FitProblem, params: SceneParams, history: list[dict],
         volume = float(mesh_volume(rest, model.faces))
         length = float(body_length(rest, model.rostrum_idx, model.notch_idx))
     ious = problem.frame_ious(params).cpu()
-    warnings = warnings + quality_warnings(ious.double().numpy())
+    data = problem.data
+    reasons = unreliable_reasons(data.num_frames, ious.double().numpy(), data.elongation,
+                                 data.animal_width_px)
+    if status == STATUS_COMPLETE and reasons:
+        status, status_message = STATUS_UNRELIABLE, "; ".join(reasons)
     condition = body_condition(np.float64(length), np.float64(volume))
     return FitResult(
         betas=betas.numpy(), profile=None if profile is None else profile.numpy(),
@@ -161,7 +155,7 @@ def _result(problem: FitProblem, params: SceneParams, history: list[dict],
         volume_m3=volume, length_m=length, bci=float(condition.bci),
         mass_kg=float(condition.mass_kg), density_kg_m3=float(condition.density_kg_m3),
         loss_history=tuple(history), timings_s=timings, config=problem.config,
-        warnings=warnings, status=status, status_message=status_message)
+        warnings=warnings, status=status, status_message=status_message, reasons=reasons)
 
 
 def _float64(tensor: torch.Tensor) -> np.ndarray:

@@ -8,9 +8,12 @@ from dolphinfit.core.fit.config import FitConfig
 
 RESULT_SCHEMA_VERSION = 2
 STATUS_COMPLETE = "complete"
+# ran to the end, but its figures cannot be trusted (core.fit.reliability: the reasons)
+STATUS_UNRELIABLE = "unreliable"
 STATUS_CANCELLED = "cancelled"    # stopped by the caller: the best state reached is kept
 STATUS_DIVERGED = "diverged"      # the loss turned non-finite: the best state before is kept
-STATUSES = (STATUS_COMPLETE, STATUS_CANCELLED, STATUS_DIVERGED)
+STATUSES = (STATUS_COMPLETE, STATUS_UNRELIABLE, STATUS_CANCELLED, STATUS_DIVERGED)
+FINISHED = (STATUS_COMPLETE, STATUS_UNRELIABLE)   # the fit ran all its steps
 
 
 @dataclass(frozen=True, eq=False)
@@ -39,9 +42,15 @@ class FitResult:
     config: FitConfig
     warnings: tuple[str, ...]
     status: str = STATUS_COMPLETE    # one of STATUSES
-    status_message: str = ""         # why a fit ended early and what it lacks, in words
+    status_message: str = ""         # why a fit ended early or is unreliable, in words
+    reasons: tuple[str, ...] = ()    # why its figures cannot be trusted (unreliable)
     profile: np.ndarray | None = None  # (2, K) profile field (None: fitted without one)
     edge_blur_px: float = float("nan")  # blur index of the animal's edge, clip px (NaN: none)
+
+    @property
+    def finished(self) -> bool:
+        """Whether the fit ran all its steps (complete, or unreliable)."""
+        return self.status in FINISHED
 
     def to_json(self) -> dict:
         """The result file's content (arrays and meshes are written beside it: result_io)."""
@@ -49,6 +58,7 @@ class FitResult:
             "schema_version": RESULT_SCHEMA_VERSION,
             "status": self.status,
             "status_message": self.status_message,
+            "reasons": list(self.reasons),
             "volume_m3": self.volume_m3,
             "length_m": self.length_m,
             "bci": self.bci,

@@ -61,6 +61,7 @@ def read_fit_result(out_dir: Path) -> FitResult:
             config=FitConfig.from_json(_as_made(data["config"], FIELDS_BEFORE)),
             warnings=tuple(data["warnings"]),
             status=status, status_message=str(data["status_message"]),
+            reasons=tuple(str(reason) for reason in data.get("reasons", ())),
             edge_blur_px=float(data.get("edge_blur_px") or "nan"))   # null or absent: none
         num_frames = len(data["frames"])
     except (KeyError, TypeError, ValueError) as exc:

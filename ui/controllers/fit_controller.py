@@ -16,7 +16,7 @@ from PySide6.QtWidgets import QGraphicsPathItem
 from dolphinfit.core.device import DEFAULT_DEVICE
 from dolphinfit.core.errors import InputError
 from dolphinfit.core.fit.reporter import FitPreview
-from dolphinfit.core.fit.result import FitResult
+from dolphinfit.core.fit.result import STATUS_COMPLETE, STATUS_UNRELIABLE, FitResult
 from dolphinfit.core.fit.result_io import read_fit_result
 from dolphinfit.core.measure.stations import STATION_PCT
 from dolphinfit.core.model.template import load_template
@@ -62,7 +62,9 @@ def _make_comparison() -> "ComparisonPanel":
 
 def describe_fit(result: FitResult) -> str:
     """One line on a fit: its status in words, its mean IoU and figures, then its warnings."""
-    head = ("3D fit complete" if result.status == "complete"
+    head = ("3D fit complete" if result.status == STATUS_COMPLETE
+            else f"3D fit unreliable: {result.status_message}"
+            if result.status == STATUS_UNRELIABLE
             else f"3D fit {result.status} (partial result): {result.status_message}")
     return (f"{head}. {len(result.frame_idx)} frames, mean IoU {float(result.iou.mean()):.3f}; "
             f"length {result.length_m:.3f} m, volume {result.volume_m3:.4f} m³, "

@@ -352,36 +352,49 @@ def test_the_automatic_seed_looks_for_a_dolphins_length_at_the_clips_altitudes()
     assert expected_length_px(1000.0, np.array([np.nan]), DOLPHIN_LENGTH_M) is None
 
 
-def test_a_fit_that_explains_its_masks_poorly_is_flagged():
-    """Mean IoU below 0.7 (masks of a seagrass patch gave 0.61 on the bench suite) adds a
-    warning that names the IoU; good fits get none."""
-    from dolphinfit.core.fit.engine import quality_warnings
+def test_a_fit_that_cannot_be_trusted_says_why():
+    """Each reason alone: too few frames, a mean IoU under 0.7 (masks of a seagrass patch gave
+    0.61 on the bench suite), masks 2.9 times as long as wide (half an animal), an animal 12
+    px wide; a good fit of a whole animal has none."""
+    from dolphinfit.core.fit.reliability import unreliable_reasons
 
-    assert quality_warnings(np.array([0.9, 0.85, 0.75])) == ()
-    (warning,) = quality_warnings(np.array([0.7, 0.6, 0.55]))
-    assert "poor fit" in warning and "0.62" in warning
-    assert quality_warnings(np.array([])) != ()
+    good = np.array([0.9, 0.85, 0.75, 0.8, 0.9])
+    assert unreliable_reasons(5, good, 5.2, 30.0) == ()
+    (frames,) = unreliable_reasons(3, good[:3], 5.2, 30.0)
+    assert "only 3 frame(s)" in frames
+    (poor,) = unreliable_reasons(5, np.array([0.7, 0.6, 0.55, 0.6, 0.65]), 5.2, 30.0)
+    assert "poor fit" in poor and "0.62" in poor
+    (part,) = unreliable_reasons(5, good, 2.9, 30.0)
+    assert "partial body" in part and "2.9 times" in part
+    (narrow,) = unreliable_reasons(5, good, 5.2, 12.0)
+    assert "only 12 px wide" in narrow and "about 3 %" in narrow
+    assert len(unreliable_reasons(2, np.array([0.5, 0.6]), 2.0, 8.0)) == 4
 
 
-def test_an_animal_too_few_pixels_wide_is_warned_about():
-    """Ellipses 13 and 31 px across at their widest: the narrow one gets a warning that names
-    its width and what a tenth of a pixel costs; widest_px reads a disc's diameter."""
+def _ellipses(width_px: int, lengths_px: tuple[int, ...]) -> np.ndarray:
     import cv2
 
-    from dolphinfit.core.fit.data import median_width_px, narrow_animal_warnings, widest_px
+    mask = np.zeros((len(lengths_px), 120, 240), np.uint8)
+    for frame, length in zip(mask, lengths_px):
+        cv2.ellipse(frame, (120, 60), (length // 2, width_px // 2), 15, 0, 360, 1, -1)
+    return mask.astype(bool)
 
-    def ellipses(width_px: int) -> np.ndarray:
-        mask = np.zeros((3, 120, 240), np.uint8)
-        for frame in mask:
-            cv2.ellipse(frame, (120, 60), (90, width_px // 2), 15, 0, 360, 1, -1)
-        return mask.astype(bool)
 
+def test_masks_shorter_than_the_animal_are_partial_and_a_whole_one_is_elongated():
+    """Of six frames of a 180-px body, the two 130 px long (the front of it) are partial;
+    widest_px reads a disc's diameter; an ellipse 180 × 36 is five times as long as wide."""
+    import cv2
+
+    from dolphinfit.core.fit.whole_body import elongation, length_px, partial, widest_px
+
+    masks = _ellipses(36, (180, 178, 130, 181, 130, 179))
+    lengths = np.array([length_px(mask) for mask in masks])
+    assert lengths[0] == pytest.approx(181, abs=2)
+    assert partial(lengths * 0.01).tolist() == [False, False, True, False, True, False]
     disc = np.zeros((100, 100), np.uint8)
     cv2.circle(disc, (50, 50), 20, 1, -1)
     assert widest_px(disc.astype(bool)) == pytest.approx(41.0, abs=1.5)
-    (warning,) = narrow_animal_warnings(median_width_px(ellipses(12)))
-    assert "only 13 px wide" in warning and "about 3 %" in warning
-    assert narrow_animal_warnings(median_width_px(ellipses(30))) == []
+    assert elongation(masks[0]) == pytest.approx(5.0, abs=0.2)
 
 
 def test_cli_fit_with_an_altitude_calibration(clip_dir, tiny_run, tmp_path, capsys):
@@ -498,3 +511,31 @@ def test_through_a_barrel_lens_an_animal_at_the_edge_is_left_out():
     with pytest.raises(InputError, match="edge.mp4: through the lens model, the dolphin "
                                          "reaches the frame's edge in every chosen frame"):
         _masks_through_lens(Clip, np.array([7]), masks[1:].astype(bool), lens)
+
+
+def test_a_fit_of_half_an_animal_is_unreliable_and_says_so(clip_dir, tmp_path, capsys):
+    """Masks that hold only the front half of the animal in every frame: the fit runs to its
+    end, but its status is "unreliable" with the partial body as its reason, in result.json
+    and on the command's last line (exit 0: the figures are written, marked)."""
+    import cv2
+
+    halves = tmp_path / "halves"
+    halves.mkdir()
+    for path in sorted((clip_dir / "masks").glob("*.png")):
+        mask = cv2.imread(str(path), cv2.IMREAD_GRAYSCALE)
+        rows, cols = np.nonzero(mask)
+        # the animal heads right and a little up (heading -20°): keep its right half
+        mask[:, :int(np.median(cols))] = 0
+        cv2.imwrite(str(halves / path.name), mask)
+    config = tmp_path / "quick.json"
+    config.write_text(json.dumps(QUICK.to_json()))
+    out = tmp_path / "out"
+    assert main(["fit", str(clip_dir / "clip.mkv"), "--altitude", str(clip_dir / "altitude.csv"),
+                 "--masks", str(halves), "--sensor-width-mm", "17.27", "--focal-mm", "12.29",
+                 "--config", str(config), "--out", str(out)]) == 0
+    last = capsys.readouterr().out.strip().splitlines()[-1]
+    assert last.startswith("status: unreliable: a partial body")
+    result = json.loads((out / "result.json").read_text())
+    assert result["status"] == "unreliable"
+    assert any("partial body" in reason for reason in result["reasons"])
+    assert read_fit_result(out).reasons == tuple(result["reasons"])
