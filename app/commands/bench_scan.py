@@ -38,7 +38,8 @@ def _row(clip: dict) -> str:
             f"{100 * clip['random_abs_error']:5.1f} %  | mean of {BEST}: picked "
             f"{100 * abs(clip['picked_mean_error']):5.1f} %  random "
             f"{100 * clip['random_abs_mean_error']:5.1f} %  ({clip['animals']} animals, "
-            f"{clip['seconds']:.0f} s)")
+            f"{clip['seconds']:.0f} s); scanned as a short clip ({clip['short_samples']} "
+            f"samples): target {'found' if clip['short_target_found'] else 'MISSED'}")
 
 
 def format_scan(figures: dict) -> str:
@@ -53,7 +54,8 @@ def format_scan(figures: dict) -> str:
                      f"picked {100 * s['picked_abs_mean_error']:5.1f} %  random "
                      f"{100 * s['random_abs_mean_error']:5.1f} %  (picks better on "
                      f"{s['picks_better']} of {s['target_found']} clips; target found on "
-                     f"{s['target_found']} of {s['clips']})")
+                     f"{s['target_found']} of {s['clips']}, scanned as short clips on "
+                     f"{s['short_target_found']})")
     if "speed" in figures:
         lines.append(speed_line(figures["speed"]))
     return "\n".join(lines)

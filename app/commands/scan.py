@@ -122,7 +122,9 @@ def summary_lines(scan: ClipScan) -> list[str]:
     """What a scan found, for the terminal: each animal with its best frames."""
     ids = scan.animal_ids()
     lines = [f"{scan.clip_name}: {len(ids)} animal{'s' if len(ids) != 1 else ''} in "
-             f"{len(scan.sampled_frames)} sampled frames ({scan.seconds:.0f} s)"]
+             f"{len(scan.sampled_frames)} sampled frames ({scan.seconds:.0f} s)"
+             + ("; none found: check the clip (the scan may have missed an animal)"
+                if not ids else "")]
     for animal in ids:
         scores = scan.of_animal(animal)
         best = scan.best(animal)

@@ -10,6 +10,11 @@ scan's best ``BEST`` frames, and of ``BEST`` frames drawn at random from the sam
 (the expectation: the mean over every sampled frame), and the same for the volume averaged
 over the ``BEST`` frames (random: the mean over ``RANDOM_DRAWS`` seeded draws).
 
+**Short clips.** Each clip is scanned again as a user's scan of a short clip would sample it
+(the default ``ScanSettings``: a frame a second, so the suite's 3-s clips give 3 samples, a
+4-s field clip 4): whether the target is found (an animal whose sightings lie on its true
+mask), where every target shows plainly.
+
 **Speed.** The 10-s 25-fps 1080p speed clip scanned with the default settings: seconds, and
 seconds per minute of video.
 """
@@ -92,6 +97,7 @@ def score_clip(scenario: Scenario, scanner: Scanner) -> dict:
               for t in scan.sampled_frames if truth_masks.mask(t).any()}
     errors = {t: e for t, e in errors.items() if np.isfinite(e)}
     target = target_animal(scan, truth_masks)
+    short, _, _, _ = scanned(files, scenario.config, scanner, ScanSettings())
     picks = [s.frame_idx for s in scan.best(target, BEST)] if target is not None else []
     picked = np.array([errors[t] for t in picks if t in errors])
     every = np.array(list(errors.values()))
@@ -100,6 +106,8 @@ def score_clip(scenario: Scenario, scanner: Scanner) -> dict:
                       for _ in range(RANDOM_DRAWS)])
     return {"clip": scenario.name, "seconds": scan.seconds, "animals": len(scan.animal_ids()),
             "target_found": target is not None, "picks": picks,
+            "short_samples": len(short.sampled_frames),
+            "short_target_found": target_animal(short, truth_masks) is not None,
             "picked_abs_error": float(np.abs(picked).mean()) if picked.size else float("nan"),
             "random_abs_error": float(np.abs(every).mean()),
             "picked_mean_error": float(picked.mean()) if picked.size else float("nan"),
@@ -119,6 +127,7 @@ def summarize(clips: list[dict]) -> dict:
     """Means over the clips, and on how many the picks beat random frames."""
     found = [c for c in clips if c["target_found"]]
     return {"clips": len(clips), "target_found": len(found),
+            "short_target_found": sum(c["short_target_found"] for c in clips),
             "picked_abs_error": float(np.nanmean([c["picked_abs_error"] for c in found])),
             "random_abs_error": float(np.mean([c["random_abs_error"] for c in clips])),
             "picks_better": sum(c["picked_abs_error"] < c["random_abs_error"] for c in found),

@@ -84,9 +84,17 @@ class ClipStatus:
     animals_fitted: int
 
     @property
+    def none_found(self) -> bool:
+        """Scanned, nothing found and nothing measured: the scan may have missed the animal
+        (a 4-s clip gives the scan 4 samples), so a person looks before the clip counts as
+        done."""
+        return self.animals_found == 0 and self.frames_measured == 0
+
+    @property
     def needs_work(self) -> bool:
-        """No altitude, not scanned, or an animal with a usable frame still unmeasured."""
-        return (not self.has_altitude or self.animals_found is None
+        """No altitude, not scanned, none found and nothing measured, or an animal with a
+        usable frame still unmeasured."""
+        return (not self.has_altitude or self.animals_found is None or self.none_found
                 or self.animals_measured < self.animals_usable)
 
     def text(self) -> str:
@@ -94,6 +102,8 @@ class ClipStatus:
         parts = [] if self.has_altitude else ["no altitude"]
         if self.animals_found is None:
             parts.append("not scanned")
+        elif self.none_found:
+            parts.append("none found: check")
         else:
             parts.append(f"{self.animals_found} found")
         parts.append(f"{self.frames_measured} measured")

@@ -8,7 +8,9 @@ network on the frame and on tiles sized by the camera, and the colour detector),
 about 3 s at 1080p on two cores; on the samples between, each animal followed is looked for
 once around where it should be (``WINDOW_LENGTHS`` of its length across: one look of the
 network, about 0.3 s), and every ``search_every_s`` the network looks once at the whole
-frame for animals coming into view. The sightings join the animals' tracks (``tracks``) and each is scored
+frame for animals coming into view. Where an animal followed is not found around where it
+should be, the whole frame is searched again on that sample: a look around a prediction
+misses an animal that turned or sped up (a 4-s clip gives the scan only 4 samples). The sightings join the animals' tracks (``tracks``) and each is scored
 (``frame_scores``). An animal must persist: seen in at least ``MIN_SIGHTINGS`` samples (where
 the clip has that many) and in at least ``MIN_SEEN_SHARE`` of the samples from its first
 sighting to its last. A splash or a patch of glitter the network takes for an animal is seen
@@ -81,7 +83,12 @@ class Scanner:
                 searched_at = glanced_at = frame_idx
             else:
                 masks = self._followed(frame, frame_idx, followed, expected)
-                if (frame_idx - glanced_at) / clip.fps >= settings.search_every_s:
+                if len(masks) < len(followed):   # one was missed where it should be: look again
+                    masks = [c.mask for c in find_animals(frame, self.net.saliency,
+                                                          self.settings.tile_fraction,
+                                                          self.settings.threshold, expected)]
+                    searched_at = glanced_at = frame_idx
+                elif (frame_idx - glanced_at) / clip.fps >= settings.search_every_s:
                     masks += self._newcomers(frame, masks, expected)
                     glanced_at = frame_idx
             seen = [s for s in (sighting(frame, mask, frame_idx) for mask in masks)

@@ -53,6 +53,20 @@ def test_the_status_counts_animals_found_usable_measured_and_fitted(project):
     assert status.needs_work and status.text() == "no altitude · 2 found · 0 measured"
 
 
+def test_a_clip_where_the_scan_found_nothing_is_not_done_until_someone_looks(project):
+    """A scan that found no animal may have missed it: the clip reads "none found: check"
+    and needs work (Ctrl+J stops there) until a frame of it is measured."""
+    empty = replace(SCAN, scores=())
+    clip = replace(project.clips[0], animals=())
+    status = clip_status(clip, empty)
+    assert status.none_found and status.needs_work
+    assert status.text() == "none found: check · 0 measured"
+    measured = clip_status(project.clips[0], empty)
+    assert not measured.none_found and not measured.needs_work
+    assert measured.text() == "0 found · 2 measured · 1 fitted"
+    assert next_clip_needing_work([clip_status(project.clips[0], SCAN), status], after=0) == 1
+
+
 def test_the_next_clip_needing_work_wraps_round(project):
     clip = project.clips[0]
     done, todo = clip_status(clip, SCAN), clip_status(clip, None)
