@@ -35,8 +35,12 @@ built-in tracker, on every frame or only on chosen ones (the frames a fit will u
    to the animal's. Where neither is plausible (the network merged the animal with glitter
    or seagrass), the colour tracker's step from the last frame's colours
    (``tracker.colour_follow``) may be.
-5. **Lost** when no mask is plausible; while lost, the last window grown by
-   ``search_growth`` is searched each frame for a mask of about the reference area.
+5. **Lost** when no mask is plausible; then the whole frame is searched as the scan searches
+   it (``auto_seed.find_animals``), for the animal of about its area nearest to where it was
+   last seen (a look around where it was lost misses an animal that dived and came up
+   elsewhere), and again every ``LOOK_AGAIN_EVERY`` frames it stays lost; between those, the
+   last window grown by ``search_growth`` is searched each frame for a mask of about the
+   reference area.
 6. **On the edge**: the networks learnt where an outline lies from one renderer's blur and
    contrast; each frame's mask has its outline moved to where the image's own step from body
    to water is half-way (``outline_fit``; ``fit_outline``). The tracking itself follows the
@@ -56,7 +60,7 @@ import numpy as np
 from dolphinfit.core.io.masks import MaskTrack
 from dolphinfit.core.iou import mask_iou
 from dolphinfit.core.progress import ProgressCallback, check_cancel
-from dolphinfit.core.segment.auto_seed import describe
+from dolphinfit.core.segment.auto_seed import describe, find_animals
 from dolphinfit.core.segment.colour import ColourModel, separation
 from dolphinfit.core.segment.edge_steps import EdgeStep
 from dolphinfit.core.segment.net_look import NetLook, Seen
@@ -75,6 +79,7 @@ from dolphinfit.core.segment.working_scale import ScaledFrames, upscaled
 BACKEND_NAME = "network (U²-Net small)"
 COLOUR_SETTINGS = TrackerSettings()  # the colour tracker's, for frames the network misses
 OUTLINE_MARGIN_PX = 12               # the outline is fitted in the mask's box grown by this
+LOOK_AGAIN_EVERY = 5                 # frames lost between searches of the whole frame
 
 
 @dataclass
@@ -204,6 +209,8 @@ class NetTracker:
                                           COLOUR_SETTINGS)
                 if self._is_animal(frame_rgb, by_colour, state):
                     seen = Seen(by_colour, np.zeros_like(by_colour))
+        if seen is None and state.lost_steps % LOOK_AGAIN_EVERY == 0:
+            seen = self._found_again(frame_rgb, state)
         mask = None if seen is None else seen.mask
         if mask is None:
             state.mask = None
@@ -219,6 +226,23 @@ class NetTracker:
         state.animal, state.water = models_near(frame_rgb, mask)
         state.lost_steps = 0
         return mask
+
+    def _found_again(self, frame_rgb: np.ndarray, state: _State) -> Seen | None:
+        """The animal looked for in the whole frame as the scan looks (step 5): of the animals
+        of about its area there, the one nearest to where it was last seen, looked at again
+        by the network; None where none is."""
+        candidates = find_animals(frame_rgb, self.look.net.saliency, self.settings.tile_fraction,
+                                  self.settings.threshold)
+        low, high = self.settings.reacquire_area_range
+        near = [c for c in candidates
+                if low * state.area_px <= np.count_nonzero(c.mask) <= high * state.area_px]
+        if not near:
+            return None
+        last = centroid(state.last_seen)
+        best = min(near, key=lambda c: float(np.hypot(*np.subtract(c.centre_px(), last))))
+        seen = self.look.look_at(frame_rgb, *self.look.around(frame_rgb, best.mask), best.mask,
+                                 near=False)
+        return seen if self._is_animal(frame_rgb, seen.mask, state) else None
 
     def _is_animal(self, frame_rgb: np.ndarray, mask: np.ndarray, state: _State) -> bool:
         """Enough area, not too much, and enough colour contrast to the water."""

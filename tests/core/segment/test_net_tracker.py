@@ -419,3 +419,21 @@ def test_an_animal_off_its_prediction_is_looked_at_again_only_where_the_window_c
     found = NetTracker(net=net, edges=edges)._next(after, _tracked(before, mask_before))
     assert (net.looks, edges.calls) == (looks, outlines)
     assert found is not None and mask_iou(found, mask_after) > 0.95
+
+
+def test_an_animal_lost_where_it_was_is_looked_for_in_the_whole_frame(synthetic_clips, net):
+    """The animal jumps 60 % of the frame across between two frames (it dived and came up
+    elsewhere): the look around where it was finds nothing, and the whole frame's search finds
+    it at once, where it is."""
+    clip_path, masks_dir = synthetic_clips["calm"]
+    clip = open_clip(clip_path)
+    truth = read_png_folder(masks_dir, clip)
+    with VideoReader(clip) as reader:
+        first = reader[0]
+    shift = int(0.6 * first.shape[1])
+    away = np.roll(first, shift, axis=1)
+    frames = [first, first, away, away]
+    track = NetTracker(net=net).segment(frames, box_seed_from(truth, 0))
+    moved = np.roll(truth.mask(0), shift, axis=1)
+    assert track.is_visible.tolist() == [True, True, True, True]
+    assert mask_iou(track.mask(2), moved) > 0.85 and mask_iou(track.mask(3), moved) > 0.85
