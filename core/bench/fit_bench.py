@@ -28,6 +28,7 @@ from dolphinfit.core.errors import InputError
 from dolphinfit.core.fit.config import FitConfig, LossWeights
 from dolphinfit.core.fit.interval import run_interval
 from dolphinfit.core.fit.pipeline import run_fit
+from dolphinfit.core.fit.result import STATUS_COMPLETE
 from dolphinfit.core.io.json_file import read_json
 from dolphinfit.core.measure.uncertainty import ErrorModel
 from dolphinfit.core.segment.backends import DEFAULT_BACKEND, NETWORK_COLOUR_EDGES
@@ -94,6 +95,7 @@ VARIANTS: dict[str, Variant] = {
     "product_masks_edge_078": Variant(DEFAULT_BACKEND, EDGE_BEFORE_DEPTH_PRIOR),
 }
 DEFAULT_VARIANTS = ("true_masks", "product_masks")
+CLAIM_LIMIT = 0.10     # a complete fit's volume should lie within this of the truth
 SUITE_FIT_FPS = 2.5
 SUITE_ERRORS = ErrorModel(altitude_sd_fraction=0.0, focal_sd_fraction=0.0,
                           digitisation_sd_px=0.0, hw_sd_scale=1.0)
@@ -124,6 +126,8 @@ class ClipScore:
     # the fit's 95 % volume interval (SUITE_ERRORS) as errors against the truth
     volume_low_error: float = float("nan")
     volume_high_error: float = float("nan")
+    status: str = ""               # the fit's: complete or unreliable (core.fit.reliability)
+    reasons: tuple[str, ...] = ()
 
 
 def _score(files: ClipFiles, config: SynthConfig, fit_config: FitConfig, name: str,
@@ -155,7 +159,8 @@ def _score(files: ClipFiles, config: SynthConfig, fit_config: FitConfig, name: s
                      mass_error=result.mass_kg / truth["mass_kg"] - 1.0,
                      mean_iou=float(result.iou.mean()), min_iou=float(result.iou.min()),
                      frames=len(result.frame_idx), seconds=result.timings_s["total"],
-                     frame_iou=tuple(float(v) for v in result.iou))
+                     frame_iou=tuple(float(v) for v in result.iou), status=result.status,
+                     reasons=result.reasons)
 
 
 def _seed(files: ClipFiles, kind: str) -> Seed:
@@ -165,7 +170,8 @@ def _seed(files: ClipFiles, kind: str) -> Seed:
 
 def summarize(scores: list[ClipScore]) -> dict[str, dict[str, float]]:
     """Median and worst absolute errors per variant, over the clips that were fitted; how
-    many were not."""
+    many were not, how many say they are unreliable, and how many complete ones are more than
+    ``CLAIM_LIMIT`` off in volume."""
     summary = {}
     for variant in dict.fromkeys(s.variant for s in scores):
         failed = sum(1 for s in scores if s.variant == variant and s.error)
@@ -189,6 +195,12 @@ def summarize(scores: list[ClipScore]) -> dict[str, dict[str, float]]:
                             "volume_interval_coverage": float(np.mean(held)),
                             "median_volume_interval_half_width": float(np.median(half_width)),
                             "mean_iou": float(np.mean([s.mean_iou for s in chosen])),
+                            "unreliable": sum(s.status != STATUS_COMPLETE for s in chosen),
+                            # what must never happen: a fit off by more than CLAIM_LIMIT
+                            # that calls itself complete
+                            "complete_but_off": sum(s.status == STATUS_COMPLETE
+                                                    and abs(s.volume_error) > CLAIM_LIMIT
+                                                    for s in chosen),
                             "mean_seconds": float(np.mean([s.seconds for s in chosen])),
                             "failed": failed}
     return summary

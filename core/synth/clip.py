@@ -76,7 +76,7 @@ def make_clip(config: SynthConfig, out_dir: Path, progress: ProgressCallback | N
             if layer is not None:
                 layer = occlude(layer, mate)
             background = sea_frame.rgb if mate is None else composite(sea_frame.rgb, mate)[0]
-            frame, contrast = composite(background, layer)
+            frame, contrast = composite(background, layer, config.body_contrast)
             if whitewater is not None:
                 frame = whitewater.apply(frame, [layer, mate])
             glints = sea_frame.glints if config.effects.glints else np.zeros_like(sea_frame.glints)

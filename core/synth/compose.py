@@ -144,8 +144,11 @@ def occlude(layer: DolphinLayer, front: DolphinLayer | None) -> DolphinLayer:
                         layer.depth_m, parts)
 
 
-def composite(sea_rgb: np.ndarray, layer: DolphinLayer | None) -> tuple[np.ndarray, float]:
-    """The frame with the dolphin over the sea, and the dolphin's mean contrast to the water."""
+def composite(sea_rgb: np.ndarray, layer: DolphinLayer | None,
+              body_contrast: float = 1.0) -> tuple[np.ndarray, float]:
+    """The frame with the dolphin over the sea, and the dolphin's mean contrast to the water;
+    ``body_contrast`` scales the dolphin's difference from the water behind it (1: as
+    rendered)."""
     frame = sea_rgb.copy()
     if layer is None or float(layer.alpha.sum()) < 1.0:
         return frame, 0.0
@@ -153,6 +156,8 @@ def composite(sea_rgb: np.ndarray, layer: DolphinLayer | None) -> tuple[np.ndarr
     window = frame[layer.y0:layer.y0 + h, layer.x0:layer.x0 + w]
     alpha = layer.alpha[..., None]
     blended = window * (1.0 - alpha) + layer.premult
+    if body_contrast != 1.0:
+        blended = window + body_contrast * (blended - window)
     contrast = float((np.abs(blended - window) .sum(-1) * layer.alpha).sum()
                      / (3.0 * layer.alpha.sum()))
     frame[layer.y0:layer.y0 + h, layer.x0:layer.x0 + w] = blended

@@ -103,6 +103,8 @@ class SynthConfig:
     supersample: int = 1
     codec: str = "mp4v"                     # lossy codec (CODECS) when effects.compression
     bitrate_mbps: float = 20.0              # H.264's target bit rate (mp4v has its own)
+    crf: int | None = None                  # H.264 at this constant rate factor instead
+    body_contrast: float = 1.0              # the animal's difference from the water, scaled
     effects: Effects = field(default_factory=Effects)
 
     def __post_init__(self) -> None:
@@ -127,6 +129,11 @@ class SynthConfig:
                 and SUPERSAMPLE[0] <= self.supersample <= SUPERSAMPLE[1]):
             raise InputError(f"synth option supersample: a whole number in "
                              f"{SUPERSAMPLE[0]}–{SUPERSAMPLE[1]}, got {self.supersample!r}")
+        if self.crf is not None and not (isinstance(self.crf, int) and 0 <= self.crf <= 51):
+            raise InputError(f"synth option crf: a whole number in 0–51, got {self.crf!r}")
+        if not 0.0 < self.body_contrast <= 2.0:
+            raise InputError(f"synth option body_contrast: must lie in (0, 2], "
+                             f"got {self.body_contrast!r}")
         if not self.bitrate_mbps > 0:
             raise InputError(f"synth option bitrate_mbps: must be positive, "
                              f"got {self.bitrate_mbps!r}")

@@ -1,5 +1,6 @@
 """A synthetic clip's video file: FFV1 (lossless) or mp4v through OpenCV, or H.264 through
-PyAV's libx264 at a drone's bit rate (OpenCV's wheels cannot encode H.264)."""
+PyAV's libx264 at a drone's bit rate or a constant rate factor (OpenCV's wheels cannot encode
+H.264)."""
 
 from fractions import Fraction
 from pathlib import Path
@@ -41,12 +42,14 @@ class _OpenCVWriter:
 class _H264Writer:
     def __init__(self, path: Path, config: SynthConfig):
         self.container = av.open(str(path), mode="w")
+        rate = {} if config.crf is None else {"crf": str(config.crf)}
         self.stream = self.container.add_stream(
             "libx264", rate=Fraction(config.fps).limit_denominator(1001),
-            options={"preset": H264_PRESET})
+            options={"preset": H264_PRESET, **rate})
         self.stream.width, self.stream.height = config.width_px, config.height_px
         self.stream.pix_fmt = "yuv420p"
-        self.stream.bit_rate = int(config.bitrate_mbps * 1e6)
+        if config.crf is None:
+            self.stream.bit_rate = int(config.bitrate_mbps * 1e6)
 
     def write(self, frame: np.ndarray) -> None:
         picture = av.VideoFrame.from_ndarray(np.ascontiguousarray(frame), format="bgr24")

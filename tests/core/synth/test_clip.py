@@ -14,7 +14,7 @@ from dolphinfit.core.camera import NadirCamera
 from dolphinfit.core.errors import InputError
 from dolphinfit.core.intrinsics import CameraIntrinsics
 from dolphinfit.core.io.telemetry import load_telemetry
-from dolphinfit.core.io.video import open_clip
+from dolphinfit.core.io.video import VideoReader, open_clip
 from dolphinfit.core.measure.condition import body_condition
 from dolphinfit.core.model.model import DolphinModel
 from dolphinfit.core.model.template import load_template
@@ -201,3 +201,35 @@ def test_sample_is_made_once_and_reused(tmp_path, monkeypatch):
     second = sample.ensure_sample()
     assert second.truth_json == first.truth_json
     assert second.truth_json.stat().st_mtime_ns == stamp
+
+
+def test_body_contrast_scales_the_animal_against_the_water(tmp_path):
+    """Half the body contrast halves the animal's difference from the water behind it (the
+    frame's other pixels stay), and the default draws the clip as before, to the bit."""
+    config = replace(SMALL, effects=PLAIN, noise_sd=0.0, blur_px=0.0, duration_s=0.4)
+    plain = make_clip(config, tmp_path / "plain")
+    again = make_clip(replace(config, body_contrast=1.0), tmp_path / "again")
+    half = make_clip(replace(config, body_contrast=0.5), tmp_path / "half")
+    with VideoReader(open_clip(plain.video)) as a, VideoReader(open_clip(again.video)) as b, \
+            VideoReader(open_clip(half.video)) as c:
+        mask = cv2.imread(str(plain.masks_dir / "000000.png"), cv2.IMREAD_GRAYSCALE) > 0
+        assert np.array_equal(a[0], b[0])
+        outside = ~cv2.dilate(mask.astype(np.uint8), np.ones((9, 9), np.uint8)).astype(bool)
+        assert np.abs(a[0].astype(int) - c[0].astype(int))[outside].max() <= 1
+        water = np.median(a[0][outside], axis=0)
+        full = np.abs(a[0][mask] - water).mean()
+        halved = np.abs(c[0][mask].astype(float) - water).mean()
+        assert halved == pytest.approx(full / 2, rel=0.1)
+
+
+def test_h264_at_a_constant_rate_factor(tmp_path):
+    """A higher CRF writes a smaller file; both decode to the clip's frames."""
+    config = replace(SMALL, codec="h264", duration_s=0.6)
+    sizes = {}
+    for crf in (18, 35):
+        files = make_clip(replace(config, crf=crf), tmp_path / str(crf))
+        sizes[crf] = files.video.stat().st_size
+        assert open_clip(files.video).num_frames == config.num_frames
+    assert sizes[35] < sizes[18] / 2
+    with pytest.raises(InputError, match="crf"):
+        replace(config, crf=60)
