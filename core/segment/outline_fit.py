@@ -68,7 +68,7 @@ class OutlineFitSettings:
     max_shift_px: float = 2.0         # the edge is looked for this far either side
     coarse_step_px: float = 0.25      # the blur is chosen on this grid of shifts
     shift_step_px: float = 0.05       # then each shift refined on this one
-    sigma_grid_px: tuple[float, ...] = (0.4, 0.55, 0.7, 0.85, 1.0, 1.2, 1.45, 1.75, 2.1, 2.5)
+    sigma_grid_px: tuple[float, ...] = (0.4, 0.55, 0.75, 1.0, 1.35, 1.8, 2.5)
     reference_smoothing_px: float = 0.8
     reference_error_px: float = 0.15  # the reference outline's error at a pixel (step 5)
     curvature_smoothing_px: float = 1.5
