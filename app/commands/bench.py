@@ -398,10 +398,15 @@ def format_masks(figures: dict) -> str:
 
 
 def _sweep_row(row: dict) -> str:
+    if not row["visible"]:
+        return (f"{row['factor']:12s} {row['value']:26s} not visible (the generator's rule; "
+                f"body contrast × {row['body_contrast']:.2f})")
     return (f"{row['factor']:12s} {row['value']:26s} {row['contrast_levels']:5.1f} "
             f"{row['width_px']:5.1f}" + "".join(
                 f"   {s['outline_offset_px']:+6.2f} {s['mean_iou']:.3f} "
-                f"{100 * s['volume_error']:+6.1f} %" for s in row["backends"].values()))
+                f"{100 * s['volume_error']:+6.1f} %" for s in row["backends"].values())
+            + "".join(f"  ({name}: {s['error']})" for name, s in row["backends"].items()
+                      if s.get("error")))
 
 
 def _print_sweep_row(row: dict) -> None:
@@ -411,16 +416,17 @@ def _print_sweep_row(row: dict) -> None:
 def format_sweep(figures: dict) -> str:
     """The sweep's table: each point's contrast and width, then per back-end its outline
     offset, IoU and the elliptical volume error of its masks against the true masks."""
-    backends = list(figures["points"][0]["backends"])
+    visible = [row for row in figures["points"] if row["visible"]]
+    backends = list(visible[0]["backends"])
     lines = [f"{'factor':12s} {'value':26s} grey  width" + "".join(
         f"   {name[:22]:>22s}" for name in backends),
         f"{'':12s} {'':26s} lvls  px   " + "   outline  IoU  volume" * len(backends)]
     lines += [_sweep_row(row) for row in figures["points"]]
     for backend in backends:
-        offsets = np.abs([row["backends"][backend]["outline_offset_px"]
-                          for row in figures["points"]])
+        offsets = np.abs([row["backends"][backend]["outline_offset_px"] for row in visible])
         lines.append(f"{backend}: mean |outline offset| {offsets.mean():.2f} px, worst "
-                     f"{offsets.max():.2f} px over {len(offsets)} points")
+                     f"{offsets.max():.2f} px over the {len(offsets)} points where the animal "
+                     f"is visible")
     return "\n".join(lines)
 
 

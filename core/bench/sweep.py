@@ -5,7 +5,10 @@ One family of short clips (``core.synth``: a light-grey animal over blue water i
 optics' blur σ, the body's contrast to the water in grey levels (dark over dark and light over
 light too), sensor noise, H.264 at a constant rate factor, the frame delivered at 1×, 2× or 4×
 below what was filmed (5K filmed, 720p delivered), and the animal's width in pixels (the
-altitude). Each mask back-end tracks the animal from a click on its first frame; every
+altitude). A point where the generator sees no animal (its mean contrast under
+``core.synth.compose.VISIBLE_CONTRAST``) is reported as not visible. Each mask back-end tracks
+the animal from a click on its first frame (where it finds none there, its masks are empty and
+the point says why); every
 ``STRIDE``-th frame is scored against the true masks: the mean outline offset (px, + outside),
 the IoU, and the error of the elliptical volume our masks give (length and 19 widths as
 "suggest edges" places them, the default HW table) against the same measured on the true
@@ -22,9 +25,10 @@ from dataclasses import dataclass, replace
 import cv2
 import numpy as np
 
-from dolphinfit.core.bench.mask_bench import click_seed
+from dolphinfit.core.bench.mask_bench import click_seed, timed_pass
 from dolphinfit.core.bench.scan_bench import elliptical_error
 from dolphinfit.core.bench.scenario import synth_camera
+from dolphinfit.core.errors import InputError
 from dolphinfit.core.fit.whole_body import widest_px
 from dolphinfit.core.io.json_file import read_json
 from dolphinfit.core.io.masks import MaskTrack, read_masks
@@ -94,9 +98,13 @@ def bench_sweep(backends: tuple[str, ...], progress: Callable[[dict], None] | No
             config = replace(config, body_contrast=min(2.0, point.contrast_levels
                                                        / base_contrast))
         files = _ensure(replace(point, config=config), number)
-        row = {"factor": point.factor, "value": point.value,
-               "contrast_levels": _contrast_levels(files), **_width(files),
-               "backends": {backend: _scores(files, config, backend) for backend in backends}}
+        row = {"factor": point.factor, "value": point.value}
+        if _truth(files)[1]:
+            row.update(visible=True, contrast_levels=_contrast_levels(files), **_width(files),
+                       backends={backend: _scores(files, config, backend)
+                                 for backend in backends})
+        else:
+            row.update(visible=False, body_contrast=config.body_contrast)
         rows.append(row)
         if progress is not None:
             progress(row)
@@ -107,9 +115,14 @@ def _ensure(point: SweepPoint, number: int) -> ClipFiles:
     return ensure_clip(point.config, cache_dir() / SWEEP_SUITE / f"point_{number:02d}")
 
 
-def _truth(files: ClipFiles) -> tuple[MaskTrack, list[int]]:
+def _truth(files: ClipFiles) -> tuple[MaskTrack | None, list[int]]:
+    """The clip's true masks and the scored frames where the animal shows; none where the
+    generator's rule (``core.synth.compose.VISIBLE_CONTRAST``) saw it in no frame."""
     clip = open_clip(files.video)
-    truth = read_masks(files.masks_dir, clip)
+    try:
+        truth = read_masks(files.masks_dir, clip)
+    except InputError:     # every mask empty: not visible
+        return None, []
     return truth, [t for t in range(0, clip.num_frames, STRIDE) if truth.mask(t).any()]
 
 
@@ -143,17 +156,21 @@ def _scores(files: ClipFiles, config: SynthConfig, backend: str) -> dict:
     clip = open_clip(files.video)
     segmenter = make_segmenter(backend, only_frames=scored)
     with VideoReader(clip) as frames:
-        track = segmenter.segment(frames, click_seed(files))
+        track, _timed, error = timed_pass(segmenter, frames, click_seed(files))
     altitude = load_telemetry(clip, files.altitude_csv).altitude_m
     focal_px = synth_camera(config).intrinsics(clip).focal_px
     truth_m3 = float(read_json(files.truth_json, "the truth")["volume_m3"])
     offsets, ious, volumes = [], [], []
     for t in scored:
-        ours, true = track.mask(t), truth.mask(t)
+        true = truth.mask(t)
+        ours = track.mask(t) if track is not None else np.zeros_like(true)
         offsets.append(outline_offset_px(ours, true))
         ious.append(mask_iou(ours, true))
         on_ours = elliptical_error(ours, float(altitude[t]), focal_px, truth_m3)
         on_truth = elliptical_error(true, float(altitude[t]), focal_px, truth_m3)
         volumes.append((1 + on_ours) / (1 + on_truth) - 1)
     return {"outline_offset_px": float(np.mean(offsets)), "mean_iou": float(np.mean(ious)),
-            "volume_error": float(np.nanmean(volumes))}   # elliptical, against the true masks
+            # elliptical, against the true masks; NaN where no mask gave a midline
+            "volume_error": (float(np.nanmean(volumes)) if np.isfinite(volumes).any()
+                             else float("nan")),
+            "error": error}

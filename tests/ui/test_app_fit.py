@@ -127,7 +127,7 @@ def test_fit_runs_saves_shows_and_cancels(qtbot, sample_copy, make_window):
         saved = read_fit_result(folder)
         assert saved.volume_m3 == result.volume_m3
         assert f"volume {saved.volume_m3:.4f} m³" in fits.panel.status.text()
-        assert "3D fit unreliable: only 2 frame(s) fitted" in fits.panel.status.text()
+        assert "⚠ 3D fit unreliable: only 2 frame(s) fitted" in fits.panel.status.text()
 
         # the fitted meshes in the format and folder asked for: the fit just shown, 2 frames
         meshes = path.parent / "meshes"

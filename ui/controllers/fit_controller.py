@@ -63,7 +63,7 @@ def _make_comparison() -> "ComparisonPanel":
 def describe_fit(result: FitResult) -> str:
     """One line on a fit: its status in words, its mean IoU and figures, then its warnings."""
     head = ("3D fit complete" if result.status == STATUS_COMPLETE
-            else f"3D fit unreliable: {result.status_message}"
+            else f"⚠ 3D fit unreliable: {result.status_message}"
             if result.status == STATUS_UNRELIABLE
             else f"3D fit {result.status} (partial result): {result.status_message}")
     return (f"{head}. {len(result.frame_idx)} frames, mean IoU {float(result.iou.mean()):.3f}; "
