@@ -1,17 +1,22 @@
 """The manual's generated pages, written by mkdocs-gen-files at each build: the command line
 from its argparse definitions, the keyboard shortcuts from the app's action table, every fit
-setting from FitConfig's source, and the benchmarks from the bench runs' JSON in
-docs/bench/. Nothing here is copied by hand, so none of it can fall out of date."""
+setting from FitConfig's source, the benchmarks from the bench runs' JSON in docs/bench/, and
+the three splits' table in the accuracy page (docs/split_summary.py). Nothing here is copied
+by hand, so none of it can fall out of date."""
 
 import ast
 import inspect
 import json
 import os
+import sys
 from collections.abc import Iterator
 from dataclasses import MISSING, fields
 from pathlib import Path
 
 import mkdocs_gen_files
+
+sys.path.insert(0, str(Path(__file__).parent))   # the table of the splits lies beside this
+import split_summary  # noqa: E402
 
 os.environ["COLUMNS"] = "96"   # argparse wraps its help to this width
 
@@ -212,3 +217,9 @@ PAGES = {"reference/cli.md": cli_page, "reference/shortcuts.md": shortcuts_page,
 for page, make in PAGES.items():
     with mkdocs_gen_files.open(page, "w") as out:
         out.write(make())
+
+ACCURACY = "explanation/accuracy.md"
+with mkdocs_gen_files.open(ACCURACY, "r") as page:
+    written = split_summary.with_table(page.read())
+with mkdocs_gen_files.open(ACCURACY, "w") as page:
+    page.write(written)

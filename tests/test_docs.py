@@ -23,3 +23,18 @@ def test_the_citation_names_the_packages_version():
     citation = (ROOT / "CITATION.cff").read_text()
     assert re.search(rf"^version: {re.escape(version)}$", citation, re.MULTILINE)
     assert "arXiv:2504.15782" in citation
+
+
+def test_the_readme_carries_the_three_splits_as_the_kept_runs_give_them():
+    """The README's table of the tuning, held-out and VTK splits is the one
+    docs/split_summary.py makes from the bench runs kept in docs/bench/ (it rewrites it)."""
+    import sys
+
+    sys.path.insert(0, str(ROOT / "docs"))
+    try:
+        import split_summary
+    finally:
+        sys.path.remove(str(ROOT / "docs"))
+    text = (ROOT / "README.md").read_text(encoding="utf-8")
+    assert split_summary.with_table(text) == text
+    assert "VTK" in split_summary.table()

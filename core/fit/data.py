@@ -37,7 +37,6 @@ from dolphinfit.core.render.settings import Viewport
 from dolphinfit.core.segment.regions import touches_border
 
 ROI_MULTIPLE_PX = 8
-# Narrower than this the volume is unreliable: a volume moves by about 4 δ / width for an
 ROI_ALIGN_PX = 2   # window corners on even pixels, so a 2× coarser copy of them is exact
 EDGE_BLUR_FRAMES = 5   # frames the edge's blur is measured on (a fit has 8–35)
 
