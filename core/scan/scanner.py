@@ -8,9 +8,12 @@ network on the frame and on tiles sized by the camera, and the colour detector),
 about 3 s at 1080p on two cores; on the samples between, each animal followed is looked for
 once around where it should be (``WINDOW_LENGTHS`` of its length across: one look of the
 network, about 0.3 s), and every ``search_every_s`` the network looks once at the whole
-frame for animals coming into view. Where an animal followed is not found around where it
-should be, the whole frame is searched again on that sample: a look around a prediction
-misses an animal that turned or sped up (a 4-s clip gives the scan only 4 samples). The sightings join the animals' tracks (``tracks``) and each is scored
+frame for animals coming into view. Where no animal followed is found around where it should
+be, the whole frame is searched again on that sample: a look around a prediction misses an
+animal that turned or sped up (a 4-s clip gives the scan only 4 samples). Not where some are
+found: a patch of glitter followed for a sample and then gone would have every later sample
+searched whole (over white sand with caustics, a search on every miss found 10 "animals"
+where the scan finds 6, in four times the time). The sightings join the animals' tracks (``tracks``) and each is scored
 (``frame_scores``). An animal must persist: seen in at least ``MIN_SIGHTINGS`` samples (where
 the clip has that many) and in at least ``MIN_SEEN_SHARE`` of the samples from its first
 sighting to its last. A splash or a patch of glitter the network takes for an animal is seen
@@ -83,7 +86,7 @@ class Scanner:
                 searched_at = glanced_at = frame_idx
             else:
                 masks = self._followed(frame, frame_idx, followed, expected)
-                if len(masks) < len(followed):   # one was missed where it should be: look again
+                if not masks:   # none was where it should be: look again
                     masks = [c.mask for c in find_animals(frame, self.net.saliency,
                                                           self.settings.tile_fraction,
                                                           self.settings.threshold, expected)]
