@@ -16,7 +16,8 @@ searched whole (over white sand with caustics, a search on every miss found 10 "
 where the scan finds 6, in four times the time). The sightings join the animals' tracks (``tracks``) and each is scored
 (``frame_scores``). An animal must persist: seen in at least ``MIN_SIGHTINGS`` samples (where
 the clip has that many) and in at least ``MIN_SEEN_SHARE`` of the samples from its first
-sighting to its last. A splash or a patch of glitter the network takes for an animal is seen
+sighting to its last, unless it was seen in ``STEADY_SIGHTINGS`` or more keeping its length
+(a pair touching, seen in 7 of 14 samples at 154–173 px, was dropped). A splash or a patch of glitter the network takes for an animal is seen
 now and then (on the sample clip's glitter: in 2 of 5 samples), an animal in nearly every
 sample while it is in view; and glitter changes its shape from sample to sample, an animal
 keeps its length: seen fewer than ``STEADY_SIGHTINGS`` times, two of its sightings must agree
@@ -148,11 +149,21 @@ def persists(track: Track, samples: list[int]) -> bool:
     doc)."""
     seen = len(track.sightings)
     span = samples.index(track.last.frame_idx) - samples.index(track.sightings[0].frame_idx) + 1
-    if seen < min(MIN_SIGHTINGS, len(samples)) or seen < MIN_SEEN_SHARE * span:
-        return False
     lengths = sorted(s.length_px for s in track.sightings)
+    if seen < min(MIN_SIGHTINGS, len(samples)):
+        return False
+    if seen < MIN_SEEN_SHARE * span and not _keeps_its_length(lengths):
+        return False
     return seen >= STEADY_SIGHTINGS or any(longer <= MAX_LENGTH_RATIO * shorter
                                            for shorter, longer in zip(lengths, lengths[1:]))
+
+
+def _keeps_its_length(lengths: list[float]) -> bool:
+    """Whether ``STEADY_SIGHTINGS`` or more sightings keep one length: the middle half of them
+    within ``MAX_LENGTH_RATIO`` (an animal seen in fewer samples than ``MIN_SEEN_SHARE``, a pair
+    touching whose network look parts them now and then, is kept where it keeps its length)."""
+    return (len(lengths) >= STEADY_SIGHTINGS
+            and np.percentile(lengths, 75) <= MAX_LENGTH_RATIO * np.percentile(lengths, 25))
 
 
 def _px_per_m(telemetry: ClipTelemetry, frame_idx: int) -> float | None:

@@ -169,3 +169,18 @@ def test_a_short_track_must_keep_its_length_to_be_an_animal():
     # one sighting cut short (a neighbour took part of its mask): two still agree
     cut_once = track(seen(0, 100, 100, 87.0), seen(10, 110, 100, 78.0), seen(20, 120, 100, 40.0))
     assert persists(cut_once, samples)
+
+
+def test_an_animal_seen_in_half_the_samples_is_kept_where_it_keeps_its_length():
+    """A pair touching, seen in 7 of 14 samples at 154–173 px (the held-out split's echelon
+    pair), is an animal; glitter seen as often, its length never the same, is not."""
+    from dolphinfit.core.scan.scanner import persists
+
+    samples = list(range(0, 28, 2))
+    at = (0, 4, 6, 10, 20, 24, 26)
+    steady = Track([seen(t, 100 + t, 100, length)
+                    for t, length in zip(at, (159.0, 171.0, 167.0, 165.0, 154.0, 173.0, 171.0))])
+    assert persists(steady, samples)
+    glitter = Track([seen(t, 300, 100, length)
+                     for t, length in zip(at, (40.0, 150.0, 65.0, 210.0, 30.0, 120.0, 90.0))])
+    assert not persists(glitter, samples)
