@@ -4,10 +4,11 @@ The scan (``scanner``) searches the window's first sample as the one-frame autom
 (``auto_seed``) searches a frame, follows every animal it finds over the window at
 ``SEED_SAMPLE_FPS`` and keeps those that persist: a splash or glitter seen in one sample is
 not taken, and an animal out of view in the first frames is found where it shows. The fit
-takes the animal seen in the most samples; on a tie, the one the scan found first (the
-automatic seed's best-ranked in the first sample where several showed: on the held-out
-``small_5k_turquoise`` a seagrass strand and two patches persist as long as the dolphin, and
-a tie broken by contrast took the strand). It is seeded by a click at the animal's centre in
+takes the animal seen in the most samples; on a tie, the one nearest the middle of the frame
+(median over its samples): a pilot keeps the animal being measured in the middle of the
+frame, where the lens distorts least. Ranking a tie by the automatic seed's order took the
+larger of a touching pair, not the one filmed, and on the held-out ``small_5k_turquoise`` a
+seagrass strand that persisted as long as the dolphin. It is seeded by a click at the animal's centre in
 its best usable frame (else its best-scored one). Where the scan keeps no animal the caller
 falls back on the one-frame seed.
 """
@@ -44,13 +45,22 @@ def seed_at(score: FrameScore) -> PointSeed:
 
 
 def chosen_animal(scan: ClipScan) -> int | None:
-    """The animal seen in the most samples, on a tie the first found (module doc); None
-    where the scan kept none."""
+    """The animal seen in the most samples, on a tie the one nearest the frame's middle
+    (module doc); None where the scan kept none."""
     ids = scan.animal_ids()   # in the order the scan first saw them
     if not ids:
         return None
     return max(ids, key=lambda animal_id: (len(scan.of_animal(animal_id)),
+                                           -off_centre(scan, animal_id),
                                            -ids.index(animal_id)))
+
+
+def off_centre(scan: ClipScan, animal_id: int) -> float:
+    """The animal's median distance from the frame's middle, in frame diagonals."""
+    scores = scan.of_animal(animal_id)
+    offsets = np.hypot([s.centre_x_px - scan.width_px / 2 for s in scores],
+                       [s.centre_y_px - scan.height_px / 2 for s in scores])
+    return float(np.median(offsets) / np.hypot(scan.width_px, scan.height_px))
 
 
 def seed_frame(scan: ClipScan, animal_id: int) -> FrameScore:

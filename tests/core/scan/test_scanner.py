@@ -63,8 +63,8 @@ def test_an_animal_coming_into_view_is_found_at_the_next_look_at_the_whole_frame
 def test_the_fits_automatic_seed_takes_the_animal_seen_longest_in_its_window():
     """Over the whole clip the first animal is seen in all 20 samples and the newcomer in 10:
     the fit takes the first, at its centre in one of its frames, and the line names both.
-    From 12 to 16 s both are seen in all 4 samples: the tie goes to the one the search ranked
-    first (the larger). Plain water: no pick (the fit falls back on the one-frame seed)."""
+    From 12 to 16 s both are seen in all 4 samples: the tie goes to the one nearer the
+    frame's middle. Plain water: no pick (the fit falls back on the one-frame seed)."""
     from dolphinfit.core.scan.fit_seed import scan_pick
 
     frames = DrawnClip()
@@ -87,3 +87,23 @@ def test_the_fits_automatic_seed_takes_the_animal_seen_longest_in_its_window():
             return np.full((HEIGHT, WIDTH, 3), (40, 110, 120), np.uint8)
 
     assert scan_pick(Water(), telemetry, (None, None), Scanner(net=DarkIsSalient())) is None
+
+
+def test_on_a_tie_the_fit_takes_the_animal_in_the_middle_of_the_frame():
+    """A pair seen in every sample: the larger animal swims near the frame's corner, the one
+    the pilot films in its middle; the fit takes the middle one, and the line names both."""
+    from dolphinfit.core.scan.fit_seed import scan_pick
+
+    class FilmedPair(DrawnClip):
+        def __getitem__(self, frame_idx: int) -> np.ndarray:
+            t = frame_idx / FPS
+            frame = np.full((HEIGHT, WIDTH, 3), (40, 110, 120), np.uint8)
+            cv2.ellipse(frame, (int(90 + 2 * t), 60), (60, 12), 0, 0, 360, (30, 30, 30), -1)
+            cv2.ellipse(frame, (int(230 + 2 * t), 170), (40, 8), 0, 0, 360, (30, 30, 30), -1)
+            return frame
+
+    nothing = np.full(FilmedPair.clip.num_frames, np.nan)
+    pick = scan_pick(FilmedPair(), ClipTelemetry(None, nothing, nothing), (None, None),
+                     Scanner(net=DarkIsSalient()))
+    assert pick.seed.y_px == pytest.approx(170, abs=1)
+    assert "2 animals kept" in pick.line and "seen in 20 of 20 samples" in pick.line
