@@ -4,14 +4,17 @@ animal of a clip gets one number.
 
 A track reaches as far as its animal is long (the animal may turn about its middle) plus the
 distance it could swim at ``MAX_SPEED_M_S`` since its last sighting, from where its last two
-sightings say it is heading. Sightings are matched to tracks nearest first, each to one
-track. A track not seen for ``MAX_UNSEEN_S`` is closed: an animal that comes back after a
+sightings say it is heading. Sightings are matched to tracks, each to one, as many as reach
+and then with the least distance summed over the matches (``linear_sum_assignment``):
+matching the nearest first swapped a touching pair 60 px apart swimming 100 px a sample,
+as the nearer of the other's next two sightings was its own. A track not seen for ``MAX_UNSEEN_S`` is closed: an animal that comes back after a
 long dive gets a new number (the scan cannot tell two animals apart by their looks).
 """
 
 from dataclasses import dataclass, field
 
 import numpy as np
+from scipy.optimize import linear_sum_assignment
 
 from dolphinfit.core.scan.sighting import Sighting
 
@@ -74,20 +77,21 @@ class Tracker:
             px_per_m: float | None = None) -> None:
         """Match one sample's sightings to the open tracks (module doc) and start a track
         for each one left over."""
-        pairs = sorted(
-            (float(np.linalg.norm(np.asarray(s.centre_px) - track.predicted_px(frame_idx))),
-             t, i)
-            for t, track in enumerate(self.tracks) if track.is_open(frame_idx, self.fps)
-            for i, s in enumerate(sightings))
-        matched_tracks: set[int] = set()
+        tracks = self.open_tracks(frame_idx)
+        distance = np.zeros((len(tracks), len(sightings)))
+        for t, track in enumerate(tracks):
+            predicted = track.predicted_px(frame_idx)
+            distance[t] = [np.linalg.norm(np.asarray(s.centre_px) - predicted) for s in sightings]
+        reach = np.array([track.reach_px(frame_idx, self.fps, px_per_m) for track in tracks])
+        reaches = distance <= reach.reshape(-1, 1)
+        # beyond reach costs more than every match within reach together: most matches first
+        beyond = 1.0 + distance[reaches].sum()
+        rows, cols = linear_sum_assignment(np.where(reaches, distance, beyond))
         matched_sightings: set[int] = set()
-        for distance, t, i in pairs:
-            if t in matched_tracks or i in matched_sightings or \
-                    distance > self.tracks[t].reach_px(frame_idx, self.fps, px_per_m):
-                continue
-            self.tracks[t].sightings.append(sightings[i])
-            matched_tracks.add(t)
-            matched_sightings.add(i)
+        for t, i in zip(rows, cols):
+            if reaches[t, i]:
+                tracks[t].sightings.append(sightings[i])
+                matched_sightings.add(i)
         for i, s in enumerate(sightings):
             if i not in matched_sightings:
                 self.tracks.append(Track([s]))

@@ -38,6 +38,26 @@ def test_two_animals_swimming_side_by_side_keep_their_numbers():
     assert {s.centre_px[1] for s in tracker.tracks[1].sightings} == {260}
 
 
+def test_a_touching_pair_keeps_its_numbers_where_the_nearest_match_would_swap_them():
+    """The tuning split's touching pair, sampled once a second: 100 px a sample, the two 60 px
+    apart. The nearer of the second sample's sightings to the first animal is the other's
+    (67 px against 102); matched with the least distance in all, each keeps its own."""
+    tracker = Tracker(FPS)
+    tracker.add(0, [seen(0, 1026, 743, 174), seen(0, 988, 701, 157)], px_per_m=70.0)
+    tracker.add(10, [seen(10, 977, 599, 159), seen(10, 1018, 641, 175)], px_per_m=70.0)
+    tracker.add(20, [seen(20, 1001, 526, 174), seen(20, 957, 486, 160)], px_per_m=70.0)
+    assert [[s.length_px for s in t.sightings] for t in tracker.tracks] == \
+        [[174, 175, 174], [157, 159, 160]]
+
+
+def test_no_sighting_or_no_track_matches_nothing():
+    tracker = Tracker(FPS)
+    tracker.add(0, [], px_per_m=40.0)
+    tracker.add(10, [seen(10, 300, 300)], px_per_m=40.0)
+    tracker.add(20, [], px_per_m=40.0)
+    assert [len(t.sightings) for t in tracker.tracks] == [1]
+
+
 def test_a_sighting_beyond_reach_is_another_animal():
     tracker = Tracker(FPS)
     tracker.add(0, [seen(0, 300, 300)], px_per_m=40.0)
