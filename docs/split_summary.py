@@ -32,9 +32,8 @@ def _kept(name: str) -> dict:
 def table() -> str:
     """The markdown table of the kept masks, fit and scan runs, a row per split."""
     masks, fits, scans = _kept("masks"), _kept("fit"), _kept("scan")
-    lines = ["| split | masks from the one-frame automatic seed: outline offset, mean \\|·\\| "
-             "(worst clip), as the network draws it → on the image's edge | their IoU (0 on a "
-             "clip where they follow another animal) | fit \\|volume\\| median / worst, our masks, "
+    lines = ["| split | masks from the automatic seed: outline offset, mean \\|·\\| (worst "
+             "clip), as the network draws it → on the image's edge | their IoU | fit \\|volume\\| median / worst, our masks, "
              "automatic seed | the same, true masks | reported unreliable | reported complete "
              "though > 10 % off | found by the scan of a 3-s clip |",
              "|---|---|---|---|---|---|---|---|"]

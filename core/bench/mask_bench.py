@@ -19,20 +19,24 @@ is scored on those frames:
   **seed's** seconds (from the start to the first frame's mask: finding the animal, once per
   clip) and the seconds per frame **tracked** after it (what a longer clip costs a frame).
 
-The same scores from the other ways a user starts (``SEED_KINDS``): the automatic seed in
-that frame (sized by the clip's camera and altitudes, as ``dolphinfit fit`` sizes it), and a
-box: the bounding box of the true mask there, as a user would draw it.
+The same scores from the other ways a user starts (``SEED_KINDS``): the automatic seed as
+``dolphinfit fit`` makes it (the animal a scan of the clip follows longest, else a search
+from the click's frame sized by the clip's camera and altitudes; the scan's own seconds are
+left out: ``bench scan`` and ``bench e2e`` time it), and a box: the bounding box of the true
+mask in the click's frame, as a user would draw it.
 """
 
 import time
 from dataclasses import asdict, dataclass, field
+from functools import cache
 from pathlib import Path
 
 import numpy as np
 
 from dolphinfit.core.errors import InputError
 from dolphinfit.core.bench.scenario import synth_camera
-from dolphinfit.core.fit.pipeline import sized_auto_seed
+from dolphinfit.core.fit.config import FitConfig
+from dolphinfit.core.fit.pipeline import scanned_seed, sized_auto_seed
 from dolphinfit.core.io.json_file import read_json
 from dolphinfit.core.io.masks import MaskTrack, read_png_folder
 from dolphinfit.core.io.telemetry import load_telemetry
@@ -42,7 +46,7 @@ from dolphinfit.core.limits import one_of
 from dolphinfit.core.segment.backends import ALWAYS_AVAILABLE, COLOUR, make_segmenter
 from dolphinfit.core.segment.evaluate import box_seed_from, outline_offset_px
 from dolphinfit.core.segment.seed import dilate
-from dolphinfit.core.segment.segmenter import AutoSeed, Frames, PointSeed, Seed, Segmenter
+from dolphinfit.core.segment.segmenter import Frames, PointSeed, Seed, Segmenter
 from dolphinfit.core.synth.config import SynthConfig
 from dolphinfit.core.synth.files import ClipFiles, read_part_masks
 
@@ -115,22 +119,25 @@ def click_seed(files: ClipFiles) -> PointSeed:
     return clicks[0]
 
 
-def auto_seed(files: ClipFiles, clip: Clip, frame_idx: int) -> AutoSeed:
-    """The automatic seed as ``dolphinfit fit`` makes it: sized by the clip's camera and
-    altitudes."""
+@cache
+def auto_seed(files: ClipFiles, clip: Clip, frame_idx: int) -> Seed:
+    """The automatic seed as ``dolphinfit fit`` makes it (module doc), ``frame_idx`` the
+    frame its fallback searches from; made once per clip for all back-ends."""
     config = SynthConfig.from_json(read_json(files.truth_json, "the clip's truth")["config"])
-    return sized_auto_seed(frame_idx, synth_camera(config).intrinsics(clip),
-                           load_telemetry(clip, files.srt))
+    intrinsics = synth_camera(config).intrinsics(clip)
+    telemetry = load_telemetry(clip, files.srt)
+    with VideoReader(clip) as frames:
+        seed, _line = scanned_seed(frames, telemetry, intrinsics, FitConfig(),
+                                   sized_auto_seed(frame_idx, intrinsics, telemetry), None, None)
+    return seed
 
 
-def seed_of(kind: str, click: PointSeed, truth: MaskTrack, auto: AutoSeed) -> Seed:
-    """The seed of ``kind`` (``SEED_KINDS``) in the click's frame; ``auto``: the automatic
-    one."""
-    if kind == AUTO:
-        return auto
-    if kind == BOX:
-        return box_seed_from(truth, click.frame_idx)
-    return click
+def seeds_of(kinds: tuple[str, ...], files: ClipFiles, clip: Clip, click: PointSeed,
+             truth: MaskTrack) -> dict[str, Seed]:
+    """The click and each kind's seed (``SEED_KINDS``; module doc)."""
+    made = {CLICK: lambda: click, AUTO: lambda: auto_seed(files, clip, click.frame_idx),
+            BOX: lambda: box_seed_from(truth, click.frame_idx)}
+    return {kind: made[kind]() for kind in dict.fromkeys((CLICK, *kinds))}
 
 
 def part_iou(result: np.ndarray, truth: np.ndarray, region: np.ndarray) -> float:
@@ -148,14 +155,13 @@ def score_backend(name: str, files: ClipFiles, backend: str, stride: int = DEFAU
     truth = read_png_folder(files.masks_dir, clip)
     parts = read_part_masks(files.parts)
     click = click_seed(files)
-    auto = auto_seed(files, clip, click.frame_idx)
     scored = sorted(set(range(click.frame_idx % stride, clip.num_frames, stride)))
     segmented = clip.num_frames if backend == COLOUR else len(scored)
     by_kind = {}
     segmenter = make_segmenter(backend, only_frames=scored, checkpoint=checkpoint)
-    for kind in dict.fromkeys((CLICK, *seeds)):
+    for kind, seed in seeds_of(seeds, files, clip, click, truth).items():
         with VideoReader(clip) as frames:   # no masks: every frame scores as empty
-            track, timed, error = timed_pass(segmenter, frames, seed_of(kind, click, truth, auto))
+            track, timed, error = timed_pass(segmenter, frames, seed)
         by_kind[kind] = _scores(track, truth, parts, scored, timed, segmented, error)
     first = by_kind.pop(CLICK)
     return MaskScore(clip=name, backend=backend, mean_iou=first.mean_iou,
