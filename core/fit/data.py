@@ -30,6 +30,7 @@ from dolphinfit.core.io.masks import MaskTrack
 from dolphinfit.core.io.report import list_some
 from dolphinfit.core.io.telemetry import Telemetry
 from dolphinfit.core.io.video import Clip, crop_roi
+from dolphinfit.core.limits import ALTITUDE_M
 from dolphinfit.core.measure.edge_blur import edge_blur_px
 from dolphinfit.core.measure.lens import LensModel, masks_off_centre_warning
 from dolphinfit.core.progress import Progress, ProgressCallback, check_cancel
@@ -166,6 +167,23 @@ def select_frames(clip: Clip, masks: MaskTrack,
     return np.asarray(chosen, dtype=np.int64), np.stack(chosen_masks), warnings
 
 
+def _altitude_possible(telemetry: Telemetry,
+                       frame_idx: np.ndarray) -> tuple[np.ndarray, list[str]]:
+    """Which chosen frames keep a possible altitude: a frame whose own altitude sample was
+    impossible (0 m, a corrupt cue) is left out, named, not bridged from its neighbours;
+    InputError when none is left."""
+    impossible = (np.zeros(len(frame_idx), bool) if telemetry.is_impossible is None
+                  else telemetry.is_impossible[frame_idx])
+    if not impossible.any():
+        return ~impossible, []
+    where = f"{telemetry.source.describe()}: outside the plausible {ALTITUDE_M.text()}"
+    if impossible.all():
+        raise InputError(f"the altitude recorded at every fitted frame is impossible ({where})")
+    frames = list_some([str(int(t)) for t in frame_idx[impossible]])
+    return ~impossible, [f"{int(impossible.sum())} fitted frame(s) left out: the altitude "
+                         f"recorded there is impossible (frames {frames}; {where})"]
+
+
 def frame_altitudes(telemetry: Telemetry, frame_idx: np.ndarray) -> tuple[np.ndarray, list[str]]:
     """Altitude of each chosen frame, interpolating missing ones (with a warning)."""
     altitude = telemetry.altitude_m
@@ -203,6 +221,9 @@ def prepare_data(clip: Clip, read_frame: Callable[[int], np.ndarray], masks: Mas
         frame_idx, masks_np, lens_warnings = _masks_through_lens(clip, frame_idx, masks_np, lens)
         warnings += lens_warnings + [w for w in [lens.focal_warning(intrinsics)] if w]
         read_frame = _through_lens(read_frame, lens)
+    possible, impossible_warnings = _altitude_possible(telemetry, frame_idx)
+    frame_idx, masks_np = frame_idx[possible], masks_np[possible]
+    warnings += impossible_warnings
     altitude, altitude_warnings = frame_altitudes(telemetry, frame_idx)
     kept, partial_warnings = _whole_frames(frame_idx, masks_np, altitude, clip_focal_px)
     frame_idx, masks_np, altitude = frame_idx[kept], masks_np[kept], altitude[kept]

@@ -16,7 +16,9 @@ Alignment, per frame:
 Samples outside the plausible altitudes of core.limits (a relative altitude without its launch
 height, a corrupt cue) count as missing, with a warning.
 
-Frames that are not at a sample are flagged ``is_interpolated``; missing ones ``is_missing``.
+Frames that are not at a sample are flagged ``is_interpolated``; missing ones ``is_missing``;
+those whose own sample was implausible ``is_impossible`` (they may still be bridged: a fit
+leaves them out).
 """
 
 from dataclasses import dataclass, replace
@@ -48,7 +50,8 @@ class Telemetry:
 
     altitude_m: (T,) float64, metres above the water surface, NaN where missing. time_s: (T,)
     float64, frame times (t / fps). is_missing, is_interpolated: (T,) bool. warnings: what the
-    reader skipped or doubted and which frames lack altitude. (``eq=False``: arrays have no
+    reader skipped or doubted and which frames lack altitude. is_impossible: (T,) bool, the
+    frames whose own sample was implausible (None: none). (``eq=False``: arrays have no
     single truth value, so instances compare by identity.)
     """
 
@@ -58,6 +61,7 @@ class Telemetry:
     is_interpolated: np.ndarray
     source: AltitudeSource
     warnings: tuple[str, ...] = ()
+    is_impossible: np.ndarray | None = None
 
     @property
     def num_frames(self) -> int:
@@ -145,13 +149,19 @@ def read_altitude(path: Path | str, launch_height_m: float = 0.0,
     return replace(samples, warnings=samples.warnings + tuple(f"{path}: {w}" for w in ignored))
 
 
+def _implausible(samples: AltitudeSamples) -> np.ndarray:
+    """Which samples hold an altitude outside core.limits.ALTITUDE_M."""
+    altitude = samples.altitude_m
+    return np.isfinite(altitude) & ((altitude < ALTITUDE_M.low) | (altitude > ALTITUDE_M.high))
+
+
 def _implausible_as_missing(samples: AltitudeSamples) -> AltitudeSamples:
     """``samples`` with altitudes outside core.limits.ALTITUDE_M made missing (NaN), with a
     warning naming the file, how many and the first few sample times or frames; InputError
     when that leaves no altitude at all."""
     altitude = samples.altitude_m
     valid = np.isfinite(altitude)
-    bad = valid & ((altitude < ALTITUDE_M.low) | (altitude > ALTITUDE_M.high))
+    bad = _implausible(samples)
     if not bad.any():
         return samples
     keys = ([f"{t:g} s" for t in samples.time_s[bad]] if samples.frame_idx is None
@@ -183,9 +193,10 @@ def align_to_frames(samples: AltitudeSamples, clip: Clip,
                     max_gap_s: float = MAX_GAP_S) -> Telemetry:
     """Altitude per frame of ``clip`` from ``samples`` (rules in the module docstring;
     samples outside core.limits.ALTITUDE_M count as missing)."""
-    samples = _implausible_as_missing(samples)
     frame_s = clip.frame_time_s(np.arange(clip.num_frames))
     key_s = samples.key_s(clip.fps)
+    is_impossible = _at_any(frame_s, key_s[_implausible(samples)])
+    samples = _implausible_as_missing(samples)
     valid = np.isfinite(samples.altitude_m)
     t_valid, a_valid = key_s[valid], samples.altitude_m[valid]
     altitude = np.full(clip.num_frames, np.nan)
@@ -211,7 +222,19 @@ def align_to_frames(samples: AltitudeSamples, clip: Clip,
         warnings += (f"{samples.source.path}: no altitude for {int(is_missing.sum())} of "
                      f"{clip.num_frames} frames of {clip.path.name} "
                      f"(frames {format_runs(is_missing)})",)
-    return Telemetry(altitude, frame_s, is_missing, bridged, samples.source, warnings)
+    return Telemetry(altitude, frame_s, is_missing, bridged, samples.source, warnings,
+                     is_impossible)
+
+
+def _at_any(frame_s: np.ndarray, times_s: np.ndarray) -> np.ndarray:
+    """Whether each frame time lies within SAMPLE_TIME_TOLERANCE_S of one of ``times_s``."""
+    if not times_s.size:
+        return np.zeros(frame_s.shape, bool)
+    times_s = np.sort(times_s)
+    after = np.clip(np.searchsorted(times_s, frame_s), 0, times_s.size - 1)
+    before = np.clip(after - 1, 0, times_s.size - 1)
+    return np.minimum(np.abs(times_s[after] - frame_s),
+                      np.abs(frame_s - times_s[before])) <= SAMPLE_TIME_TOLERANCE_S
 
 
 def load_telemetry(clip: Clip, altitude: str | Path | float | None = None,

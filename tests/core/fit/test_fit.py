@@ -73,6 +73,37 @@ def test_a_frame_cap_fits_fewer_frames_evenly_spaced(clip_dir):
     assert len(capped) <= 3 and len(set(np.diff(capped))) == 1
 
 
+def test_a_fitted_frame_whose_altitude_is_impossible_is_left_out_and_named(clip_dir, tmp_path):
+    """A 0-m row in the altitude CSV: the frame is left out of the fit with a warning naming
+    it (not bridged from its neighbours); with every fitted frame's row 0 m (and others not)
+    the fit refuses."""
+    every = _data(clip_dir).frame_idx
+    rows = (clip_dir / "altitude.csv").read_text().splitlines()
+    zero = int(every[1])
+
+    def written(zeroed: set[int]) -> Path:
+        lines = [rows[0]] + [",".join([*row.split(",")[:-1], "0"]) if i in zeroed else row
+                             for i, row in enumerate(rows[1:])]
+        path = tmp_path / f"altitude_{len(zeroed)}.csv"
+        path.write_text("\n".join(lines) + "\n")
+        return path
+
+    clip = open_clip(clip_dir / "clip.mkv")
+    masks = read_png_folder(clip_dir / "masks", clip)
+    with VideoReader(clip) as frames:
+        data = prepare_data(clip, frames.frame, masks, load_telemetry(clip, written({zero})),
+                            INTRINSICS, QUICK)
+        assert zero not in data.frame_idx and len(data.frame_idx) == len(every) - 1
+        assert any(f"left out: the altitude recorded there is impossible (frames {zero};" in w
+                   and "outside the plausible 1–500 m" in w for w in data.warnings)
+        few = replace(QUICK, max_frames=3)
+        fitted = {int(t) for t in _data(clip_dir, few).frame_idx}
+        with pytest.raises(InputError, match="the altitude recorded at every fitted frame is "
+                                             "impossible"):
+            prepare_data(clip, frames.frame, masks, load_telemetry(clip, written(fitted)),
+                         INTRINSICS, few)
+
+
 @pytest.mark.parametrize("width_px, cap_px, factor", [
     (28.0, 0, 1), (28.0, 15, 1), (28.0, 14, 2), (28.0, 7, 4), (28.0, 1, 16), (60.0, 20, 2)])
 def test_the_fit_shrinks_by_a_power_of_two_that_keeps_the_animal_as_wide_as_asked(

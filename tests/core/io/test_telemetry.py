@@ -54,6 +54,17 @@ def test_altitudes_below_one_metre_are_missing_with_a_warning():
     assert "(is the launch height missing?)" in telemetry.warnings[0]
 
 
+def test_a_frame_whose_own_sample_is_impossible_is_flagged_though_bridged():
+    """A 0-m row: the frame takes its neighbours' altitude, flagged as impossible (the fit
+    leaves it out); the frames at good samples are not."""
+    telemetry = align_to_frames(_frame_samples(range(5), [20.0, 20.2, 0.0, 20.6, 20.8]),
+                                _clip(10.0, 5))
+    assert telemetry.altitude_m[2] == pytest.approx(20.4)
+    assert telemetry.is_impossible.tolist() == [False, False, True, False, False]
+    assert "1 of 5 altitudes outside the plausible 1–500 m taken as missing: 0 m at frame 2" \
+        in telemetry.warnings[0]
+
+
 def test_one_hertz_legacy_srt_interpolates_between_seconds():
     """mavic_pro.SRT (from 1 s) at 30 fps: the first second holds cue 1, others interpolate."""
     telemetry = load_telemetry(_clip(30.0, 300), SRT_DIR / "mavic_pro.SRT", LAUNCH_HEIGHT_M)
