@@ -14,7 +14,7 @@ import traceback
 from collections.abc import Sequence
 from types import ModuleType
 
-from dolphinfit.core.crash_report import write_crash_report
+from dolphinfit.core.crash_report import installed_version, write_crash_report
 from dolphinfit.core.errors import InputError
 from dolphinfit.core.limits import count
 
@@ -53,6 +53,8 @@ def build_parser(command: str | None = None) -> argparse.ArgumentParser:
         prog="dolphinfit",
         description="Size, body condition and mass of dolphins from nadir drone video.",
     )
+    parser.add_argument("--version", action="version",
+                        version=f"dolphinfit {installed_version('dolphinfit') or 'not installed'}")
     parser.add_argument(
         "--threads", type=int, default=None,
         help="torch CPU threads (default: $DOLPHINFIT_THREADS or 2)",

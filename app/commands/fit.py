@@ -250,7 +250,7 @@ def report(fit_run: FitRun, out_dir: Path, camera: CameraChoice,
     for warning in fit_run.data.warnings + tuple(w for w in result.warnings
                                                  if w not in fit_run.data.warnings):
         print(f"warning: {warning}")
-    print(f"wrote {len(written)} files to {out_dir}")
+    print(f"wrote {len(written)} file{'s' if len(written) != 1 else ''} to {out_dir}")
     if result.finished:
         print(status_line(result))
         return 0

@@ -22,6 +22,15 @@ def test_full_help_lists_every_command(capsys):
     assert all(name in out for name in SUBCOMMANDS)
 
 
+def test_version_names_the_installed_release(capsys):
+    from importlib.metadata import version
+
+    with pytest.raises(SystemExit) as exit_info:
+        main(["--version"])
+    assert exit_info.value.code == 0
+    assert capsys.readouterr().out.strip() == f"dolphinfit {version('dolphinfit')}"
+
+
 def test_gui_help_loads_no_torch():
     probe = ("import sys, contextlib, io\nfrom dolphinfit.app.cli import main\n"
              "with contextlib.redirect_stdout(io.StringIO()):\n"

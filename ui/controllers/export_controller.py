@@ -146,7 +146,7 @@ class ExportController(QObject):
     def _on_finished(self, outcome: tuple[list, list]) -> None:
         paths, skipped = outcome
         self.last_export = list(paths)
-        text = f"wrote {len(paths)} files"
+        text = f"wrote {len(paths)} file{'s' if len(paths) != 1 else ''}"
         if paths:
             text += f" into {Path(paths[0]).parent}"
         if skipped:
