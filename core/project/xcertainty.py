@@ -1,13 +1,21 @@
 """A project's measured frames and calibration shots as Xcertainty's tables (the columns and
 what goes in them: core.measure.xcertainty). ``uas`` and ``CO.ID`` name the clip's altitude
 calibration where it has one (its shots are the training objects of that drone), else the
-camera."""
+camera. ``whale_ID`` is one animal across the project: the numbers dolphinfit gives
+("dolphin 1") count within a clip, so they go out after the clip's name; a name a person
+gave (a catalogue ID) goes out as given, so that the same individual in several clips is
+one animal to Xcertainty."""
+
+import re
+from pathlib import Path
 
 from dolphinfit.core.measure.xcertainty import (
     CALIBRATION_COLUMNS, altitude_cells, observation_row, table_cell,
 )
 from dolphinfit.core.project.model import ClipEntry, Project
 from dolphinfit.core.project.results import FrameResult
+
+NUMBERED_ANIMAL = re.compile(r"dolphin \d+")   # the IDs the app and the scan give
 
 
 def _drone(clip: ClipEntry) -> str:
@@ -18,8 +26,16 @@ def measurement_row(project: Project, result: FrameResult) -> dict[str, str]:
     """One measured frame as a row of ``MEASUREMENT_COLUMNS``."""
     clip = project.clips[result.key.clip]
     launch = clip.altitude.launch_height_m if clip.altitude is not None else 0.0
-    return observation_row(result.source, clip.animals[result.key.animal].animal_id,
-                           result.image_id, _drone(clip), clip.altitude_calibration, launch)
+    animal_id = clip.animals[result.key.animal].animal_id
+    return observation_row(result.source, subject_id(clip, animal_id), result.image_id,
+                           _drone(clip), clip.altitude_calibration, launch)
+
+
+def subject_id(clip: ClipEntry, animal_id: str) -> str:
+    """The animal's ``whale_ID`` (module doc)."""
+    if NUMBERED_ANIMAL.fullmatch(animal_id):
+        return f"{Path(clip.media_path).stem} {animal_id}"
+    return animal_id
 
 
 def calibration_rows(project: Project) -> list[dict[str, str]]:

@@ -51,7 +51,7 @@ def test_a_calibrated_barometer_project_exports_both_tables(project, camera, tmp
     assert list(table.columns) == [str(c) for c in gw.columns]
     row = table.iloc[0]
     assert (row["whale_ID"], row["image"], row["uas"], row["CO.ID"]) == \
-        ("dolphin 1", "clip_f000003", "test drone barometer", "test drone barometer")
+        ("clip dolphin 1", "clip_f000003", "test drone barometer", "test drone barometer")
     assert (row["Baro_Alt"], row["Launch_Ht"], row["Baro_raw"]) == (18.0, 1.5, 16.5)
     assert np.isnan(row["Laser_Alt"]) and np.isnan(row["year"])
     assert (row["Focal_Length"], row["Sw"], row["Iw"]) == (12.29, 17.27, 1280)
@@ -68,3 +68,14 @@ def test_a_calibrated_barometer_project_exports_both_tables(project, camera, tmp
     first = calibration_set(camera).shots[0]
     assert (shots["Baro_Alt"][0], shots["Lpix"][0]) == pytest.approx(
         (first.recorded_altitude_m, first.pixel_length))
+
+
+def test_each_animal_is_one_whale_id_across_the_project(project):
+    """Three clips each with its "dolphin 1": three animals to Xcertainty, each after its
+    clip's name; an animal a person named (a catalogue ID) in two clips is one."""
+    from dolphinfit.core.project.xcertainty import subject_id
+
+    clips = [replace(project.clips[0], media_path=f"day1/DJI_00{n}.MP4") for n in (41, 42, 43)]
+    assert [subject_id(clip, "dolphin 1") for clip in clips] == \
+        ["DJI_0041 dolphin 1", "DJI_0042 dolphin 1", "DJI_0043 dolphin 1"]
+    assert {subject_id(clip, "Tt-0042") for clip in clips} == {"Tt-0042"}
