@@ -28,7 +28,10 @@ $(STAMP): pyproject.toml constraints.txt
 	$(PY) -m dolphinfit.core.segment.weights
 	touch $(STAMP)
 
+# The manual is built once for Help → Manual; the app opens without it where it cannot be.
 run: $(STAMP)
+	@test -f resources/manual/index.html || $(MAKE) docs \
+	  || echo "make run: the manual could not be built (make docs); the app opens without it"
 	$(VENV)/bin/dolphinfit --threads $(THREADS) gui --sample
 
 demo: $(STAMP)
