@@ -22,6 +22,7 @@ from dolphinfit.ui.dialogs.altitude_dialog import AltitudeDialog
 from dolphinfit.ui.dialogs.animal_dialog import AnimalDialog
 from dolphinfit.ui.dialogs.camera_dialog import CameraDialog
 from dolphinfit.ui.dialogs.handle_style_dialog import HandleStyleDialog
+from dolphinfit.ui.dialogs.launch_height_dialog import LaunchHeightDialog
 from dolphinfit.ui.state.handle_style import HandleStyle
 from dolphinfit.ui.dialogs.relink_dialog import RelinkDialog
 from dolphinfit.ui.action_table import MOUSE_GESTURES
@@ -287,6 +288,22 @@ def test_animal_refuses_an_empty_or_duplicate_id(qtbot):
     click(qtbot, ok_button(dialog))
     assert dialog.result() == QDialog.DialogCode.Accepted
     assert (dialog.animal_id, dialog.notes) == ("Dolphin 1b", "nicked dorsal fin")
+
+
+def test_launch_height_is_asked_with_no_value_filled_in(qtbot):
+    """OK stays off until a plausible height is typed; a decimal comma is read as a point."""
+    dialog = show(qtbot, LaunchHeightDialog(["DJI_0041.MP4", "DJI_0042.MP4"]))
+    edit, error = child(dialog, QLineEdit, "launch_height"), child(dialog, QLabel, "error")
+    assert edit.text() == "" and not ok_button(dialog).isEnabled()
+    assert "2 clips (DJI_0041.MP4, DJI_0042.MP4)" in " ".join(
+        label.text() for label in dialog.findChildren(QLabel))
+    qtbot.keyClicks(edit, "600")
+    assert not ok_button(dialog).isEnabled() and "not a launch height of -10–500 m" in error.text()
+    edit.clear()
+    qtbot.keyClicks(edit, "1,5")
+    assert ok_button(dialog).isEnabled()
+    click(qtbot, ok_button(dialog))
+    assert dialog.result() == QDialog.DialogCode.Accepted and dialog.launch_height_m == 1.5
 
 
 def test_handle_style_values(qtbot, monkeypatch):

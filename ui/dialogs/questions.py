@@ -14,7 +14,6 @@ from dolphinfit.core.crash_report import installed_version
 from dolphinfit.core.errors import InputError
 from dolphinfit.core.io.frame_source import Clip
 from dolphinfit.core.io.media import MEDIA_SUFFIXES, VIDEO_SUFFIXES
-from dolphinfit.core.limits import LAUNCH_HEIGHT_M
 from dolphinfit.core.project.model import AltitudeCalibrationSet, AltitudeSpec, Animal
 from dolphinfit.core.project.project_file import PROJECT_SUFFIX, autosave_path, find_moved_media
 from dolphinfit.core.resources import RESOURCES_DIR
@@ -24,6 +23,7 @@ from dolphinfit.ui.dialogs.animal_dialog import AnimalDialog
 from dolphinfit.ui.dialogs.calibration_dialog import CalibrationChoice, CalibrationDialog
 from dolphinfit.ui.dialogs.camera_dialog import CameraDialog
 from dolphinfit.ui.dialogs.handle_style_dialog import HandleStyleDialog
+from dolphinfit.ui.dialogs.launch_height_dialog import LaunchHeightDialog
 from dolphinfit.ui.dialogs.relink_dialog import RelinkDialog
 from dolphinfit.ui.dialogs.shortcuts_dialog import ShortcutsDialog
 from dolphinfit.ui.state.handle_style import HandleStyle
@@ -217,14 +217,8 @@ class Questions:
     def launch_height(self, clip_names: list[str]) -> float | None:
         """The take-off point's height above the water (m) for clips whose SRT records
         height above take-off."""
-        names = ", ".join(clip_names[:5]) + (" …" if len(clip_names) > 5 else "")
-        value, ok = QInputDialog.getDouble(
-            self.parent, "Launch height",
-            f"{len(clip_names)} clip{'s' if len(clip_names) != 1 else ''} ({names}) record the "
-            "height above the take-off point.\nHow high was the take-off point above the water "
-            "(m)? Clip → Altitude… changes it per clip.", 0.0, LAUNCH_HEIGHT_M.low,
-            LAUNCH_HEIGHT_M.high, 2)
-        return value if ok else None
+        dialog = LaunchHeightDialog(clip_names, self.parent)
+        return dialog.launch_height_m if dialog.exec() else None
 
     def report(self, title: str, text: str, details: list[str]) -> None:
         """Something done, with a list the user may read (e.g. clips put aside and why)."""
