@@ -15,6 +15,7 @@ from pathlib import Path
 from dolphinfit.core.errors import InputError
 from dolphinfit.core.fit.result import FitResult
 from dolphinfit.core.fit.result_io import read_fit_result
+from dolphinfit.core.project.fit_inputs import changed_since_fit
 from dolphinfit.core.measure.collatrix import write_wide_csv
 from dolphinfit.core.measure.baseline import BaselineEstimate
 from dolphinfit.core.measure.fit_uncertainty import FitInterval, outline_sd_px
@@ -126,12 +127,15 @@ def compare(estimate: BaselineEstimate, fit: FitResult,
 
 
 def comparison_csv_row(image: str, animal_id: str, fit_status: str,
-                       rows: list[ComparisonRow]) -> dict[str, object]:
+                       rows: list[ComparisonRow],
+                       changed: list[str] | None = None) -> dict[str, object]:
     """One CSV row per animal: ``Image_ID`` (the measured frame's image ID, as in the
-    CollatriX table's ``Image_ID``, the join key), the animal, then per quantity the
+    CollatriX table's ``Image_ID``, the join key), the animal, the fit's status and the
+    clip's inputs ``changed`` since the fit (core.project.fit_inputs), then per quantity the
     elliptical value and interval, the fit's value and interval and the difference
     (``_diff_pct`` in %, ``bci_diff`` in BCI units)."""
-    row: dict[str, object] = {"Image_ID": image, "animal_id": animal_id, "fit_status": fit_status}
+    row: dict[str, object] = {"Image_ID": image, "animal_id": animal_id, "fit_status": fit_status,
+                              "fit_out_of_date_because": "; ".join(changed or [])}
     for r in rows:
         row.update({f"{r.key}_ell": r.elliptical.value, f"{r.key}_ell_lo95": r.elliptical.low,
                     f"{r.key}_ell_hi95": r.elliptical.high, f"{r.key}_fit": r.fitted.value,
@@ -168,9 +172,11 @@ def project_comparison_rows(project: Project, project_path: Path, num_draws: int
         except (InputError, OSError) as exc:
             notes.append(f"{project.clips[key.clip].name} {animal.animal_id}: {exc}")
             continue
-        width = project.clips[key.clip].camera.image_width_px
+        clip = project.clips[key.clip]
         rows.append(comparison_csv_row(by_key[key].image_id, animal.animal_id, fit.status,
-                                       compare(by_key[key].estimate, fit, width)))
+                                       compare(by_key[key].estimate, fit,
+                                               clip.camera.image_width_px),
+                                       changed_since_fit(project, clip, animal)))
     return rows, notes + skipped
 
 

@@ -88,13 +88,15 @@ class Measurement:
 @dataclass(frozen=True)
 class Animal:
     """An animal seen in a clip: its ID, free notes and measured frames (in frame order), how
-    to fit it, and its saved fit (a folder relative to the project file, or None)."""
+    to fit it, and its saved fit (a folder relative to the project file, or None) with what it
+    was made from (core.project.fit_inputs; empty: not kept)."""
 
     animal_id: str
     notes: str = ""
     measurements: tuple[Measurement, ...] = ()
     fit_settings: FitSettings = FitSettings()
     fit_path: str | None = None
+    fit_inputs: tuple[tuple[str, str], ...] = ()
 
     def measurement_at(self, frame_idx: int) -> int | None:
         """Index of the measurement of ``frame_idx``, or None."""

@@ -196,7 +196,18 @@ def _animal_from_json(data: Any, where: str) -> Animal:
                   measurements=tuple(sorted(measurements, key=lambda m: m.frame_idx)),
                   fit_settings=_fit_settings_from_json(fit.get("settings"),
                                                        f"{where}: fit.settings"),
-                  fit_path=_get(fit, "result", str, f"{where}: fit", optional=True))
+                  fit_path=_get(fit, "result", str, f"{where}: fit", optional=True),
+                  fit_inputs=_fit_inputs_from_json(fit.get("inputs"), f"{where}: fit.inputs"))
+
+
+def _fit_inputs_from_json(data: Any, where: str) -> tuple[tuple[str, str], ...]:
+    """What a fit was made from (core.project.fit_inputs): a name-to-digest object, or none."""
+    if data is None:
+        return ()
+    if not isinstance(data, dict) or not all(isinstance(k, str) and isinstance(v, str)
+                                             for k, v in data.items()):
+        raise InputError(f"{where}: expected an object of names and digests, got {data!r}")
+    return tuple(data.items())
 
 
 def _clip_from_json(data: Any, where: str) -> ClipEntry:
@@ -326,7 +337,8 @@ def project_to_json(project: Project) -> dict[str, Any]:
             **_optional_to_json(clip),
             "animals": [{"id": a.animal_id, "notes": a.notes,
                          "measurements": [_measurement_to_json(m) for m in a.measurements],
-                         "fit": {"settings": asdict(a.fit_settings), "result": a.fit_path}}
+                         "fit": {"settings": asdict(a.fit_settings), "result": a.fit_path,
+                                 **({"inputs": dict(a.fit_inputs)} if a.fit_inputs else {})}}
                         for a in clip.animals],
         } for clip in project.clips],
         "calibrations": [_calibration_to_json(c) for c in project.calibrations],

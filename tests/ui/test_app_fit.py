@@ -1,7 +1,8 @@
 """The 3D fit from the app on the sample project: a small fit runs in the worker to the end
 while the GUI keeps turning, is saved with the project and shown in the 3D viewer; a second
 fit cancelled midway keeps its best state as a partial result; the export actions write its
-meshes and the comparison CSV; reopening finds the fit.
+meshes and the comparison CSV; reopening finds the fit, which says it is out of date once
+the clip's camera changes (and not after Undo).
 
 What the exported files hold is tested without the GUI: tests/core/fit/test_mesh_files.py
 (the meshes' bounds) and tests/core/project/test_comparison.py (the CSV's columns and
@@ -208,5 +209,18 @@ def test_fit_runs_saves_shows_and_cancels(qtbot, sample_copy, make_window):
         qtbot.waitUntil(lambda: "3D fit cancelled" in again.fits.panel.status.text(),
                         timeout=30_000)
         assert again.model.project.clips[0].animals[0].fit_settings == LONGER
+        # the fit keeps what it was made from; a camera changed after it makes it out of date
+        assert dict(again.model.project.clips[0].animals[0].fit_inputs).keys() == \
+            {"camera", "altitude", "calibration", "lens", "masks"}
+        assert "out of date" not in again.fits.panel.status.text()
+        camera = again.model.project.clips[0].camera
+        again.ask.camera = lambda *args: (replace(camera, focal_mm=camera.focal_mm * 1.1), None)
+        again.sessions.set_camera()
+        qtbot.waitUntil(lambda: again.fits.panel.status.text().startswith(
+            "⚠ out of date: the clip's camera changed since this fit"), timeout=30_000)
+        assert "fit again" in again.fits.panel.status.text()
+        again.model.undo_stack.undo()
+        qtbot.waitUntil(lambda: "out of date" not in again.fits.panel.status.text(),
+                        timeout=30_000)
     finally:
         again.shutdown()

@@ -22,6 +22,7 @@ from dolphinfit.core.measure.stations import STATION_PCT
 from dolphinfit.core.model.template import load_template
 from dolphinfit.core.progress import Progress
 from dolphinfit.core.project.calibrations import calibrated_clip_telemetry
+from dolphinfit.core.project.fit_inputs import changed_since_fit, fit_inputs_of, stale_note
 from dolphinfit.core.project.fit_overlay import silhouette_outlines
 from dolphinfit.core.project.fit_playback import posed_at
 from dolphinfit.core.measure.hw_ratios import write_hw_csv
@@ -154,6 +155,10 @@ class FitController(QObject):
         if folder is None or folder == self._shown:
             if folder is None:
                 self._show(None)
+            elif not self.worker.is_running:   # the clip's inputs may have changed since
+                self._comparison_status = self._fit_status(folder)
+                self.panel.show_status(self._comparison_status)
+                self._sync_comparison()
             return
         if folder in self._fits:
             self._show(folder)
@@ -203,14 +208,21 @@ class FitController(QObject):
             if not self.worker.is_running:
                 self.panel.show_status("Measure the animal, then fit the 3D model to the clip.")
         else:
-            result = self._fits[folder]
-            self._comparison_status = describe_fit(result)
+            self._comparison_status = self._fit_status(folder)
             self._update_silhouette(self.state.frame_idx)
-            self.panel.show_status(describe_fit(result))
+            self.panel.show_status(self._comparison_status)
             self.fit_shown.emit()
             self._on_elliptical(self.results.current_result())
         self._sync_viewer()
         self._sync_comparison()
+
+    def _fit_status(self, folder: Path) -> str:
+        """The shown fit in words, first saying so where its clip's inputs changed since."""
+        current = self._animal()
+        changed = [] if current is None else changed_since_fit(
+            self.model.project, self.model.project.clips[current[0]], current[2])
+        return "\n".join(line for line in (stale_note(changed), describe_fit(self._fits[folder]))
+                         if line)
 
     def _on_viewer_built(self, viewer: "Viewer3D") -> None:
         self._sync_viewer()
@@ -327,7 +339,7 @@ class FitController(QObject):
     def _show_comparison(self, folder: Path, view: ComparisonView) -> None:
         if folder != self._shown:
             return
-        self._view, self._comparison_status = view, describe_fit(self._fits[folder])
+        self._view, self._comparison_status = view, self._fit_status(folder)
         self._sync_comparison()
         self._sync_viewer()
 
@@ -353,7 +365,9 @@ class FitController(QObject):
         self._store_settings(settings)
         current = self._animal()
         if self.worker.start(job):
-            self._running = (current[0], current[2].animal_id, self.model.path)
+            clip_idx = current[0]
+            self._running = (clip_idx, current[2].animal_id, self.model.path,
+                             fit_inputs_of(self.model.project, self.model.project.clips[clip_idx]))
             self.panel.set_running(True)
 
     def _job(self, settings: FitSettings) -> FitJob:
@@ -395,7 +409,7 @@ class FitController(QObject):
     def _on_finished(self, outcome: tuple[FitResult, Path]) -> None:
         """Record the saved fit on its animal (found by ID: the tree may have changed)."""
         result, folder = outcome
-        clip_idx, animal_id, project_path = self._running
+        clip_idx, animal_id, project_path, inputs = self._running
         self._running, self._live = None, None
         self.panel.set_running(False)
         self._fits[folder.resolve()] = result
@@ -413,7 +427,8 @@ class FitController(QObject):
             return
         self._shown = None  # show it afresh
         push_edit(model, with_animal(model.project, clip_idx, index, replace(
-            animals[index], fit_path=relative_media_path(model.path.parent, folder))),
+            animals[index], fit_path=relative_media_path(model.path.parent, folder),
+            fit_inputs=inputs)),
             f"3D fit of {animal_id}", Change("clip", clip=clip_idx))
         self.refresh()
 

@@ -77,13 +77,14 @@ def test_one_row_per_animal_with_a_fit_and_a_measured_frame(tmp_path, project):
     write_comparison_csv(target, rows)
     columns, (row, *others) = _read_csv(target)
     assert others == []
-    assert columns[:10] == ["Image_ID", "animal_id", "fit_status", "length_m_ell",
-                            "length_m_ell_lo95", "length_m_ell_hi95", "length_m_fit",
-                            "length_m_fit_lo95", "length_m_fit_hi95", "length_m_diff_pct"]
-    assert len(columns) == 3 + 5 * 7 and "bci_diff" in columns and "bci_diff_pct" not in columns
-    assert (row["Image_ID"], row["animal_id"], row["fit_status"]) == ("clip_f000003", "dolphin 1",
-                                                                   "cancelled")
-    figures = {key: float(value) for key, value in row.items() if key not in columns[:3]}
+    assert columns[:11] == ["Image_ID", "animal_id", "fit_status", "fit_out_of_date_because",
+                            "length_m_ell", "length_m_ell_lo95", "length_m_ell_hi95",
+                            "length_m_fit", "length_m_fit_lo95", "length_m_fit_hi95",
+                            "length_m_diff_pct"]
+    assert len(columns) == 4 + 5 * 7 and "bci_diff" in columns and "bci_diff_pct" not in columns
+    assert (row["Image_ID"], row["animal_id"], row["fit_status"],
+            row["fit_out_of_date_because"]) == ("clip_f000003", "dolphin 1", "cancelled", "")
+    figures = {key: float(value) for key, value in row.items() if key not in columns[:4]}
     for key in ("length_m", "volume_m3", "bci", "density_kg_m3", "mass_kg"):
         assert figures[f"{key}_fit"] == pytest.approx(getattr(fit, key), rel=1e-12), key
         for method in ("ell", "fit"):
@@ -114,3 +115,17 @@ def test_nothing_to_compare_without_a_measured_frame(tmp_path, project):
     with pytest.raises(InputError, match="nothing to compare"):
         write_comparison_csv(target, rows)
     assert not target.exists()
+
+
+def test_a_fit_made_before_the_clips_camera_changed_says_so_in_its_row(tmp_path, project):
+    from dolphinfit.core.project.fit_inputs import fit_inputs_of
+    from dolphinfit.core.project.model import with_animal, with_clip
+
+    clip = project.clips[0]
+    fitted = with_animal(project, 0, 0, replace(clip.animals[0],
+                                                fit_inputs=fit_inputs_of(project, clip)))
+    changed = with_clip(fitted, 0, replace(fitted.clips[0], camera=replace(
+        clip.camera, focal_mm=clip.camera.focal_mm + 1.0)))
+    path = _survey(tmp_path, changed)
+    (row,), _ = project_comparison_rows(changed, path, NUM_DRAWS)
+    assert row["fit_out_of_date_because"] == "camera"
