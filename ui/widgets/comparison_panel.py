@@ -59,9 +59,13 @@ class ComparisonPanel(QWidget):
         layout.addWidget(self.hw_button)
 
     def show_comparison(self, rows: Sequence[ComparisonRow] | None, status: str) -> None:
-        """Fill the table (empty with ``rows`` None) and say what the fit is."""
+        """Fill the table and say what the fit is; with ``rows`` None, the table and the
+        profiles empty (not another animal's left on show)."""
         self.status.setText(status)
         self.hw_button.setEnabled(rows is not None)
+        if rows is None and self.figure.axes:
+            self.figure.clear()
+            self.canvas.draw_idle()
         rows = list(rows or [])
         self.table.setRowCount(len(rows))
         for i, row in enumerate(rows):

@@ -37,3 +37,4 @@ def test_table_and_profiles(qtbot):
     assert len(panel.figure.axes[0].lines) == 2  # every measured width used: no extra marks
     panel.show_comparison(None, "No 3D fit yet")
     assert panel.table.rowCount() == 0
+    assert panel.figure.axes == []   # another animal's profiles are not left on show
