@@ -120,8 +120,9 @@ def usable_frames(scan: ClipScan, rejected: Collection[tuple[int, int]],
             if (number, score.frame_idx) not in rejected]
 
 
-def _measured(animal: Animal | None) -> bool:
-    return animal is not None and len(animal.measurements) > 0
+def _frames_measured(animal: Animal | None) -> int:
+    """The animal's frames with a length: a frame opened for measuring is not measured yet."""
+    return 0 if animal is None else sum(m.has_length for m in animal.measurements)
 
 
 def clip_status(clip: ClipEntry, scan: ClipScan | None) -> ClipStatus:
@@ -133,12 +134,12 @@ def clip_status(clip: ClipEntry, scan: ClipScan | None) -> ClipStatus:
             if usable_frames(scan, clip.rejected_frames, number):
                 usable += 1
                 index = scan_animal(clip, number)
-                measured += _measured(None if index is None else clip.animals[index])
+                measured += _frames_measured(None if index is None else clip.animals[index]) > 0
     return ClipStatus(
         has_altitude=clip.altitude is not None,
         animals_found=None if scan is None else found, animals_usable=usable,
         animals_measured=measured,
-        frames_measured=sum(len(animal.measurements) for animal in clip.animals),
+        frames_measured=sum(_frames_measured(animal) for animal in clip.animals),
         animals_fitted=sum(animal.fit_path is not None for animal in clip.animals))
 
 

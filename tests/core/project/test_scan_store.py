@@ -3,7 +3,7 @@ clip, and which clip needs work next."""
 
 from dataclasses import replace
 
-from dolphinfit.core.project.model import Animal
+from dolphinfit.core.project.model import Animal, Measurement
 from dolphinfit.core.project.scan_store import (
     clip_status, next_clip_needing_work, save_scan, scan_animal, scan_file,
 )
@@ -51,6 +51,10 @@ def test_the_status_counts_animals_found_usable_measured_and_fitted(project):
     unmeasured = replace(clip, animals=(Animal("dolphin 1"),), altitude=None)
     status = clip_status(unmeasured, SCAN)
     assert status.needs_work and status.text() == "no altitude · 2 found · 0 measured"
+    # a frame opened for measuring, its length not clicked yet, is not measured
+    opened = replace(clip.animals[0], measurements=(Measurement(frame_idx=10),), fit_path=None)
+    status = clip_status(replace(clip, animals=(opened,)), SCAN)
+    assert status.needs_work and status.text() == "2 found · 0 measured"
 
 
 def test_a_clip_where_the_scan_found_nothing_is_not_done_until_someone_looks(project):
