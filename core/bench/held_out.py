@@ -17,12 +17,9 @@ and superellipse sections. Do not change a setting because of a figure measured 
 it apart, and judge a change on the tuning split first.
 """
 
-from dataclasses import replace
-
-from dolphinfit.core.bench.scenario import Scenario
+from dolphinfit.core.bench.scenario import Scenario, scenario_maker
 from dolphinfit.core.measure.hw_ratios import DEFAULT_PRESET
 from dolphinfit.core.synth.config import Effects, SynthConfig
-from dolphinfit.core.synth.water import with_water
 
 HELD_OUT_SUITE = "bench-held-out-v1"
 DELIVERY_MBPS = 8.0      # a 720p clip as delivered from a downscaled 5K original
@@ -35,8 +32,7 @@ _BASE = SynthConfig(width_px=1920, height_px=1080, fps=10.0, duration_s=3.0, sha
 _FIVE_K_AT_720P = dict(width_px=1280, height_px=720, supersample=4, bitrate_mbps=DELIVERY_MBPS)
 
 
-def _scenario(name: str, water: str, shows: str, **options) -> Scenario:
-    return Scenario(name, with_water(replace(_BASE, **options), water), shows, HELD_OUT_SUITE)
+_scenario = scenario_maker(_BASE, HELD_OUT_SUITE)
 
 
 HELD_OUT: tuple[Scenario, ...] = (

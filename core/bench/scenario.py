@@ -7,7 +7,7 @@ never imports) registers its clip maker here when it is imported.
 """
 
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 from dolphinfit.core.errors import InputError
@@ -16,6 +16,7 @@ from dolphinfit.core.progress import ProgressCallback
 from dolphinfit.core.synth.config import SynthConfig
 from dolphinfit.core.synth.files import OWN_RENDERER, ClipFiles, clip_files, made_from
 from dolphinfit.core.synth.sample import cache_dir, ensure_clip
+from dolphinfit.core.synth.water import with_water
 
 SUITE_NAME = "bench-suite-v2"          # the tuning split with the template's shapes
 ClipMaker = Callable[[SynthConfig, Path, ProgressCallback | None], ClipFiles]
@@ -31,6 +32,16 @@ class Scenario:
     shows: str
     suite: str = SUITE_NAME
     renderer: str = OWN_RENDERER
+
+
+def scenario_maker(base: SynthConfig, suite: str = SUITE_NAME,
+                   renderer: str = OWN_RENDERER) -> Callable[..., Scenario]:
+    """``make(name, water, shows, **options)``: a scenario of ``suite`` drawn by ``renderer``,
+    its configuration ``base`` with ``options`` over the named water."""
+    def make(name: str, water: str, shows: str, **options) -> Scenario:
+        return Scenario(name, with_water(replace(base, **options), water), shows, suite,
+                        renderer)
+    return make
 
 
 def ensure_scenario(scenario: Scenario,

@@ -22,12 +22,11 @@ recorded configuration matches.
 from dataclasses import replace
 
 from dolphinfit.core.bench.held_out import HELD_OUT
-from dolphinfit.core.bench.scenario import Scenario
+from dolphinfit.core.bench.scenario import Scenario, scenario_maker
 from dolphinfit.core.bench.vtk_split import VTK_SPLIT
 from dolphinfit.core.limits import one_of
 from dolphinfit.core.measure.hw_ratios import DEFAULT_PRESET
 from dolphinfit.core.synth.config import Effects, SynthConfig
-from dolphinfit.core.synth.water import with_water
 
 VARIED_SUITE_NAME = "bench-suite-v3-shapes"
 # held-out: core.bench.held_out, never tuned on; vtk: core.bench.vtk_split, drawn by VTK
@@ -46,8 +45,7 @@ _BASE = SynthConfig(width_px=1920, height_px=1080, fps=10.0, duration_s=3.0, sha
                     sea_state=0.25, noise_sd=0.012, effects=Effects(finer_mesh=True))
 
 
-def _scenario(name: str, water: str, shows: str, **options) -> Scenario:
-    return Scenario(name, with_water(replace(_BASE, **options), water), shows)
+_scenario = scenario_maker(_BASE)
 
 
 SUITE: tuple[Scenario, ...] = (

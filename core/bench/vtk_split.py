@@ -11,12 +11,9 @@ What a field day brings that the others lack: a calm clean clip with a sharp ani
 over dark and light over light, a dive to 1.2 m in a rough sea, 4K delivered at 720p.
 """
 
-from dataclasses import replace
-
-from dolphinfit.core.bench.scenario import Scenario
+from dolphinfit.core.bench.scenario import Scenario, scenario_maker
 from dolphinfit.core.measure.hw_ratios import DEFAULT_PRESET
 from dolphinfit.core.synth.config import Effects, SynthConfig
-from dolphinfit.core.synth.water import with_water
 
 VTK_RENDERER = "vtk"
 VTK_SUITE = "bench-vtk-v1"
@@ -27,9 +24,7 @@ _BASE = SynthConfig(width_px=1920, height_px=1080, fps=10.0, duration_s=3.0, sha
 _FOUR_K_AT_720P = dict(width_px=1280, height_px=720, supersample=3, bitrate_mbps=8.0)
 
 
-def _scenario(name: str, water: str, shows: str, **options) -> Scenario:
-    return Scenario(name, with_water(replace(_BASE, **options), water), shows, VTK_SUITE,
-                    VTK_RENDERER)
+_scenario = scenario_maker(_BASE, VTK_SUITE, VTK_RENDERER)
 
 
 VTK_SPLIT: tuple[Scenario, ...] = (
