@@ -81,16 +81,12 @@ class Scanner:
             followed = tracker.open_tracks(frame_idx)
             if searched_at is None or not followed or \
                     (frame_idx - searched_at) / clip.fps >= settings.tile_search_every_s:
-                masks = [c.mask for c in find_animals(frame, self.net.saliency,
-                                                      self.settings.tile_fraction,
-                                                      self.settings.threshold, expected)]
+                masks = self._searched(frame, expected)
                 searched_at = glanced_at = frame_idx
             else:
                 masks = self._followed(frame, frame_idx, followed, expected)
                 if not masks:   # none was where it should be: look again
-                    masks = [c.mask for c in find_animals(frame, self.net.saliency,
-                                                          self.settings.tile_fraction,
-                                                          self.settings.threshold, expected)]
+                    masks = self._searched(frame, expected)
                     searched_at = glanced_at = frame_idx
                 elif (frame_idx - glanced_at) / clip.fps >= settings.search_every_s:
                     masks += self._newcomers(frame, masks, expected)
@@ -110,6 +106,12 @@ class Scanner:
         return ClipScan(clip.path.name, clip.fps, clip.num_frames, clip.width_px,
                         clip.height_px, tuple(samples), settings, tuple(scores),
                         time.perf_counter() - started)
+
+    def _searched(self, frame: np.ndarray,
+                  expected: tuple[float, float] | None) -> list[np.ndarray]:
+        """The masks of every animal in the whole frame (``auto_seed.find_animals``)."""
+        return [c.mask for c in find_animals(frame, self.net.saliency, self.settings.tile_fraction,
+                                             self.settings.threshold, expected)]
 
     def _newcomers(self, frame: np.ndarray, known: list[np.ndarray],
                    expected: tuple[float, float] | None) -> list[np.ndarray]:

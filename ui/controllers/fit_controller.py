@@ -156,8 +156,7 @@ class FitController(QObject):
             if folder is None:
                 self._show(None)
             elif not self.worker.is_running:   # the clip's inputs may have changed since
-                self._comparison_status = self._fit_status(folder)
-                self.panel.show_status(self._comparison_status)
+                self._say_fit(folder)
                 self._sync_comparison()
             return
         if folder in self._fits:
@@ -208,13 +207,17 @@ class FitController(QObject):
             if not self.worker.is_running:
                 self.panel.show_status("Measure the animal, then fit the 3D model to the clip.")
         else:
-            self._comparison_status = self._fit_status(folder)
+            self._say_fit(folder)
             self._update_silhouette(self.state.frame_idx)
-            self.panel.show_status(self._comparison_status)
             self.fit_shown.emit()
             self._on_elliptical(self.results.current_result())
         self._sync_viewer()
         self._sync_comparison()
+
+    def _say_fit(self, folder: Path) -> None:
+        """The shown fit in words on the panel and above the comparison."""
+        self._comparison_status = self._fit_status(folder)
+        self.panel.show_status(self._comparison_status)
 
     def _fit_status(self, folder: Path) -> str:
         """The shown fit in words, first saying so where its clip's inputs changed since."""
