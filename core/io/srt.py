@@ -20,7 +20,9 @@ line. The payload's layout depends on the drone family:
 Relative altitudes are barometric heights above the take-off point: the reader adds the
 take-off point's height above the water (``launch_height_m``). Absolute altitudes are above
 sea level and are used as they are. ``focal_len`` is a 35 mm-equivalent value (×10 in the
-html-bracket family) and is dropped on reading: it never gives scale (DESIGN.md §3).
+html-bracket family) and is dropped on reading: it never gives scale (DESIGN.md §3). Date
+lines are the camera's local time, without a timezone (``srt_clock_start``: the date-time at
+the video's 0 s); the single-line family has none.
 
 Tolerated quirks: ``key : value`` spacing that varies inside a cue, two keys in one bracket,
 ``longtitude``, negative ``rel_alt``, a ``60`` in a timing line's seconds (Matrice 300), date
@@ -31,7 +33,7 @@ not recognised: no sample file was available to identify them.
 
 import re
 from dataclasses import dataclass
-from datetime import datetime
+from datetime import datetime, timedelta
 from pathlib import Path
 
 import numpy as np
@@ -221,6 +223,23 @@ def _cue_times_s(srt: SrtFile) -> tuple[np.ndarray, list[str]]:
     times = np.array([(c.number - first) * spacing_s for c in srt.cues])
     return times, [f"{srt.path}: no timing lines; cues taken {spacing_s:g} s apart (the median "
                    "spacing of their date lines)"]
+
+
+def srt_clock_start(srt: SrtFile) -> datetime | None:
+    """The camera's local date-time (no timezone) at the video's time 0: the median over the
+    dated cues of date line − cue time, which evens out date lines that skip or repeat a
+    second; None when no cue carries a date (the single-line family). InputError as
+    ``_cue_times_s`` when cue times are unknown."""
+    if all(c.timestamp is None for c in srt.cues):
+        return None
+    times, _ = _cue_times_s(srt)
+    dated = [(c.timestamp, t) for c, t in zip(srt.cues, times)
+             if c.timestamp is not None and np.isfinite(t)]
+    if not dated:
+        return None
+    first = dated[0][0]
+    offsets_s = [(stamp - first).total_seconds() - t for stamp, t in dated]
+    return first + timedelta(seconds=float(np.median(offsets_s)))
 
 
 def _altitude_field(srt: SrtFile) -> str:

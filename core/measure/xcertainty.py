@@ -6,10 +6,13 @@ Lengths and widths are in pixels as measured, altitudes as recorded (Xcertainty 
 altimeters' bias and the pixel error itself, from the calibration table): ``Baro_Alt`` is the
 barometer's altitude with the launch height added and ``Baro_raw`` without it, ``Laser_Alt``
 the laser's; a typed-in ("manual") altitude fills neither, as Xcertainty has no such
-altimeter. Dates are not kept by dolphinfit and are left empty.
+altimeter. ``year`` and ``DOY`` (day of the year) are the calendar day of the frame in the
+camera's local time, as its SRT's date lines give it; empty where no date is known (no SRT,
+an SRT without dates); the calibration shots' ``year`` and ``date`` are left empty.
 """
 
 import math
+from datetime import datetime
 
 from dolphinfit.core.measure.morphometrix import number_text
 from dolphinfit.core.measure.records import MeasureInput
@@ -41,14 +44,24 @@ def altitude_cells(source: str, altitude_m: float, launch_height_m: float) -> di
     return {}
 
 
+def date_cells(recorded_at: datetime | None) -> dict[str, object]:
+    """``year`` and ``DOY`` (1 = 1 January) of a local date-time; none when it is unknown."""
+    if recorded_at is None:
+        return {}
+    return {"year": recorded_at.year, "DOY": recorded_at.timetuple().tm_yday}
+
+
 def observation_row(source: MeasureInput, subject: str, image: str, uas: str,
-                    co_id: str | None, launch_height_m: float = 0.0) -> dict[str, str]:
+                    co_id: str | None, launch_height_m: float = 0.0,
+                    recorded_at: datetime | None = None) -> dict[str, str]:
     """One measured image as a row of ``MEASUREMENT_COLUMNS``: pixels as measured, the
-    altitude as recorded (before any altitude calibration)."""
+    altitude as recorded (before any altitude calibration), the day it was taken
+    (``recorded_at``, local camera time; None: unknown)."""
     recorded = (source.record.altitude_m if source.recorded_altitude_m is None
                 else source.recorded_altitude_m)
     row: dict[str, object] = {
         "whale_ID": subject, "image": image, "uas": uas,
+        **date_cells(recorded_at),
         "Focal_Length": source.record.focal_mm, "Sw": source.sensor_width_mm,
         "Iw": source.image_width_px,
         **altitude_cells(source.altitude_source, recorded, launch_height_m),

@@ -1,6 +1,6 @@
 """Results of many measured frames at once (exports of an animal or a whole project): each
-clip's media is opened once for its frame timing, its altitude aligned, then every frame is
-measured with the Monte Carlo."""
+clip's media is opened once for its frame timing, its altitude aligned and its SRT's clock
+read, then every frame is measured with the Monte Carlo and dated."""
 
 import threading
 from collections.abc import Sequence
@@ -13,7 +13,8 @@ from dolphinfit.core.progress import Progress, ProgressCallback, check_cancel
 from dolphinfit.core.project.model import MeasurementKey, Project, get_measurement
 from dolphinfit.core.project.project_file import media_path
 from dolphinfit.core.project.results import (
-    FrameResult, clip_telemetry, frame_altitude, measure_frame, project_hw_spec,
+    FrameResult, clip_clock_start, clip_telemetry, frame_altitude, frame_recorded_at,
+    measure_frame, project_hw_spec,
 )
 
 
@@ -23,7 +24,7 @@ def frame_results(project: Project, project_path: Path, keys: Sequence[Measureme
     """The results of ``keys`` and, for the frames that could not be measured, why."""
     hw = resolve_hw(project_hw_spec(project, project_path.parent))
     results, skipped = [], []
-    telemetry = {}
+    telemetry, clock_start = {}, {}
     for done, key in enumerate(keys):
         check_cancel(cancel)
         clip = project.clips[key.clip]
@@ -33,9 +34,11 @@ def frame_results(project: Project, project_path: Path, keys: Sequence[Measureme
             if key.clip not in telemetry:
                 with open_media(media_path(project_path, clip)) as source:
                     telemetry[key.clip] = clip_telemetry(project_path.parent, clip, source.clip)
+                clock_start[key.clip] = clip_clock_start(project_path.parent, clip, source.clip)
             altitude = frame_altitude(telemetry[key.clip], frame_idx)
+            recorded_at = frame_recorded_at(clock_start[key.clip], telemetry[key.clip], frame_idx)
             results.append(measure_frame(project, key, altitude, clip.altitude.source, hw,
-                                         num_draws))
+                                         num_draws, recorded_at=recorded_at))
         except (InputError, ValueError) as exc:
             skipped.append(f"{where}: {exc}")
         if progress is not None:

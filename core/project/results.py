@@ -7,13 +7,15 @@ annotation with the clip's camera and the frame's altitude, then ``estimate_base
 
 from collections.abc import Sequence
 from dataclasses import dataclass, replace
+from datetime import datetime, timedelta
 from pathlib import Path
 
 import numpy as np
 
 from dolphinfit.core.errors import InputError
 from dolphinfit.core.measure.annotation_json import AnnotationFile
-from dolphinfit.core.io.telemetry import Telemetry, load_telemetry
+from dolphinfit.core.io.srt import parse_srt, srt_clock_start
+from dolphinfit.core.io.telemetry import SRT_SUFFIX, Telemetry, find_srt_sidecar, load_telemetry
 from dolphinfit.core.io.video import Clip
 from dolphinfit.core.measure.annotation import Calibration
 from dolphinfit.core.measure.baseline import BaselineEstimate, BaselineSettings, estimate_baseline
@@ -59,6 +61,30 @@ def clip_telemetry(project_dir: Path, clip: ClipEntry, media: Clip) -> Telemetry
     return load_telemetry(media, source, spec.launch_height_m, spec.time_offset_s)
 
 
+def clip_clock_start(project_dir: Path, clip: ClipEntry, media: Clip) -> datetime | None:
+    """The camera's local date-time at the clip's first frame, from its SRT: the altitude file
+    when that is an SRT, else the SRT beside the media. None without one, or when it has no
+    dates or cannot be read: the date is only a label, so it never stops a measurement."""
+    spec = clip.altitude
+    is_srt = (spec is not None and spec.path is not None
+              and Path(spec.path).suffix.lower() == SRT_SUFFIX)
+    path = project_dir / spec.path if is_srt else find_srt_sidecar(media.path)
+    if path is None:
+        return None
+    try:
+        return srt_clock_start(parse_srt(path))
+    except InputError:
+        return None
+
+
+def frame_recorded_at(clock_start: datetime | None, telemetry: Telemetry,
+                      frame_idx: int) -> datetime | None:
+    """The local date-time of a frame: the clip's clock start plus the frame's time."""
+    if clock_start is None:
+        return None
+    return clock_start + timedelta(seconds=float(telemetry.time_s[frame_idx]))
+
+
 def frame_altitude(telemetry: Telemetry | None, frame_idx: int) -> float:
     """The altitude of one frame; InputError saying why when there is none."""
     if telemetry is None:
@@ -80,13 +106,15 @@ def image_id(clip: ClipEntry, frame_idx: int) -> str:
 
 @dataclass(frozen=True, eq=False)
 class FrameResult:
-    """The elliptical estimate of one measured frame and the records exported from it."""
+    """The elliptical estimate of one measured frame and the records exported from it;
+    ``recorded_at``: the camera's local date-time of the frame (None: unknown)."""
 
     key: MeasurementKey
     image_id: str
     source: MeasureInput
     estimate: BaselineEstimate
     record: dict
+    recorded_at: datetime | None = None
 
 
 def _frame_input(project: Project, key: MeasurementKey, altitude_m: float,
@@ -117,8 +145,9 @@ def _frame_input(project: Project, key: MeasurementKey, altitude_m: float,
 
 def measure_frame(project: Project, key: MeasurementKey, altitude_m: float,
                   altitude_source: str, hw: HWRatios, num_draws: int,
-                  seed: int = 0) -> FrameResult:
-    """The elliptical estimate of one measured frame (with ``num_draws`` Monte Carlo draws).
+                  seed: int = 0, recorded_at: datetime | None = None) -> FrameResult:
+    """The elliptical estimate of one measured frame (with ``num_draws`` Monte Carlo draws),
+    taken at ``recorded_at`` (local camera time; None: unknown).
 
     Raises ValueError when the frame has no length yet, NoWidthError (a ValueError) when it
     has no width yet.
@@ -128,7 +157,8 @@ def measure_frame(project: Project, key: MeasurementKey, altitude_m: float,
     estimate = estimate_baseline(source.pixels, source.focal_px, source.record.altitude_m,
                                  settings, errors, num_draws, np.random.default_rng(seed))
     return FrameResult(key=key, image_id=name, source=source, estimate=estimate,
-                       record=result_record(source, estimate, input_name=name, seed=seed))
+                       record=result_record(source, estimate, input_name=name, seed=seed),
+                       recorded_at=recorded_at)
 
 
 @dataclass(frozen=True, eq=False)

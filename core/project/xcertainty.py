@@ -4,7 +4,8 @@ calibration where it has one (its shots are the training objects of that drone),
 camera. ``whale_ID`` is one animal across the project: the numbers dolphinfit gives
 ("dolphin 1") count within a clip, so they go out after the clip's name; a name a person
 gave (a catalogue ID) goes out as given, so that the same individual in several clips is
-one animal to Xcertainty."""
+one animal to Xcertainty. ``year`` and ``DOY`` come from the frame's date
+(FrameResult.recorded_at, read from the clip's SRT when it was measured)."""
 
 import re
 from pathlib import Path
@@ -28,7 +29,7 @@ def measurement_row(project: Project, result: FrameResult) -> dict[str, str]:
     launch = clip.altitude.launch_height_m if clip.altitude is not None else 0.0
     animal_id = clip.animals[result.key.animal].animal_id
     return observation_row(result.source, subject_id(clip, animal_id), result.image_id,
-                           _drone(clip), clip.altitude_calibration, launch)
+                           _drone(clip), clip.altitude_calibration, launch, result.recorded_at)
 
 
 def subject_id(clip: ClipEntry, animal_id: str) -> str:

@@ -2,8 +2,11 @@
 measurements, co_data for calibration objects, read from its .rda files), filled from a
 project's measured frames and its altitude calibration."""
 
+import csv
+import shutil
 import warnings
 from dataclasses import replace
+from datetime import datetime, timedelta
 from pathlib import Path
 
 import numpy as np
@@ -12,14 +15,17 @@ import pytest
 import rdata
 
 from dolphinfit.core.measure.hw_ratios import load_hw_preset
+from dolphinfit.core.project.evaluate import all_keys, frame_results
 from dolphinfit.core.project.exports import export_frames
 from dolphinfit.core.project.model import AltitudeSpec, MeasurementKey
 from dolphinfit.core.project.results import measure_frame
 from dolphinfit.core.measure.xcertainty import CALIBRATION_COLUMNS, MEASUREMENT_COLUMNS
 
+from .conftest import write_black_clip
 from .test_calibrations import calibration_set
 
 XCERTAINTY = Path(__file__).resolve().parents[2] / "data" / "real" / "xcertainty"
+SRT_DIR = Path(__file__).resolve().parents[2] / "data" / "srt"
 
 
 def _example(name: str) -> pd.DataFrame:
@@ -79,3 +85,68 @@ def test_each_animal_is_one_whale_id_across_the_project(project):
     assert [subject_id(clip, "dolphin 1") for clip in clips] == \
         ["DJI_0041 dolphin 1", "DJI_0042 dolphin 1", "DJI_0043 dolphin 1"]
     assert {subject_id(clip, "Tt-0042") for clip in clips} == {"Tt-0042"}
+
+
+def _dates(project, tmp_path) -> list[tuple[str, str, str]]:
+    """(image, year, DOY) of each row of the project's Xcertainty table, as written; its
+    media in ``tmp_path``, every frame measured."""
+    results, skipped = frame_results(project, tmp_path / "survey.dolphinfit", all_keys(project),
+                                     num_draws=0)
+    assert skipped == []
+    export_frames(project, results, tmp_path / "out", "survey")
+    with open(tmp_path / "out" / "survey_xcertainty.csv", newline="", encoding="utf-8") as f:
+        return [(row["image"], row["year"], row["DOY"]) for row in csv.DictReader(f)]
+
+
+def test_a_clip_with_an_srt_is_dated_and_one_without_is_not(project, tmp_path):
+    """Two clips of one survey: the one with mavic_pro.SRT beside it (legacy family, dated
+    2017-08-05, day 217) gets year and DOY on each frame; the one without an SRT gets them
+    empty, not 0 or NaN."""
+    write_black_clip(tmp_path / "media")
+    shutil.copy(tmp_path / "media" / "clip.mp4", tmp_path / "media" / "other.mp4")
+    shutil.copy(SRT_DIR / "mavic_pro.SRT", tmp_path / "media" / "clip.SRT")
+    undated = replace(project.clips[0], media_path="media/other.mp4")
+    assert _dates(replace(project, clips=(project.clips[0], undated)), tmp_path) == [
+        ("clip_f000003", "2017", "217"), ("clip_f000007", "2017", "217"),
+        ("other_f000003", "", ""), ("other_f000007", "", "")]
+
+
+@pytest.mark.parametrize("name, year, doy", [
+    ("MAVIC3.srt", "2021", "359"),                   # modern, 2021-12-25
+    ("dji-srt-2025/Mini5PRO.SRT", "2026", "147"),    # modern, 2026-05-27
+    ("mavic_air2.srt", "2022", "121"),               # html-bracket, 2022-05-01
+    ("mavic_2_style.SRT", "2017", "217"),            # html-bracket, no timing, 2017-08-05
+    ("broken_incomplete.SRT", "2017", "184"),        # legacy, cut off, 2017-07-03
+    ("p4p_sample.SRT", "", ""),                      # single-line: no dates
+])
+def test_every_srt_family_beside_a_clip_dates_its_frames(project, tmp_path, name, year, doy):
+    """The SRT beside a clip whose altitude is typed in dates its frames."""
+    write_black_clip(tmp_path / "media")
+    shutil.copy(SRT_DIR / name, tmp_path / "media" / "clip.SRT")
+    assert _dates(project, tmp_path) == [("clip_f000003", year, doy),
+                                         ("clip_f000007", year, doy)]
+
+
+def test_the_altitude_srt_dates_each_frame_across_midnight(project, tmp_path):
+    """An SRT given as the clip's altitude file (not beside it) whose clock reads 23:59:59.5 on
+    31 December 2023 at 0 s: frame 3 (0.3 s at 10 fps) is day 365 of 2023, frame 7 (0.7 s)
+    day 1 of 2024."""
+    write_black_clip(tmp_path / "media")
+    start = datetime(2023, 12, 31, 23, 59, 59, 500000)
+    cues = [f"{n + 1}\n00:00:00,{100 * n:03d} --> 00:00:00,{100 * n + 100:03d}\n"
+            f"FrameCnt: {n + 1}, DiffTime: 100ms\n"
+            f"{(start + timedelta(seconds=0.1 * n)).isoformat(' ', 'milliseconds')}\n"
+            "[iso: 100] [rel_alt: 20.000 abs_alt: 30.000]\n" for n in range(8)]
+    (tmp_path / "flight.SRT").write_text("\n".join(cues), encoding="utf-8")
+    clip = replace(project.clips[0], altitude=AltitudeSpec(path="flight.SRT",
+                                                           source="barometer"))
+    assert _dates(replace(project, clips=(clip,)), tmp_path) == [
+        ("clip_f000003", "2023", "365"), ("clip_f000007", "2024", "1")]
+
+
+def test_an_unreadable_srt_leaves_the_date_empty_and_the_frames_measured(project, tmp_path):
+    """A file beside the clip that is no DJI SRT gives no date and stops no measurement."""
+    write_black_clip(tmp_path / "media")
+    (tmp_path / "media" / "clip.SRT").write_text("1\n00:00:01,000 --> 00:00:02,000\nHello!\n",
+                                                 encoding="utf-8")
+    assert _dates(project, tmp_path) == [("clip_f000003", "", ""), ("clip_f000007", "", "")]
