@@ -22,18 +22,28 @@ narrows to a fifth or less of the body's greatest width, while the same share fr
 rostrum the head has broadened to half of it or more, with or without the flukes showing.
 Measured by ``dolphinfit bench real`` on real whale outlines with hand points and images.
 
-Widths at the flipper stations: a person measures the body there, not the flipper tips, so
-stations in ``FLIPPER_ZONE`` are measured on the mask opened with a disc ``FLIPPER_OPENING``
-of the body length across, which removes appendages narrower than that and leaves a body's
-smooth outline where it is.
+Widths are the body's, not its fins' (``suggested_edges``). Each side's outline is sampled as
+its offset from the midline every ``PROFILE_STEP`` of the length between the stations:
+
+- **Flippers and a dorsal fin** seen beside the body stand out of that profile as a bump no
+  longer than their base. In ``FIN_ZONE``, a stretch of the profile above its opening (the
+  sliding minimum's sliding maximum over ``FIN_BASE``), which somewhere stands ``FIN_HEIGHT``
+  or more above it, is a fin; the body's outline runs straight across it, between the
+  profile either side. An opening of the mask with a disc (the earlier way) left a flipper's
+  root and fillets, wider than any disc that keeps the body's shape, and a flipper lying
+  along the body, which makes it wider rather than longer.
+- **Fluke lobes** begin ahead of the notch, so the rear stations' perpendiculars run out along
+  them. Behind the narrowest point of the tail stock (from ``FLUKE_ZONE``), where the lobes then
+  reach ``FLUKE_JUMP`` × its offset, the tail stock is taken to taper straight to the notch.
 """
 
-import cv2
 import numpy as np
-from scipy.ndimage import map_coordinates, uniform_filter1d
+from scipy.ndimage import (
+    map_coordinates, maximum_filter1d, minimum_filter1d, uniform_filter1d,
+)
 
 from dolphinfit.core.measure.annotation import (
-    MASK_LEVEL, MASK_STEP_PX, Annotation, Stations, place_stations, suggest_edges,
+    MASK_LEVEL, MASK_STEP_PX, Annotation, Stations, edge_offsets, place_stations, suggest_edges,
 )
 from dolphinfit.core.measure.stations import STATION_FRACTIONS
 
@@ -45,8 +55,11 @@ SUGGESTED_POINTS = 7  # clicks of the suggested midline, ends included
 STOCK_POINTS = 4      # the tail stock's direction: over this many midline points (~10 %)
 FLUKE_JUMP = 1.8      # widths this many × the peduncle's: the flukes
 HEAD_AXIS = (0.03, 0.15)     # the head's direction: the midline between these shares
-FLIPPER_ZONE = (0.2, 0.4)    # stations measured without the flippers (share of length)
-FLIPPER_OPENING = 0.08       # the opening's diameter, × body length
+FIN_ZONE = (0.15, 0.65)   # stations measured under flippers and a dorsal fin (share of length)
+FIN_BASE = 0.12           # the longest fin base along the body taken out there, × length
+FIN_HEIGHT = 0.006        # a fin stands at least this far out of the body's outline, × length
+FLUKE_ZONE = 0.75         # from here on the tail stock is looked for ahead of the fluke lobes
+PROFILE_STEP = 0.01       # each side's outline is sampled this often between stations, × length
 
 
 def midline_from_mask(mask: np.ndarray, num_points: int = SUGGESTED_POINTS,
@@ -226,23 +239,76 @@ def resampled(midline: np.ndarray, num_points: int) -> np.ndarray:
     return at_arc(midline, vertices, at)
 
 
-def without_flippers(mask: np.ndarray, length_px: float) -> np.ndarray:
-    """(H, W) bool mask opened with a disc ``FLIPPER_OPENING`` × ``length_px`` across."""
-    radius = max(1, int(round(FLIPPER_OPENING * length_px / 2)))
-    disc = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * radius + 1, 2 * radius + 1))
-    return cv2.morphologyEx(np.asarray(mask, np.uint8), cv2.MORPH_OPEN, disc).astype(bool)
-
-
 def suggested_edges(mask: np.ndarray, stations: Stations) -> np.ndarray:
-    """(S, 2, 2) edge points of ``suggest_edges``, those at the flipper stations measured
-    without the flippers (module doc)."""
+    """(S, 2, 2) edge points of ``suggest_edges``, the body's where fins join it: each side
+    moved in to its outline with the fins taken out (module doc)."""
     edges = suggest_edges(mask, stations)
-    zone = (stations.fractions >= FLIPPER_ZONE[0]) & (stations.fractions <= FLIPPER_ZONE[1])
-    if zone.any():
-        body = suggest_edges(without_flippers(mask, stations.length_px), stations)
-        found = np.isfinite(body).all(axis=(1, 2))   # else the body there is thinner
-        edges[zone & found] = body[zone & found]
+    if len(stations.fractions) < 2:
+        return edges
+    dense, at = subdivided(stations)
+    offsets = edge_offsets(dense, suggest_edges(mask, dense))
+    for side_idx, sign in enumerate((1.0, -1.0)):
+        body = body_offsets(dense.fractions, sign * offsets[:, side_idx], stations.length_px)[at]
+        inside = body < sign * offsets[at, side_idx]   # False where NaN
+        edges[inside, side_idx] = (stations.points_px[inside]
+                                   + sign * body[inside, None] * stations.normals[inside])
     return edges
+
+
+def subdivided(stations: Stations) -> tuple[Stations, np.ndarray]:
+    """Stations every ``PROFILE_STEP`` (or less) between those given, their points and normals
+    interpolated along straight lines between them, and the indices of the given ones."""
+    gaps = np.round(np.diff(stations.fractions) / PROFILE_STEP, 6)   # 0.05 / 0.01 > 5 in floats
+    parts = np.maximum(np.ceil(gaps), 1).astype(int)
+    at = np.concatenate([[0], np.cumsum(parts)])
+    share = np.concatenate([np.arange(n) / n + k for k, n in enumerate(parts)] + [[len(parts)]])
+    knots = np.arange(len(stations.fractions))
+
+    def along(values: np.ndarray) -> np.ndarray:
+        return np.stack([np.interp(share, knots, column) for column in values.T], axis=1)
+
+    normals = along(stations.normals)
+    normals /= np.linalg.norm(normals, axis=1, keepdims=True)
+    return Stations(length_px=stations.length_px,
+                    fractions=np.interp(share, knots, stations.fractions),
+                    points_px=along(stations.points_px), normals=normals), at
+
+
+def body_offsets(fractions: np.ndarray, offsets: np.ndarray, length_px: float) -> np.ndarray:
+    """(N,) one side's outline offsets from the midline (N,) at ``fractions`` (spaced about
+    ``PROFILE_STEP``) with flippers, dorsal fin and fluke lobes taken out (module doc); NaN
+    stays NaN."""
+    width = 2 * int(round(FIN_BASE / PROFILE_STEP / 2)) + 1   # odd: the same window both ways
+    eroded = minimum_filter1d(np.where(np.isnan(offsets), np.inf, offsets), width,
+                              mode="nearest")
+    opened = maximum_filter1d(eroded, width, mode="nearest")
+    zone = (fractions >= FIN_ZONE[0]) & (fractions <= FIN_ZONE[1])
+    above = zone & (offsets > opened)   # False at NaN
+    stretch = np.cumsum(~above)         # one label per stretch of the outline above the opening
+    standing_out = above & (offsets - opened > FIN_HEIGHT * length_px)
+    fins = above & np.isin(stretch, stretch[standing_out])
+    body = offsets.copy()
+    if fins.any():   # straight across each fin, between the outline either side of it
+        known = ~fins & np.isfinite(offsets)
+        body[fins] = np.interp(fractions[fins], fractions[known], offsets[known])
+    return without_flukes(fractions, body)
+
+
+def without_flukes(fractions: np.ndarray, offsets: np.ndarray) -> np.ndarray:
+    """One side's offsets (N,) with the tail stock tapering straight from its narrowest point
+    in ``FLUKE_ZONE`` to nothing at the notch, where the fluke lobes (``FLUKE_JUMP`` × that
+    offset) show behind that point (module doc)."""
+    rear = np.flatnonzero((fractions >= FLUKE_ZONE) & np.isfinite(offsets))
+    if rear.size == 0:
+        return offsets
+    narrowest = rear[np.argmin(offsets[rear])]
+    behind = slice(narrowest + 1, None)
+    if not np.any(offsets[behind] >= FLUKE_JUMP * offsets[narrowest]):
+        return offsets
+    taper = offsets[narrowest] * (1 - fractions[behind]) / (1 - fractions[narrowest])
+    body = offsets.copy()
+    body[behind] = np.minimum(offsets[behind], taper)
+    return body
 
 
 def annotation_from_mask(mask: np.ndarray, frame_idx: int = 0) -> Annotation:
