@@ -9,13 +9,16 @@ Bundled presets are in resources/cameras.json; the user's are saved to ``cameras
 """
 
 import os
+import re
 from dataclasses import asdict, dataclass, fields
 from pathlib import Path
 from typing import Any
 
 from dolphinfit.core.errors import InputError
 from dolphinfit.core.intrinsics import CameraIntrinsics, require_positive
+from dolphinfit.core.io.calibration_table import CalibrationTable
 from dolphinfit.core.io.json_file import read_json, write_json
+from dolphinfit.core.limits import FOCAL_MM, IMAGE_SIZE_PX, SENSOR_WIDTH_MM, in_range
 from dolphinfit.core.resources import resource_path
 
 PRESETS_FILE = "cameras.json"  # bundled in resources/, and the user file's name
@@ -23,7 +26,11 @@ PRESETS_SCHEMA_VERSION = 1
 DEFAULT_PRESET = "dji-mavic3-5.1k"  # the paper's camera and video mode (arXiv 2504.15782)
 CONFIG_DIR_ENV = "DOLPHINFIT_CONFIG_DIR"  # overrides the XDG location of the user config
 XDG_CONFIG_ENV = "XDG_CONFIG_HOME"
-XDG_CONFIG_DEFAULT = Path("~/.config")  # XDG Base Directory specification default
+XDG_CONFIG_DEFAULT = Path("~/.config")
+MAKER_WORDS = 1  # a preset's model may start with the maker's name ("DJI Mavic Air 2")
+# a table states no image height; it enters no altitude calibration (the focal length in
+# pixels is the width's), so drone video's 16:9 stands in
+TABLE_HEIGHT_PER_WIDTH = 9 / 16  # XDG Base Directory specification default
 CONFIG_SUBDIR = "dolphinfit"
 
 
@@ -170,3 +177,72 @@ def save_user_preset(preset: CameraPreset, user_path: Path | None = None) -> Pat
     }
     write_json(user_path, data)
     return user_path
+
+
+def _words(text: str) -> list[str]:
+    """Lower-case words, a number split from letters before it ("Mavic3" → mavic, 3;
+    "2.7K" → 2.7k)."""
+    return re.findall(r"[a-z]+|\d+(?:\.\d+)?[a-z]*", text.lower())
+
+
+def _contains(words: list[str], part: list[str]) -> bool:
+    return any(words[i:i + len(part)] == part for i in range(len(words) - len(part) + 1))
+
+
+def _is_model(text: str, drone: list[str], mode: list[str]) -> bool:
+    """Whether ``text`` names just the drone ``drone``: its words, the maker's name before them
+    and the video mode ``mode`` after them optional ("dji-mavic3-2.7k" is "Mavic 3", but
+    "DJI Mavic Air 2S" is not "Mavic Air 2")."""
+    words = _words(text)
+    if words[len(words) - len(mode):] == mode:
+        words = words[:len(words) - len(mode)]
+    return words[len(words) - len(drone):] == drone and len(words) - len(drone) <= MAKER_WORDS
+
+
+def preset_for_drone(drone: str, video_mode: str,
+                     presets: dict[str, CameraPreset]) -> CameraPreset | None:
+    """The camera of ``drone`` (e.g. "Mavic Air 2") in ``video_mode`` (e.g. "2.7k") among
+    ``presets``: those whose name, or description before its first comma, is that drone, and
+    whose name or description names the mode. None unless they are all one camera (the same
+    focal length, sensor width and image width)."""
+    drone_words, mode_words = _words(drone), _words(video_mode)
+    if not drone_words or not mode_words:
+        return None
+    found = [preset for preset in presets.values()
+             if (_is_model(preset.name, drone_words, mode_words)
+                 or _is_model(preset.description.split(",")[0], drone_words, mode_words))
+             and (_contains(_words(preset.name), mode_words)
+                  or _contains(_words(preset.description), mode_words))]
+    cameras = {(p.focal_mm, p.sensor_width_mm, p.image_width_px) for p in found}
+    return found[0] if len(cameras) == 1 else None
+
+
+def table_camera(table: CalibrationTable,
+                 presets: dict[str, CameraPreset]) -> tuple[CameraPreset, str] | None:
+    """The camera a calibration table's shots were taken with, and where it was found: the
+    table's focal length, sensor width and image width columns, else the preset of its drone
+    and video mode (:func:`preset_for_drone`). None when the table states neither, or only
+    part of its camera; InputError naming the file when its rows disagree or a value is
+    implausible."""
+    where = table.path.name
+    values = [table.common_value(name)
+              for name in ("focal_mm", "sensor_width_mm", "image_width_px")]
+    if all(value is not None for value in values):
+        focal_mm, sensor_mm, width = (
+            in_range(value, limits, f"{table.path}: {name}") for value, limits, name in zip(
+                values, (FOCAL_MM, SENSOR_WIDTH_MM, IMAGE_SIZE_PX),
+                ("focal_mm", "sensor_width_mm", "image_width_px")))
+        width_px = int(round(width))
+        camera = CameraPreset(
+            name=table.drone or table.path.stem,
+            description=f"the camera in {where}'s columns (which give no image height)",
+            focal_mm=focal_mm, sensor_width_mm=sensor_mm, image_width_px=width_px,
+            image_height_px=round(width_px * TABLE_HEIGHT_PER_WIDTH), source=str(table.path),
+            approximate=False)
+        return camera, f"{where}'s columns"
+    if any(value is not None for value in values):
+        return None
+    preset = preset_for_drone(table.drone, table.resolution, presets)
+    if preset is None:
+        return None
+    return preset, f"preset {preset.name!r}: {where} names {table.drone} at {table.resolution}"

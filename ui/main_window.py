@@ -679,7 +679,7 @@ class MainWindow(QMainWindow):
         self.sessions.set_altitude()
 
     def on_camera(self) -> None:
-        self.sessions.set_camera()
+        self.sessions.set_camera(self.project_panel.selected_clips())
 
     def on_lens(self) -> None:
         self.sessions.set_lens()

@@ -3,10 +3,10 @@
 Three layouts are read, each as the tool that writes it names its columns (one row per image):
 
 - **ours**: ``image``, ``altitude_m``, ``pixel_length`` and optionally ``object_length_m``,
-  ``focal_mm``, ``sensor_width_mm``, ``image_width_px``, ``drone``;
+  ``focal_mm``, ``sensor_width_mm``, ``image_width_px``, ``drone``, ``resolution``;
 - **MedidoR**'s calibration sheet (``calib.xlsx``): ``Pixel`` or ``OBJ_P``, ``C_Alt`` (flight
-  plus take-off altitude), ``ObjLength`` or ``OBJ_L`` in **centimetres**, ``Drone`` and, in
-  newer sheets, ``flen``, ``sw``, ``iw``;
+  plus take-off altitude), ``ObjLength`` or ``OBJ_L`` in **centimetres**, ``Drone``,
+  ``Resolution`` (the video mode, e.g. "2.7k") and, in newer sheets, ``flen``, ``sw``, ``iw``;
 - **Xcertainty**'s training tables (``calibration``, ``co_data``: ``Lpix``, ``CO.L`` in metres,
   ``Baro_Alt``, ``Laser_Alt``, ``Focal_Length``, ``Sw``, ``Iw``, ``uas``; the older
   ``calibration2``: ``RRR.pix``, ``L_train``, ``Baro...Ht``, ``Focal.length``, ``Aircraft``).
@@ -33,6 +33,7 @@ COLUMNS: dict[str, tuple[str, ...]] = {
     "sensor_width_mm": ("sensor_width_mm", "sw", "Sw"),
     "image_width_px": ("image_width_px", "iw", "Iw"),
     "drone": ("drone", "Drone", "uas", "Aircraft"),
+    "resolution": ("resolution", "Resolution"),
 }
 ALTITUDE_COLUMNS: dict[str, tuple[str, ...]] = {
     "barometer": ("C_Alt", "Baro_Alt", "Baro...Ht"),
@@ -40,6 +41,7 @@ ALTITUDE_COLUMNS: dict[str, tuple[str, ...]] = {
 }
 OWN_ALTITUDE = "altitude_m"
 CM_PER_M = 100.0
+SAME_VALUE_RTOL = 1e-6   # rows that differ by less state one value
 
 
 @dataclass(frozen=True)
@@ -60,12 +62,29 @@ class CalibrationShot:
 
 @dataclass(frozen=True)
 class CalibrationTable:
-    """The shots of one drone and altimeter, and where they came from."""
+    """The shots of one drone and altimeter, and where they came from.
+
+    ``resolution``: the video mode the shots' rows name (e.g. "2.7k"); "" when they name
+    none or several."""
 
     path: Path
     altimeter_column: str
     drone: str
     shots: tuple[CalibrationShot, ...]
+    resolution: str = ""
+
+    def common_value(self, name: str) -> float | None:
+        """The value of shot field ``name`` all the shots that carry it share; None when none
+        does. InputError naming the file when they disagree."""
+        values = np.array([getattr(shot, name) for shot in self.shots], dtype=float)
+        known = values[np.isfinite(values)]
+        if not known.size:
+            return None
+        if not np.allclose(known, known[0], rtol=SAME_VALUE_RTOL, atol=0.0):
+            listed = ", ".join(f"{value:g}" for value in np.unique(known))
+            raise InputError(f"{self.path}: the rows disagree on {name} ({listed}): one "
+                             f"calibration holds for one object and camera; split the table")
+        return float(known[0])
 
 
 def _frame(path: Path):
@@ -167,6 +186,9 @@ def read_calibration_table(path: Path | str, altimeter: str | None = None,
     if length_cm is not None:
         length_m = _numbers(path, frame, length_cm, scale=CM_PER_M)
     image_column = _column(frame, COLUMNS["image"])
+    resolution_column = _column(frame, COLUMNS["resolution"])
+    resolutions = ({str(value).strip() for value in frame[resolution_column].dropna()}
+                   if resolution_column is not None else set())
     columns = {role: _numbers(path, frame, _column(frame, COLUMNS[role]))
                for role in ("focal_mm", "sensor_width_mm", "image_width_px")}
     pixels = _numbers(path, frame, pixel_column)
@@ -185,4 +207,5 @@ def read_calibration_table(path: Path | str, altimeter: str | None = None,
         raise InputError(f"{path}: no row with both a pixel length ({pixel_column}) and an "
                          f"altitude ({altitude_column})")
     return CalibrationTable(path=path, altimeter_column=altitude_column, drone=chosen,
-                            shots=shots)
+                            shots=shots,
+                            resolution=resolutions.pop() if len(resolutions) == 1 else "")

@@ -15,14 +15,16 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from PySide6.QtCore import QRectF, QTimer
+from PySide6.QtCore import QRectF, Qt, QTimer
 
 from dolphinfit.core.fit.result_io import read_fit_result
 from dolphinfit.core.io.masks import read_masks
 from dolphinfit.core.measure.mask_midline import midline_from_mask
 from dolphinfit.core.project.fit_settings import FitSettings, fit_dir
+from dolphinfit.core.project.mask_store import save_track, with_frame
 from dolphinfit.core.project.project_file import relative_media_path
 from dolphinfit.core.project.sample import ensure_sample_project
+from dolphinfit.ui.dialogs.camera_dialog import CameraAnswer
 from dolphinfit.ui.state.commands import edit_measurement
 from dolphinfit.ui.main_window import MainWindow
 
@@ -214,7 +216,8 @@ def test_fit_runs_saves_shows_and_cancels(qtbot, sample_copy, make_window):
             {"camera", "altitude", "calibration", "lens", "masks"}
         assert "out of date" not in again.fits.panel.status.text()
         camera = again.model.project.clips[0].camera
-        again.ask.camera = lambda *args: (replace(camera, focal_mm=camera.focal_mm * 1.1), None)
+        again.ask.camera = lambda *args: CameraAnswer(
+            replace(camera, focal_mm=camera.focal_mm * 1.1), None)
         again.sessions.set_camera()
         qtbot.waitUntil(lambda: again.fits.panel.status.text().startswith(
             "⚠ out of date: the clip's camera changed since this fit"), timeout=30_000)

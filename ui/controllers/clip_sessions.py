@@ -5,14 +5,16 @@ altitude of a frame for the results, and the Clip menu's altitude and camera com
 It holds the viewer state's session; the window shows what it opens (``opened``) and what it
 reads again (``telemetry_changed``)."""
 
+from collections.abc import Sequence
 from dataclasses import replace
+from pathlib import Path
+
 from PySide6.QtCore import QObject, Signal
 
 from dolphinfit.core.errors import InputError
-from dolphinfit.core.measure.altitude_calibration import same_focal_px
 from dolphinfit.core.measure.lens import LensModel, read_lens
-from dolphinfit.core.measure.preset_lens import preset_lens
 from dolphinfit.core.project.calibrations import clip_calibration
+from dolphinfit.core.project.clip_cameras import CameraSetting, camera_setting, with_camera_setting
 from dolphinfit.core.project.model import with_calibration, with_clip
 from dolphinfit.core.project.project_file import media_path
 from dolphinfit.core.project.results import frame_altitude
@@ -142,55 +144,46 @@ class ClipSessions(QObject):
                                             replace(clip, altitude=spec)),
                       "set altitude", Change("clip", clip=clip_idx))
 
-    def set_camera(self) -> None:
-        """Ask for the open clip's camera and set it (an undoable edit). The lens model kept
-        with the chosen preset (core/measure/preset_lens.py), read in the background, comes
-        with it where the clip has none or has the old preset's; one of another image size is
-        left out, and the user told."""
+    def set_camera(self, selected: Sequence[int] = ()) -> None:
+        """Ask for the open clip's camera and set it on that clip, the other ``selected``
+        clips and, where asked, every clip of the open clip's video size, in one undoable
+        edit. Each clip takes the lens model kept with the chosen preset where it has none
+        of its own (core.project.clip_cameras); the clips' sizes and lenses are read in the
+        background."""
         clip_idx = self._open_clip()
         if clip_idx is None:
             return
         clip = self.model.project.clips[clip_idx]
         media = self.state.session.source.clip
-        chosen = self.ask.camera(clip.camera, clip.preset_name, media.width_px, media.height_px)
-        if chosen is None:
+        size = (media.width_px, media.height_px)
+        targets = sorted({clip_idx, *selected})
+        answer = self.ask.camera(clip.camera, clip.preset_name, *size, len(targets))
+        if answer is None:
             return
-        camera, preset_name = chosen
-        path = self.model.path
+        path, project = self.model.path, self.model.project
+        every_of_size = size if answer.is_for_every_clip_of_size else None
+        self.jobs.run(lambda: camera_setting(path, project, answer.camera, answer.preset_name,
+                                             targets, {clip_idx: size}, every_of_size),
+                      lambda setting: self._apply_camera(path, setting),
+                      lambda why: self.notifier.error("Camera", why))
 
-        def kept_with(name: str | None) -> LensModel | None:
-            try:
-                return preset_lens(name)
-            except InputError:
-                return None     # an unreadable one is said when it would be used
-
-        def read() -> tuple[LensModel | None, str]:
-            if clip.lens is not None and clip.lens != kept_with(clip.preset_name):
-                return clip.lens, ""     # the user's own lens model stays
-            try:
-                lens = preset_lens(preset_name)
-                if lens is not None:
-                    lens.check_image_size(media.width_px, media.height_px,
-                                          f"the lens model kept with {preset_name!r}")
-            except InputError as exc:     # unreadable, or of another image size
-                return None, f"{exc}: the camera is set without it"
-            return lens, ""
-
-        def set_it(found: tuple[LensModel | None, str]) -> None:
-            lens, note = found
-            current = self.model.project.clips[clip_idx] \
-                if clip_idx < len(self.model.project.clips) else None
-            if self.model.path != path or current is None or \
-                    current.media_path != clip.media_path:
-                return   # another project or clip by now: the choice no longer applies
-            push_edit(self.model, with_clip(self.model.project, clip_idx, replace(
-                current, camera=camera, preset_name=preset_name, lens=lens)),
-                "set camera" + (" and its lens model" if lens not in (None, clip.lens) else ""),
-                Change("clip", clip=clip_idx))
-            if note:
-                self.notifier.status(note, 10_000)
-
-        self.jobs.run(read, set_it, lambda why: self.notifier.error("Camera", why))
+    def _apply_camera(self, path: Path, setting: CameraSetting) -> None:
+        """Set the camera read in the background, unless the project changed meanwhile."""
+        if not setting.lenses:
+            self.notifier.error("Camera", "no clip was set: " + "; ".join(setting.notes))
+            return
+        project = self.model.project
+        after = with_camera_setting(project, setting) if self.model.path == path else None
+        if after is None:
+            return   # another project, or other clips, by now: the choice no longer applies
+        targets = list(setting.lenses)
+        text = "set camera" if len(targets) == 1 else f"set camera of {len(targets)} clips"
+        if any(lens not in (None, project.clips[i].lens) for i, lens in setting.lenses.items()):
+            text += " and its lens model"
+        push_edit(self.model, after, text,
+                  Change("clip", clip=targets[0] if len(targets) == 1 else None))
+        if setting.notes:
+            self.notifier.status("; ".join(setting.notes), 10_000)
 
     def set_lens(self) -> None:
         """Ask for a lens model (`dolphinfit calibrate lens`) for the open clip, read and
@@ -230,8 +223,9 @@ class ClipSessions(QObject):
                   "no lens model", Change("clip", clip=clip_idx))
 
     def calibrate_altitude(self) -> None:
-        """Build or edit the altitude calibration of the open clip's camera and choose the
-        clips it corrects (an undoable edit)."""
+        """Build the open clip's altitude calibration or edit the one it has, and choose the
+        clips it corrects (an undoable edit); a new one's camera is chosen in the dialog (the
+        clip's offered first) and no clip is ticked until the user ticks it."""
         clip_idx = self._open_clip()
         if clip_idx is None:
             return
@@ -239,14 +233,12 @@ class ClipSessions(QObject):
         clip = project.clips[clip_idx]
         current = (None if clip.altitude_calibration is None
                    else project.calibration(clip.altitude_calibration))
-        focal_px = clip.camera.intrinsics().focal_px
-        same_camera = [(i, c.name) for i, c in enumerate(project.clips)
-                       if same_focal_px(c.camera.intrinsics().focal_px, focal_px)]
-        ticked = ({clip_idx} if current is None else
+        clips = [(i, c.name, c.camera.intrinsics().focal_px) for i, c in enumerate(project.clips)]
+        ticked = (set() if current is None else
                   {i for i, c in enumerate(project.clips)
                    if c.altitude_calibration == current.name})
-        choice = self.ask.altitude_calibration(clip.camera if current is None else current.camera,
-                                               current, same_camera, ticked)
+        choice = self.ask.altitude_calibration(current, clip.camera, clip.preset_name, clips,
+                                               ticked)
         if choice is not None:
             push_edit(self.model, with_calibration(
                 project, choice.calibration, choice.clip_indices,

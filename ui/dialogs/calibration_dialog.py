@@ -1,7 +1,10 @@
 """Calibrate a drone's altimeter in the app: images of an object of known length, its two ends
 clicked on each, the altitude recorded with each, and the fitted line drawn as the shots come
-in (or a table of pixel lengths imported instead). The calibration holds for the camera of the
-clip it was started from; the clips of that camera it should correct are ticked below.
+in (or a table of pixel lengths imported instead). The calibration holds for the camera the
+shots were taken with: chosen in the dialog (the open clip's is offered first, never assumed),
+or an imported table's own (its focal length, sensor width and image width columns, or the one
+camera preset of its drone and video mode). No line is fitted until there is one. The clips it
+corrects are ticked by the user; only clips of that camera can be.
 
 Images are read and the line fitted in the background; the dialog only draws."""
 
@@ -17,11 +20,11 @@ from PySide6.QtWidgets import (QAbstractItemView, QCheckBox, QComboBox, QDialog,
                                QLineEdit, QPushButton, QSplitter, QTableWidget,
                                QTableWidgetItem, QVBoxLayout, QWidget)
 
-from dolphinfit.core.camera_presets import CameraPreset
+from dolphinfit.core.camera_presets import CameraPreset, load_presets, table_camera
 from dolphinfit.core.io.calibration_table import read_calibration_table
 from dolphinfit.core.io.image_file import read_image
-from dolphinfit.core.limits import LAUNCH_HEIGHT_M
-from dolphinfit.core.measure.altitude_calibration import AltitudeCalibration
+from dolphinfit.core.limits import BODY_LENGTH_M, LAUNCH_HEIGHT_M, in_range
+from dolphinfit.core.measure.altitude_calibration import AltitudeCalibration, same_focal_px
 from dolphinfit.core.measure.annotation import ALTITUDE_SOURCES
 from dolphinfit.core.measure.calibration_plot import draw_altitude_calibration
 from dolphinfit.core.project.calibrations import (
@@ -34,6 +37,7 @@ from dolphinfit.core.project.calibrations import (
     srt_is_relative,
 )
 from dolphinfit.core.project.model import AltitudeCalibrationSet, ObjectShot
+from dolphinfit.ui.dialogs.camera_dialog import CameraDialog
 from dolphinfit.ui.dialogs.dialog_buttons import ok_cancel_buttons
 from dolphinfit.ui.dialogs.message_label import MessageLabel
 from dolphinfit.ui.widgets.canvas import FrameCanvas
@@ -47,6 +51,7 @@ FRAME_STEP = 30          # of a video, one frame a second at 30 frames/s
 KEPT_IMAGES = 4
 DEFAULT_ALTIMETER = "barometer"   # what most drones carry
 LINE_COLOUR = Qt.GlobalColor.yellow
+NO_CAMERA = "choose the camera the shots were taken with (Camera…)"
 
 
 @dataclass(frozen=True)
@@ -57,20 +62,48 @@ class CalibrationChoice:
     clip_indices: tuple[int, ...]
 
 
+@dataclass(frozen=True)
+class ImportedTable:
+    """A calibration table read for the dialog: its shots, the object's length and the camera
+    (with where it was found) where the table states them."""
+
+    name: str
+    shots: tuple[ObjectShot, ...]
+    object_length_m: float | None
+    camera: tuple[CameraPreset, str] | None
+
+
+def read_table(path: Path, altimeter: str | None) -> ImportedTable:
+    """``path``'s shots, object length and camera, as `dolphinfit calibrate altitude` reads
+    them; InputError naming the file when it cannot be used."""
+    table = read_calibration_table(path, altimeter)
+    length_m = table.common_value("object_length_m")
+    if length_m is not None:
+        in_range(length_m, BODY_LENGTH_M, f"{path}: object length")
+    return ImportedTable(path.name, shots_from_table(table), length_m,
+                         table_camera(table, load_presets()))
+
+
 class CalibrationDialog(QDialog):
     """Build or edit an altitude calibration (module doc).
 
-    ``current``: the set to edit, or None for a new one with ``camera``; ``clips``: (index,
-    name) of the project's clips of that camera, ``ticked`` those it corrects now."""
+    ``current``: the set to edit (its camera kept), or None for a new one (no camera yet);
+    ``clip_camera``, ``clip_preset``: the open clip's camera and preset name, offered first
+    when the camera is chosen; ``clips``: (index, name, focal length px) of the project's
+    clips, ``ticked`` those it corrects now."""
 
-    def __init__(self, camera: CameraPreset, current: AltitudeCalibrationSet | None,
-                 clips: list[tuple[int, str]], ticked: set[int],
-                 parent: QWidget | None = None) -> None:
+    def __init__(self, current: AltitudeCalibrationSet | None, clip_camera: CameraPreset,
+                 clip_preset: str | None, clips: list[tuple[int, str, float]],
+                 ticked: set[int], parent: QWidget | None = None) -> None:
         super().__init__(parent)
         self.setWindowTitle("Altitude calibration")
         self.resize(1100, 720)
         self.jobs = BackgroundJobs(self)
-        self._camera = camera
+        self._camera = current.camera if current else None
+        self._camera_origin = "the calibration's"   # where self._camera came from
+        self._clip_camera = (clip_camera, clip_preset)
+        self._shots_size_px: tuple[int, int] | None = None   # (W, H) of the images read
+        self._why_no_line = "the line is being fitted"
         self._shots: list[ObjectShot] = list(current.shots) if current else []
         self._images: dict[str, np.ndarray] = {}   # the last few shots' images, for clicking
         self._pending: set[str] = set()   # shots added here whose ends are not clicked yet
@@ -100,10 +133,13 @@ class CalibrationDialog(QDialog):
         self.plot = FigureCanvasQTAgg(self.figure)
         self.summary = QLabel(objectName="summary", wordWrap=True)
         self.status = MessageLabel(objectName="status")
-        self.clip_boxes = {index: QCheckBox(name) for index, name in clips}
+        self.camera = QLabel(objectName="camera", wordWrap=True)
+        self.clip_boxes = {index: QCheckBox(name) for index, name, _ in clips}
+        self._clip_focal_px = {index: focal_px for index, _, focal_px in clips}
         for index, box in self.clip_boxes.items():
             box.setChecked(index in ticked)
         self._layout()
+        self._show_camera()
         self.object_length.valueChanged.connect(self._refit)
         self.name.textChanged.connect(self._refit)
         self.table.itemSelectionChanged.connect(self._show_selected)
@@ -117,9 +153,13 @@ class CalibrationDialog(QDialog):
         form.addRow("Name", self.name)
         form.addRow("Object length", self.object_length)
         form.addRow("Altimeter", self.altimeter)
-        form.addRow("Camera", QLabel(
-            f"{self._camera.focal_mm:g} mm, sensor {self._camera.sensor_width_mm:g} mm, "
-            f"{self._camera.image_width_px}×{self._camera.image_height_px} px (the clip's)"))
+        choose = QPushButton("Camera…", objectName="choose_camera")
+        choose.setToolTip("the camera and video mode the shots were taken with")
+        choose.clicked.connect(self._choose_camera)
+        camera = QVBoxLayout()
+        camera.addWidget(self.camera)
+        camera.addWidget(choose, alignment=Qt.AlignmentFlag.AlignLeft)
+        form.addRow("Camera", camera)
         add = QPushButton("Add images…", objectName="add_images")
         add.clicked.connect(self._ask_images)
         frames = QPushButton("Add clip frames…", objectName="add_clip_frames")
@@ -144,7 +184,8 @@ class CalibrationDialog(QDialog):
         right = QVBoxLayout()
         right.addWidget(self.plot)
         right.addWidget(self.summary)
-        right.addWidget(QLabel("Correct the altitudes of these clips (same camera):"))
+        right.addWidget(QLabel("Correct the altitudes of these clips (only those of the "
+                               "calibration's camera can be):", wordWrap=True))
         for box in self.clip_boxes.values():
             right.addWidget(box)
         right.addStretch()
@@ -159,6 +200,47 @@ class CalibrationDialog(QDialog):
         outer.addWidget(split)
         outer.addWidget(self.status)
         outer.addWidget(ok_cancel_buttons(self))
+
+    # ------------------------------------------------------------------ camera
+    def _choose_camera(self) -> None:
+        camera = self.ask_camera()
+        if camera is not None:
+            self.set_camera(camera, "chosen with Camera…")
+
+    def ask_camera(self) -> CameraPreset | None:
+        """The shots' camera, chosen in the camera dialog (the calibration's, else the open
+        clip's, offered first; checked against the shots' image size); None when cancelled."""
+        start, preset = ((self._camera, None) if self._camera is not None
+                         else self._clip_camera)
+        width, height = self._shots_size_px or (start.image_width_px, start.image_height_px)
+        dialog = CameraDialog(start, preset, width, height, self, for_clips=False)
+        chosen = dialog.camera if dialog.exec() else None
+        dialog.deleteLater()
+        return chosen
+
+    def set_camera(self, camera: CameraPreset, origin: str) -> None:
+        """Fit with ``camera`` (``origin``: where it came from, shown beside it)."""
+        self._camera, self._camera_origin = camera, origin
+        self._show_camera()
+        self._refit()
+
+    def _show_camera(self) -> None:
+        """Say which camera the line is for; only clips of that camera can be ticked."""
+        camera = self._camera
+        if camera is None:
+            self.camera.setText(f"none: {NO_CAMERA}")
+        else:
+            self.camera.setText(
+                f"{camera.name}: focal {camera.focal_mm:g} mm, sensor "
+                f"{camera.sensor_width_mm:g} mm, {camera.image_width_px} px wide "
+                f"({self._camera_origin})")
+        for index, box in self.clip_boxes.items():
+            same = camera is not None and same_focal_px(self._clip_focal_px[index],
+                                                        camera.intrinsics().focal_px)
+            box.setEnabled(same)
+            box.setToolTip("" if same else "a clip of another camera (or none chosen)")
+            if not same:
+                box.setChecked(False)
 
     # ------------------------------------------------------------------ shots
     def _ask_images(self) -> None:
@@ -230,13 +312,32 @@ class CalibrationDialog(QDialog):
                           lambda why: self.status.show_message(why, "error"))
 
     def import_table(self, path: Path, altimeter: str | None = None) -> None:
-        """Add a table's rows (our CSV, MedidoR's or Xcertainty's) as shots."""
-        self.jobs.run(lambda: shots_from_table(read_calibration_table(path, altimeter)),
-                      self._on_table_read, lambda why: self.status.show_message(why, "error"))
+        """Add a table's rows (our CSV, MedidoR's or Xcertainty's) as shots, with its object
+        length and camera where it states them."""
+        self.jobs.run(lambda: read_table(path, altimeter), self._on_table_read,
+                      lambda why: self.status.show_message(why, "error"))
 
-    def _on_table_read(self, shots: tuple[ObjectShot, ...]) -> None:
-        self._shots += shots
+    def _on_table_read(self, table: ImportedTable) -> None:
+        """The table's shots added, unless it states a camera other than the calibration's."""
+        camera, origin = table.camera or (None, "")
+        if camera is not None and self._camera is not None and not same_focal_px(
+                camera.intrinsics().focal_px, self._camera.intrinsics().focal_px):
+            self.status.show_message(
+                f"{table.name}'s camera ({camera.name}, {origin}) is not the calibration's "
+                f"({self._camera.name}): one calibration holds for one camera", "error")
+            return
+        self._shots += table.shots
         self._fill_table()
+        notes = [f"{len(table.shots)} shots from {table.name}"]
+        if table.object_length_m is not None:
+            notes.append(f"the object {table.object_length_m:g} m long (the table's)")
+            self.object_length.setValue(table.object_length_m)
+        if camera is not None and self._camera is None:
+            notes.append(f"camera {camera.name} ({origin})")
+            self.set_camera(camera, origin)
+        elif self._camera is None:
+            notes.append(f"the table does not say its camera: {NO_CAMERA}")
+        self.status.show_message("; ".join(notes), "info" if self._camera else "warning")
         self._refit()
 
     def _on_image_read(self, read: tuple[Path, np.ndarray]) -> None:
@@ -250,13 +351,21 @@ class CalibrationDialog(QDialog):
         self.table.selectRow(len(self._shots) - 1)
 
     def _of_this_camera(self, image: str, rgb: np.ndarray) -> bool:
-        """Whether ``image`` is the camera's width; an error shown when it is not."""
-        if rgb.shape[1] == self._camera.image_width_px:
-            return True
-        self.status.show_message(
-            f"{Path(image).name} is {rgb.shape[1]} px wide; the camera's images are "
-            f"{self._camera.image_width_px} px: not a shot of this camera", "error")
-        return False
+        """Whether ``image`` is as wide as the camera's images (while none is chosen, as the
+        other shots'); an error shown when it is not."""
+        height, width = rgb.shape[:2]
+        if self._camera is not None:
+            expected, whose = self._camera.image_width_px, "the camera's images are"
+        elif self._shots_size_px is not None:
+            expected, whose = self._shots_size_px[0], "the other shots are"
+        else:
+            expected, whose = width, ""
+        if width != expected:
+            self.status.show_message(f"{Path(image).name} is {width} px wide; {whose} "
+                                     f"{expected} px: not a shot of this camera", "error")
+            return False
+        self._shots_size_px = (width, height)
+        return True
 
     def remove_selected(self) -> None:
         row = self.table.currentRow()
@@ -359,6 +468,12 @@ class CalibrationDialog(QDialog):
 
     def calibration_set(self) -> AltitudeCalibrationSet:
         """The set as entered (ValueError saying what is missing)."""
+        if self._camera is None:
+            raise ValueError(NO_CAMERA)
+        if self._shots_size_px and self._shots_size_px[0] != self._camera.image_width_px:
+            raise ValueError(f"the shots' images are {self._shots_size_px[0]} px wide, the "
+                             f"camera's {self._camera.image_width_px} px: choose the camera "
+                             f"the shots were taken with (Camera…)")
         return AltitudeCalibrationSet(self.name.text().strip() or "unnamed calibration",
                                       self.object_length.value(), self._camera,
                                       self.altimeter.currentText(), self._measured())
@@ -377,7 +492,7 @@ class CalibrationDialog(QDialog):
                       and self._show_fit(None, why))
 
     def _show_fit(self, calibration: AltitudeCalibration | None, why: str) -> None:
-        self.calibration = calibration
+        self.calibration, self._why_no_line = calibration, why
         self.figure.clear()
         if calibration is None:
             self.summary.setText(f"No line yet: {why}")
@@ -400,8 +515,7 @@ class CalibrationDialog(QDialog):
     def accept(self) -> None:
         """Only a calibration that gives a line is accepted."""
         if self.calibration is None:
-            self.status.show_message("Measure at least five shots at different altitudes "
-                                     "first.", "error")
+            self.status.show_message(f"No line yet: {self._why_no_line}", "error")
             return
         if not self.name.text().strip():
             self.status.show_message("Name the calibration (the drone and altimeter).",

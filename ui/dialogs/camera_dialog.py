@@ -1,17 +1,19 @@
 """The clip's camera and video mode: a named preset, or focal length, sensor width and image
-size typed by hand, with the focal length in pixels and the GSD they give."""
+size typed by hand, with the focal length in pixels and the GSD they give; for the clips
+selected with it, and, where ticked, every clip of the clip's video size."""
 
 import math
-from dataclasses import replace
+from dataclasses import dataclass, replace
 
 from PySide6.QtCore import QSignalBlocker, Qt
-from PySide6.QtWidgets import (QComboBox, QDialog, QDoubleSpinBox, QFormLayout, QHBoxLayout,
-                               QInputDialog, QLabel, QMessageBox, QPushButton, QSpinBox,
-                               QVBoxLayout, QWidget)
+from PySide6.QtWidgets import (QCheckBox, QComboBox, QDialog, QDoubleSpinBox, QFormLayout,
+                               QHBoxLayout, QInputDialog, QLabel, QMessageBox, QPushButton,
+                               QSpinBox, QVBoxLayout, QWidget)
 
 from dolphinfit.core.camera_presets import (CameraPreset, load_presets, preset_resolution_mismatch,
                                  save_user_preset)
 from dolphinfit.core.errors import InputError
+from dolphinfit.core.project.clip_cameras import entered_camera
 from dolphinfit.ui.dialogs.dialog_buttons import ok_cancel_buttons
 from dolphinfit.ui.dialogs.message_label import MessageLabel
 
@@ -22,7 +24,6 @@ SENSOR_WIDTH_RANGE_MM = (0.5, 100.0)
 IMAGE_SIZE_RANGE_PX = (16, 100_000)
 MM_DECIMALS = 4
 COMBO_MIN_CHARS = 48  # long preset descriptions are elided, not widening the dialog
-EDITED_NAME = "edited"
 EDITED_SOURCE = "entered in the camera dialog"
 
 
@@ -38,16 +39,31 @@ def _px_spin(name: str) -> QSpinBox:
     return spin
 
 
+@dataclass(frozen=True)
+class CameraAnswer:
+    """The camera chosen, its preset (None: values edited) and whether every clip of the
+    clip's video size takes it too."""
+
+    camera: CameraPreset
+    preset_name: str | None
+    is_for_every_clip_of_size: bool = False
+
+
 class CameraDialog(QDialog):
     """Choose a clip's camera: ``camera`` and ``preset_name`` (None once a value is edited).
 
-    ``width_px``, ``height_px``: the clip's image size, checked against the camera's.
+    ``width_px``, ``height_px``: the clip's image size, checked against the camera's;
+    ``num_clips``: how many clips are selected with it (all take the camera);
+    ``for_clips``: False where the camera is for something else than clips (a calibration's
+    shots), which hides "Use for every clip of this video size".
     """
 
     def __init__(self, current: CameraPreset, preset_name: str | None, width_px: int,
-                 height_px: int, parent: QWidget | None = None) -> None:
+                 height_px: int, parent: QWidget | None = None, num_clips: int = 1,
+                 for_clips: bool = True) -> None:
         super().__init__(parent)
-        self.setWindowTitle("Camera and video mode")
+        self.setWindowTitle("Camera and video mode" if num_clips == 1 else
+                            f"Camera and video mode of {num_clips} clips")
         self._camera = current
         self._preset_name = preset_name
         self._clip_size = (width_px, height_px)
@@ -60,6 +76,7 @@ class CameraDialog(QDialog):
         if preset_name is not None and preset_name not in self._presets:
             self._presets[preset_name] = current  # a preset of the machine the project came from
         self._build()
+        self._every_of_size.setVisible(for_clips)
         self._fill_combo()
         self._show_camera()
 
@@ -85,12 +102,16 @@ class CameraDialog(QDialog):
             f"Use the clip's size ({self._clip_size[0]}×{self._clip_size[1]} px)",
             objectName="use_clip_size")
         self._use_clip_size.clicked.connect(self._on_use_clip_size)
+        self._every_of_size = QCheckBox(
+            f"Use for every clip of this video size ({self._clip_size[0]}×"
+            f"{self._clip_size[1]} px)", objectName="every_clip_of_size")
         save = QPushButton("Save as my preset…", objectName="save_preset")
         save.clicked.connect(self._save_as_preset)
         buttons = ok_cancel_buttons(self)
         layout = QVBoxLayout(self)
         layout.addLayout(form)
-        for widget in (self._derived, self._warning, self._use_clip_size, self._status):
+        for widget in (self._derived, self._warning, self._use_clip_size, self._every_of_size,
+                       self._status):
             layout.addWidget(widget)
         row = QHBoxLayout()
         row.addWidget(save)
@@ -139,11 +160,9 @@ class CameraDialog(QDialog):
         self._show_camera()
 
     def _on_edited(self) -> None:
-        focal, sensor, width, height = (spin.value() for spin in self._spins)
-        self._camera = CameraPreset(
-            name=EDITED_NAME, description="values entered by hand", focal_mm=focal,
-            sensor_width_mm=sensor, image_width_px=width, image_height_px=height,
-            source=EDITED_SOURCE, approximate=self._camera.approximate)
+        self._camera = entered_camera(self._camera, self._preset_name is not None,
+                                      *(spin.value() for spin in self._spins),
+                                      source=EDITED_SOURCE)
         self._preset_name = None
         with QSignalBlocker(self._combo):
             self._combo.setCurrentIndex(-1)
@@ -186,3 +205,8 @@ class CameraDialog(QDialog):
     def preset_name(self) -> str | None:
         """The preset the camera is, None once its values were edited."""
         return self._preset_name
+
+    @property
+    def answer(self) -> CameraAnswer:
+        """The camera, its preset and whether every clip of this video size takes it."""
+        return CameraAnswer(self._camera, self._preset_name, self._every_of_size.isChecked())

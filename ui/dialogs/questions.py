@@ -21,7 +21,7 @@ from dolphinfit.core.segment.sam2_backend import check_checkpoint, config_for
 from dolphinfit.ui.dialogs.altitude_dialog import AltitudeDialog
 from dolphinfit.ui.dialogs.animal_dialog import AnimalDialog
 from dolphinfit.ui.dialogs.calibration_dialog import CalibrationChoice, CalibrationDialog
-from dolphinfit.ui.dialogs.camera_dialog import CameraDialog
+from dolphinfit.ui.dialogs.camera_dialog import CameraAnswer, CameraDialog
 from dolphinfit.ui.dialogs.handle_style_dialog import HandleStyleDialog
 from dolphinfit.ui.dialogs.launch_height_dialog import LaunchHeightDialog
 from dolphinfit.ui.dialogs.relink_dialog import RelinkDialog
@@ -235,12 +235,14 @@ class Questions:
         return value if ok else None
 
     # ------------------------------------------------------------------ settings dialogs
-    def altitude_calibration(self, camera: CameraPreset,
-                             current: AltitudeCalibrationSet | None,
-                             clips: list[tuple[int, str]],
+    def altitude_calibration(self, current: AltitudeCalibrationSet | None,
+                             clip_camera: CameraPreset, clip_preset: str | None,
+                             clips: list[tuple[int, str, float]],
                              ticked: set[int]) -> CalibrationChoice | None:
-        """A calibration of ``camera`` (``current`` edited) and the clips it corrects."""
-        dialog = CalibrationDialog(camera, current, clips, ticked, self.parent)
+        """A calibration (``current`` edited; a new one's camera chosen, the open clip's
+        offered first) and the clips it corrects (CalibrationDialog)."""
+        dialog = CalibrationDialog(current, clip_camera, clip_preset, clips, ticked,
+                                   self.parent)
         return dialog.choice() if dialog.exec() else None
 
     def altitude(self, media: Path, project_dir: Path, clip: Clip,
@@ -250,10 +252,11 @@ class Questions:
         return dialog.spec if dialog.exec() else None
 
     def camera(self, camera: CameraPreset, preset_name: str | None, width_px: int,
-               height_px: int) -> tuple[CameraPreset, str | None] | None:
-        """The clip's camera: (custom camera, preset name)."""
-        dialog = CameraDialog(camera, preset_name, width_px, height_px, self.parent)
-        return (dialog.camera, dialog.preset_name) if dialog.exec() else None
+               height_px: int, num_clips: int) -> CameraAnswer | None:
+        """The camera of the open clip (``width_px`` × ``height_px``) and of the other clips
+        selected with it (``num_clips`` in all)."""
+        dialog = CameraDialog(camera, preset_name, width_px, height_px, self.parent, num_clips)
+        return dialog.answer if dialog.exec() else None
 
     def animal(self, animal: Animal, others: list[str]) -> tuple[str, str] | None:
         """The animal's (id, notes); ``others``: the clip's other animals' ids."""

@@ -1,17 +1,20 @@
 """The project tree: clips with where each stands (altitude, scanned, animals found, frames
 measured, animals fitted; core.project.scan_store.ClipStatus), their animals and each
 animal's measured frames with its length and volume; selecting a row makes it current (and
-jumps to that frame). A clip that still needs work is shown in bold."""
+jumps to that frame). Several rows are selected with Ctrl or Shift (their clips take one
+camera together: Clip → Camera…). A clip that still needs work is shown in bold."""
 
-from PySide6.QtCore import Qt
+from PySide6.QtCore import QItemSelectionModel, Qt
 from PySide6.QtGui import QFont
-from PySide6.QtWidgets import QTreeWidget, QTreeWidgetItem, QVBoxLayout, QWidget
+from PySide6.QtWidgets import (QAbstractItemView, QHeaderView, QTreeWidget, QTreeWidgetItem,
+                               QVBoxLayout, QWidget)
 
 from dolphinfit.core.project.model import MeasurementKey
 from dolphinfit.core.project.scan_store import ClipStatus
 from dolphinfit.ui.state.project_model import Change, ProjectModel
 
 ROLE_PATH = Qt.ItemDataRole.UserRole  # (clip, animal or None, measurement or None)
+INDENT_CHARS = 2   # a level's indentation: narrower than Qt's, it leaves the names room
 
 
 class ProjectPanel(QWidget):
@@ -24,7 +27,13 @@ class ProjectPanel(QWidget):
         self._statuses: list[ClipStatus] = []
         self.tree = QTreeWidget()
         self.tree.setHeaderLabels(["clip / animal / frame", "status / length, volume"])
-        self.tree.setColumnWidth(0, 150)
+        header = self.tree.header()   # the statuses whole; the names give way, their ends shown
+        header.setStretchLastSection(False)
+        header.setSectionResizeMode(0, QHeaderView.ResizeMode.Stretch)
+        header.setSectionResizeMode(1, QHeaderView.ResizeMode.ResizeToContents)
+        self.tree.setTextElideMode(Qt.TextElideMode.ElideMiddle)
+        self.tree.setIndentation(self.tree.fontMetrics().averageCharWidth() * INDENT_CHARS)
+        self.tree.setSelectionMode(QAbstractItemView.SelectionMode.ExtendedSelection)
         self.tree.itemSelectionChanged.connect(self._on_tree_selection)
         layout = QVBoxLayout(self)
         layout.setContentsMargins(0, 0, 0, 0)
@@ -101,14 +110,22 @@ class ProjectPanel(QWidget):
             stack += [item.child(i) for i in range(item.childCount())]
         return found
 
+    def selected_clips(self) -> list[int]:
+        """The clips of the selected rows, in order."""
+        return sorted({item.data(0, ROLE_PATH)[0] for item in self.tree.selectedItems()})
+
     def _follow_selection(self) -> None:
+        """Make the model's current row current and the only one selected; the row clicked
+        last is already current, and the rows selected with it stay selected."""
         m = self._model
         wanted = (m.clip_idx, m.animal_idx, m.measurement_idx)
         for item in self._items():
             if item.data(0, ROLE_PATH) == wanted:
-                self.tree.blockSignals(True)
-                self.tree.setCurrentItem(item)
-                self.tree.blockSignals(False)
+                if item is not self.tree.currentItem():
+                    self.tree.blockSignals(True)
+                    self.tree.setCurrentItem(item, 0,
+                                             QItemSelectionModel.SelectionFlag.ClearAndSelect)
+                    self.tree.blockSignals(False)
                 return
 
     def _on_tree_selection(self) -> None:

@@ -11,6 +11,7 @@ from dolphinfit.core.project.model import AltitudeSpec
 from dolphinfit.core.project.project_file import read_project
 from dolphinfit.core.project.sample import ensure_sample_project
 from dolphinfit.ui.controllers.clip_sessions import ClipSessions
+from dolphinfit.ui.dialogs.camera_dialog import CameraAnswer
 from dolphinfit.ui.dialogs.questions import Questions
 from dolphinfit.ui.state.project_model import ProjectModel
 from dolphinfit.ui.state.viewer_state import Notifier, ViewerState
@@ -32,7 +33,7 @@ class _Answers(Questions):
     def lens_file(self) -> Path | None:
         return self.lens
 
-    def camera(self, camera, preset_name, width_px, height_px):
+    def camera(self, camera, preset_name, width_px, height_px, num_clips):
         return self.chosen_camera
 
 
@@ -123,7 +124,7 @@ def test_a_preset_keeping_a_lens_gives_it_to_the_clip_in_the_same_step(qtbot, se
     lens = LensModel(1280, 720, 900.0, 900.0, 639.5, 359.5, (-0.1, 0.02, 0.0, 0.0, 0.0), 0.05,
                      9, "test")
     store_preset_lens(preset, lens)
-    controller.ask.chosen_camera = (preset, preset.name)
+    controller.ask.chosen_camera = CameraAnswer(preset, preset.name)
     controller.set_camera()
     qtbot.waitUntil(lambda: controller.model.project.clips[0].lens == lens, timeout=TIMEOUT_MS)
     assert controller.model.project.clips[0].preset_name == "my-drone-720p" and not errors
