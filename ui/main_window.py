@@ -10,7 +10,7 @@ from dataclasses import asdict
 from pathlib import Path
 
 import numpy as np
-from PySide6.QtCore import QByteArray, Qt, QTimer
+from PySide6.QtCore import QByteArray, Qt
 from PySide6.QtGui import QAction, QActionGroup, QCloseEvent, QKeySequence
 from PySide6.QtWidgets import (
     QDockWidget,
@@ -56,7 +56,7 @@ from dolphinfit.ui.widgets.timeline import Timeline
 from dolphinfit.ui.state.viewer_state import Notifier, ViewerState, selected_clip
 
 LAYOUT_PREFERENCE = "window_layout"   # size, place and docks when last closed
-LAYOUT_VERSION = 2                     # of the dock layout: a new one ignores older layouts
+LAYOUT_VERSION = 3                     # of the dock layout: a new one ignores older layouts
 RECENT_ACTIONS = 40                    # the last actions a crash report names
 NUDGE_ACTIONS = {  # action → (direction, image px): outward +1, inward −1
     "nudge_out": (+1, NUDGE_PX), "nudge_in": (-1, NUDGE_PX),
@@ -147,10 +147,11 @@ class MainWindow(QMainWindow):
             self.addDockWidget(area, dock)
             docks[title] = dock
         self.tabifyDockWidget(docks["Results"], docks["Comparison"])
+        self.tabifyDockWidget(docks["Comparison"], docks["3D view"])
         self.tabifyDockWidget(docks["Frames"], docks["3D fit"])
         docks["Results"].raise_()
         docks["Frames"].raise_()
-        docks["3D view"].hide()  # shown with the first fit: VTK loads only then
+        docks["3D view"].hide()  # its tab comes with the first fit: VTK loads only then
         self.fits.fit_shown.connect(self._show_3d_view)
         self.resizeDocks([docks["Project"]], [300], Qt.Horizontal)
         self.resizeDocks([docks["Results"]], [400], Qt.Horizontal)
@@ -163,23 +164,9 @@ class MainWindow(QMainWindow):
             self.statusBar().addPermanentWidget(label)
 
     def _show_3d_view(self) -> None:
-        """Show the 3D view dock (first time: two fifths of the right-hand column)."""
-        dock = self.docks["3D view"]
-        if dock.isVisible():
-            return
-        dock.show()
-        height = self.docks["Results"].height() + dock.height()
-        self.resizeDocks([self.docks["Results"], dock], [3 * height // 5, 2 * height // 5],
-                         Qt.Vertical)
-        QTimer.singleShot(0, self._share_width)  # once the docks have their new sizes
-
-    def _share_width(self) -> None:
-        """Give the right-hand docks (the comparison's table and plots, the 3D view) what the
-        video does not need of half the window: the video keeps at least half the width, as
-        far as the docks' smallest sizes allow, since it is what a user measures on."""
-        right = self.docks["Results"]
-        spare = self.centralWidget().width() - self.width() // 2
-        self.resizeDocks([right], [max(right.width() + spare, 0)], Qt.Horizontal)
+        """Add the 3D view's tab to the results' and the comparison's, not in front: the video
+        keeps its size and the results stay in sight while measuring."""
+        self.docks["3D view"].show()
 
     def _build_menus(self) -> dict[str, QAction]:
         menus, specs = load_action_table()
@@ -263,6 +250,7 @@ class MainWindow(QMainWindow):
         self.notifier.status_shown.connect(self.statusBar().showMessage)
         self.fits.fit_frames_changed.connect(self.timeline.set_fit_frames)
         self.masks.coverage_changed.connect(self.timeline.set_coverage)
+        self.masks.coverage_changed.connect(self.fits.set_coverage)
         self.files.session_closing.connect(self.sessions.close)
         self.files.clip_chosen.connect(self.sessions.open_current)
         self.intake.clip_chosen.connect(self.sessions.open_current)
@@ -750,8 +738,12 @@ class MainWindow(QMainWindow):
     def on_measure_frame(self) -> None:
         """Start a measurement of the current animal on the current frame."""
         if self.animals.measure_frame():
-            self.actions_by_name["length_mode"].setChecked(True)
-            self.overlay.set_mode("length")
+            self._set_mode("length")
+
+    def _set_mode(self, mode: str) -> None:
+        """The overlay's mode and its checked action ("length" or "widths")."""
+        self.actions_by_name[f"{mode}_mode"].setChecked(True)
+        self.overlay.set_mode(mode)
 
     def on_remove_measurement(self) -> None:
         self.animals.remove_measurement()
@@ -791,7 +783,8 @@ class MainWindow(QMainWindow):
                                      10_000)
                 return
             try:
-                self.overlay.suggest_edges(mask)
+                if self.overlay.suggest_edges(mask):
+                    self._set_mode("widths")  # the suggested edges are drawn in widths mode
             except InputError as exc:
                 self.notifier.error("Suggest edges", str(exc))
 

@@ -26,11 +26,14 @@ PREVIEW_INTERVAL_S = 1.0  # a step's report carries the current state at most th
 
 @dataclass(frozen=True, eq=False)
 class FitPreview:
-    """The fit's current state for display: posed_verts (T, V, 3) float32 metres at the
-    fitted clip frames frame_idx (T,)."""
+    """The fit's current state for display, what core.fit.motion and core.fit.pose_mesh pose
+    at any clip frame (float32, metres, world frame)."""
 
-    frame_idx: np.ndarray
-    posed_verts: np.ndarray
+    frame_idx: np.ndarray    # (T,) fitted clip frames
+    transl: np.ndarray       # (T, 3) root joint positions
+    pose_aa: np.ndarray      # (T, M, 3) axis-angle per part
+    betas: np.ndarray        # (M, 4) part log scales, overall scale included
+    rest_verts: np.ndarray   # (V, 3) the shape in the rest pose
 
 
 class FitReporter:

@@ -7,6 +7,7 @@ import math
 import time
 from collections.abc import Callable
 
+import numpy as np
 import torch
 
 from dolphinfit.core.fit.data import downscaled
@@ -154,11 +155,18 @@ def run_stage(problem: FitProblem, params: SceneParams, stage: str, steps: int,
 
 
 def preview(problem: FitProblem, params: SceneParams) -> FitPreview:
-    """The posed meshes of the current state, for display while the fit runs."""
+    """The current state, for display while the fit runs."""
     with torch.no_grad():
-        posed = problem.model(params.full_betas(), params.pose(), params.transl,
-                              problem.profile(params)).verts
-    return FitPreview(frame_idx=problem.data.frame_idx, posed_verts=posed.cpu().numpy().copy())
+        betas = params.full_betas()
+        rest, _ = problem.model.forward_rest(betas, problem.profile(params))
+    return FitPreview(frame_idx=problem.data.frame_idx, transl=_copied(params.transl),
+                      pose_aa=_copied(params.pose()), betas=_copied(betas),
+                      rest_verts=_copied(rest))
+
+
+def _copied(tensor: torch.Tensor) -> np.ndarray:
+    """A NumPy copy on the CPU, apart from the parameters the optimiser goes on changing."""
+    return tensor.detach().cpu().numpy().copy()
 
 
 def debiased_targets(problem: FitProblem, params: SceneParams) -> torch.Tensor:

@@ -82,10 +82,16 @@ class DolphinModel(nn.Module):
                 profile: torch.Tensor | None = None) -> ModelOutput:
         """Posed meshes for β (M, 4), θ (T, M, 3) axis-angle per part, P (T, 3) metres and
         the optional profile field (2, K)."""
+        rest_verts, rest_joints = self.forward_rest(betas, profile)
+        return self.pose(rest_verts, rest_joints, pose_aa, transl)
+
+    def pose(self, rest_verts: torch.Tensor, rest_joints: torch.Tensor, pose_aa: torch.Tensor,
+             transl: torch.Tensor) -> ModelOutput:
+        """Posed meshes of a shaped animal: its rest vertices (V, 3) and joints (J, 3) (from
+        :meth:`forward_rest`), θ (T, M, 3) axis-angle per part and P (T, 3) metres."""
         if pose_aa.shape[1:] != (self.num_groups, 3) or transl.shape != (pose_aa.shape[0], 3):
             raise ValueError(f"pose_aa must be (T, {self.num_groups}, 3) and transl (T, 3); "
                              f"got {tuple(pose_aa.shape)} and {tuple(transl.shape)}")
-        rest_verts, rest_joints = self.forward_rest(betas, profile)
         rotations = lbs.joint_rotations(pose_aa, self.joint_group, self.joint_mirror)
         global_rots, posed_joints = lbs.chain_transforms(rotations, rest_joints,
                                                          self.joint_parents, transl)

@@ -1,7 +1,8 @@
 """Masks in the app on the sample project: the tracker seeded by a click on the dolphin,
 its masks kept beside the project and shown as an outline and a coverage strip, a frame
-corrected with the brush, and the switch of masks undone."""
+corrected with the brush, the switch of masks undone, and edges suggested from a mask."""
 
+import threading
 from dataclasses import replace
 
 import numpy as np
@@ -10,14 +11,16 @@ from PySide6.QtCore import QPointF, Qt
 
 from dolphinfit.core.io.masks import read_masks
 from dolphinfit.core.progress import Progress
-from dolphinfit.core.project.mask_store import masks_file
+from dolphinfit.core.measure.mask_midline import midline_from_mask
+from dolphinfit.core.project.mask_store import masks_file, save_track, with_frame
 from dolphinfit.core.project.model import with_animal
 from dolphinfit.core.project.project_file import relative_media_path
 from dolphinfit.core.project.sample import ensure_sample_project
 from dolphinfit.core.segment.segmenter import FrameTracked
 from dolphinfit.ui.main_window import MainWindow
-from dolphinfit.ui.state.commands import push_edit
+from dolphinfit.ui.state.commands import edit_measurement, push_edit
 from dolphinfit.ui.state.project_model import Change
+from dolphinfit.ui.widgets.overlay_items import HandleItem
 from dolphinfit.ui.workers.tracker_jobs import Tracked
 
 TIMEOUT_MS = 120_000
@@ -156,3 +159,77 @@ def test_imported_masks_are_kept_with_the_project(qtbot, window):
     np.testing.assert_array_equal(kept.stack(), original.stack())
     window.model.undo_stack.undo()
     assert window.model.project.clips[0].masks_path == clip.masks_path
+
+
+def _truth(window: MainWindow):
+    """The sample clip's own masks (a PNG folder)."""
+    return read_masks(window.model.path.parent / window.model.project.clips[0].masks_path)
+
+
+def test_the_clicked_frames_mask_is_drawn_once_that_frame_is_tracked(qtbot, window, tmp_path,
+                                                                     monkeypatch):
+    """A click on a frame with no mask tracks that frame first: its outline is drawn as soon
+    as that run ends, while the fit's frames are still being tracked, with no frame change."""
+    from dolphinfit.ui.controllers import mask_controller
+    truth = _truth(window)
+    with qtbot.waitSignal(window.state.frame_shown, timeout=10_000):
+        window.go_to_frame(20)
+    holed = tmp_path / "holed.npz"  # the sample's masks, none on frame 20
+    save_track(with_frame(truth, 20, np.zeros_like(truth.mask(20))), holed)
+    window.masks.use_masks(0, holed)
+    qtbot.waitUntil(lambda: window.masks.track is not None
+                    and not window.masks.track.is_visible[20], timeout=30_000)
+    assert window.masks.layer.outline_path().isEmpty()
+    released, asked = threading.Event(), []
+
+    def track_job(media, seed, start_frame, direction, track, backend, checkpoint, only,
+                  device):
+        asked.append(only)
+
+        def job(progress, cancel):
+            if only != [20]:  # the fit's frames: still tracking while the test looks
+                released.wait(30)
+            return Tracked(truth, len(only))
+        return job
+    monkeypatch.setattr(mask_controller, "track_job", track_job)
+    seeks = []
+    window.state.frame_shown.connect(seeks.append)
+    v, u = np.nonzero(truth.mask(20))
+    try:
+        window.masks.arm_click_seed()
+        qtbot.mouseClick(window.canvas.viewport(), LEFT,
+                         pos=window.canvas.mapFromScene(QPointF(u.mean(), v.mean())))
+        qtbot.waitUntil(lambda: not window.masks.layer.outline_path().isEmpty(),
+                        timeout=10_000)
+        assert asked[0] == [20] and len(asked) == 2 and window.masks.tracker.is_running
+    finally:
+        with qtbot.waitSignal(window.masks.tracking_done, timeout=10_000):
+            released.set()
+    box = window.masks.layer.outline_path().boundingRect()
+    # the outline runs along the mask's edge pixels: its box is the mask's, within a pixel
+    np.testing.assert_allclose([box.left(), box.top(), box.right(), box.bottom()],
+                               [u.min(), v.min(), u.max(), v.max()], atol=1.0)
+    assert seeks == [] and window.state.frame_idx == 20
+
+
+def test_suggested_edges_are_shown_at_once(qtbot, window):
+    """Suggest edges switches to widths mode (W), where the edges are drawn: every suggested
+    edge's handle is on show without a key."""
+    truth = _truth(window)
+    with qtbot.waitSignal(window.state.frame_shown, timeout=10_000):
+        window.go_to_frame(20)
+    window.on_measure_frame()
+    model = window.model
+    edit_measurement(model, model.current_key(), replace(
+        model.current_measurement(), midline_px=midline_from_mask(truth.mask(20))), "length")
+
+    def edge_handles() -> list:
+        return [item for item in window.canvas.scene().items()
+                if isinstance(item, HandleItem) and item.tag[0] == "edge" and item.isVisible()]
+    assert window.overlay.mode == "length" and edge_handles() == []
+    window.actions_by_name["suggest_edges"].trigger()
+    qtbot.waitUntil(lambda: np.isfinite(model.current_measurement().offsets_px).sum() > 30,
+                    timeout=30_000)
+    num_placed = int(np.isfinite(model.current_measurement().offsets_px).sum())
+    assert window.overlay.mode == "widths" and window.actions_by_name["widths_mode"].isChecked()
+    assert len(edge_handles()) == num_placed

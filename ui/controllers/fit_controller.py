@@ -15,6 +15,7 @@ from PySide6.QtWidgets import QGraphicsPathItem
 
 from dolphinfit.core.device import DEFAULT_DEVICE
 from dolphinfit.core.errors import InputError
+from dolphinfit.core.fit.motion import pose_at
 from dolphinfit.core.fit.reporter import FitPreview
 from dolphinfit.core.fit.result import STATUS_COMPLETE, STATUS_UNRELIABLE, FitResult
 from dolphinfit.core.fit.result_io import read_fit_result
@@ -24,10 +25,10 @@ from dolphinfit.core.progress import Progress
 from dolphinfit.core.project.calibrations import calibrated_clip_telemetry
 from dolphinfit.core.project.fit_inputs import changed_since_fit, fit_inputs_of, stale_note
 from dolphinfit.core.project.fit_overlay import silhouette_outlines
-from dolphinfit.core.project.fit_playback import posed_at
 from dolphinfit.core.measure.hw_ratios import write_hw_csv
 from dolphinfit.core.project.comparison_view import ComparisonView, comparison_view
 from dolphinfit.core.project.fit_settings import FitSettings, fit_config, fit_dir, hw_table_path
+from dolphinfit.core.project.mask_store import Coverage
 from dolphinfit.core.project.model import Animal, with_animal
 from dolphinfit.core.project.project_file import media_path, relative_media_path
 from dolphinfit.core.project.results import FrameResult, frame_altitude, project_fit_config
@@ -47,6 +48,7 @@ if TYPE_CHECKING:
 
 SILHOUETTE_COLOUR = "#ff8c1a"  # orange: apart from the measuring handles and the water
 SILHOUETTE_Z = 0.5             # above the frame, under the measuring overlay
+TRACK_AGAIN = "track the animal again (Clip → Track the dolphin from a click, Ctrl+T)"
 
 
 def _make_viewer() -> "Viewer3D":
@@ -70,6 +72,31 @@ def describe_fit(result: FitResult) -> str:
     return (f"{head}. {len(result.frame_idx)} frames, mean IoU {float(result.iou.mean()):.3f}; "
             f"length {result.length_m:.3f} m, volume {result.volume_m3:.4f} m³, "
             f"mass {result.mass_kg:.1f} kg" + "".join(f"\n⚠ {w}" for w in result.warnings))
+
+
+def mask_check(frames: np.ndarray, coverage: Coverage | None,
+               has_masks: bool) -> tuple[str, bool]:
+    """What the fit panel says of the masks of the fit's ``frames`` ((T,) int, in order) and
+    whether the fit may start. A fit uses only frames whose mask is not empty and clear of
+    the image border (core.fit.data.select_frames); ``coverage`` None (still being read)
+    says nothing. Counting only: no mask is read."""
+    if not has_masks:
+        return (f"⚠ this clip has no masks: {TRACK_AGAIN} or choose them with Clip → Masks…",
+                False)
+    if coverage is None or len(frames) == 0:
+        return "", True
+    inside = frames[frames < coverage.num_frames]
+    visible = coverage.visible[inside]
+    num_usable = int(np.count_nonzero(visible & ~coverage.touches_border[inside]))
+    span = f"frames {frames[0]}–{frames[-1]}"
+    if num_usable == 0:
+        border = int(np.count_nonzero(visible))
+        why = f" ({border} touch the image border)" if border else ""
+        return f"⚠ no usable masks in {span}{why}: {TRACK_AGAIN} or pick another range", False
+    if num_usable < len(frames):
+        return (f"{num_usable} of the {len(frames)} frames to fit ({span}) have a usable mask: "
+                f"the fit uses only those; {TRACK_AGAIN} for the others", True)
+    return "", True
 
 
 class FitController(QObject):
@@ -103,7 +130,9 @@ class FitController(QObject):
         self._silhouette_generation = 0
         self._closing = threading.Event()  # set on close: a fit cancelled then is not kept
         self._faces: np.ndarray | None = None
+        self._coverage: Coverage | None = None  # the open clip's masks per frame
         self.panel.start_requested.connect(self.start)
+        self.panel.range_typed.connect(self._check_masks)
         self.panel.cancel_requested.connect(self.worker.cancel)
         self.panel.settings_changed.connect(self._store_settings)
         self.worker.progress.connect(self._on_progress)
@@ -143,6 +172,7 @@ class FitController(QObject):
     def refresh(self) -> None:
         """Show the current animal's settings and fit (read back in the background)."""
         current = self._animal()
+        self._check_masks()
         if current is None:
             self._show(None)
             return
@@ -170,6 +200,24 @@ class FitController(QObject):
         """Mark on the timeline the frames a fit with ``settings`` would use."""
         if self.state.session_for(self.model.clip_idx) is not None:
             self.fit_frames_changed.emit(self._frames(settings))
+
+    def set_coverage(self, coverage: Coverage | None) -> None:
+        """The open clip's mask coverage changed (read, tracked, corrected): check again."""
+        self._coverage = coverage
+        self._check_masks()
+
+    def _mask_check(self, settings: FitSettings | None = None) -> tuple[str, bool]:
+        """``mask_check`` of the current animal's frames with ``settings`` (None: its own);
+        nothing to say without an animal or while its clip is not the open one."""
+        current = self._animal()
+        if current is None or self.state.session_for(current[0]) is None:
+            return "", True
+        frames = self._frames(current[2].fit_settings if settings is None else settings)
+        has_masks = self.model.project.clips[current[0]].masks_path is not None
+        return mask_check(frames, self._coverage, has_masks)
+
+    def _check_masks(self, settings: FitSettings | None = None) -> None:
+        self.panel.show_mask_check(*self._mask_check(settings))
 
     def _frames(self, settings: FitSettings) -> np.ndarray:
         """The open clip's frames that a fit with ``settings`` uses."""
@@ -282,20 +330,24 @@ class FitController(QObject):
                 or self.state.session_for(self.model.clip_idx) is None:
             self.silhouette.setVisible(False)
             return
+        # while a fit runs its latest state is drawn, else the saved fit of the animal shown
+        source = live if live is not None else self._fits[folder]
+        pose = pose_at(source.frame_idx, source.transl, source.pose_aa, frame_idx)
         try:
             altitude = frame_altitude(calibrated_clip_telemetry(
                 self.model.project, session.clip_idx, session.telemetry), frame_idx)
         except InputError:
+            pose = None
+        if pose is None:  # no altitude, or no fitted pose here (outside the fit, in its gaps)
             self.silhouette.setVisible(False)
             return
-        # while a fit runs its latest state is drawn, else the saved fit of the animal shown
-        source = live if live is not None else self._fits[folder]
         faces = self._template_faces() if live is not None else source.faces
         clip = self.model.project.clips[session.clip_idx]
         intrinsics, lens = clip.camera.intrinsics(), clip.lens
-        verts, _ = posed_at(source.frame_idx, source.posed_verts, frame_idx)
 
         def outlines() -> list[np.ndarray]:   # the fit's pinhole view, bent as the lens saw it
+            from dolphinfit.core.fit.pose_mesh import posed_mesh  # torch: off the GUI thread
+            verts = posed_mesh(source.rest_verts, source.betas, pose)
             drawn = silhouette_outlines(verts, faces, intrinsics, altitude)
             return drawn if lens is None else [lens.distort(line) for line in drawn]
 
@@ -386,9 +438,9 @@ class FitController(QObject):
             raise InputError("the altitude is being read again: start the fit in a moment")
         if session.telemetry is None:
             raise InputError(session.telemetry_error or "no altitude: Clip → Altitude…")
-        if clip.masks_path is None:
-            raise InputError("the fit needs the dolphin's masks: choose them with "
-                             "Clip → Masks…")
+        note, can_start = self._mask_check(settings)
+        if not can_start:
+            raise InputError(note.removeprefix("⚠ "))
         return FitJob(discard=self._closing, media=media_path(path, clip),
                       telemetry=calibrated_clip_telemetry(self.model.project, clip_idx,
                                                           session.telemetry),

@@ -261,7 +261,7 @@ class MaskController(QObject):
             self.notifier.status(f"tracking cancelled: the {outcome.num_tracked} frames "
                                  "tracked keep their new masks, the others the masks they had",
                                  10_000)
-            self._store(track, "track masks (cancelled)")
+            self._keep_tracked(track, "track masks (cancelled)")
             self.tracking_done.emit(replace(outcome, track=track))
             return
         if then is not None:
@@ -270,7 +270,7 @@ class MaskController(QObject):
                 self.notifier.error("Tracking", f"no animal found at the click on frame "
                                     f"{start_frame}: click on the animal's body")
                 return
-            self._store(track, "track masks")
+            self._keep_tracked(track, "track masks")
             self.notifier.status(f"frame {start_frame} masked: now the {len(fit_frames)} "
                                  "frames the fit uses (Ctrl+. stops)")
             self._run(track.mask(start_frame), direction, fit_frames, start_frame)
@@ -278,8 +278,14 @@ class MaskController(QObject):
         rest = "; the fit's frames only (Clip → Track every frame for all)" if limited else ""
         self.notifier.status(f"{int(track.is_visible.sum())} of {track.num_frames} frames "
                              f"masked by {track.source}{rest}", 10_000)
-        self._store(track, "track masks")
+        self._keep_tracked(track, "track masks")
         self.tracking_done.emit(replace(outcome, track=track))
+
+    def _keep_tracked(self, track: MaskTrack, what: str) -> None:
+        """Keep a run's masks and draw the shown frame's now: nothing else redraws it before
+        the next frame change (a brush stroke draws its own, so ``_store`` does not)."""
+        self._store(track, what)
+        self.show_frame(self.state.frame_idx)
 
     # ----- corrections and storage
     def set_tool(self, tool: str | None) -> None:

@@ -48,7 +48,10 @@ class ComparisonPanel(QWidget):
         self.table.setHorizontalHeaderLabels(COLUMNS)
         self.table.verticalHeader().hide()
         self.table.setEditTriggers(QAbstractItemView.EditTrigger.NoEditTriggers)
-        self.table.horizontalHeader().setSectionResizeMode(QHeaderView.ResizeMode.Stretch)
+        header = self.table.horizontalHeader()   # the values with their intervals take the room
+        header.setSectionResizeMode(QHeaderView.ResizeMode.Stretch)
+        for column in (0, len(COLUMNS) - 1):    # the quantities and their differences
+            header.setSectionResizeMode(column, QHeaderView.ResizeMode.ResizeToContents)
         self.figure = Figure(figsize=PLOT_SIZE_IN, layout="constrained")
         self.canvas = FigureCanvasQTAgg(self.figure)
         self.canvas.setMinimumHeight(PLOT_MIN_HEIGHT_PX)  # room for both plots, even hidden

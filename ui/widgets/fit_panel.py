@@ -70,6 +70,7 @@ class FitPanel(QWidget):
     start_requested = Signal(object)     # FitSettings
     cancel_requested = Signal()
     settings_changed = Signal(object)    # FitSettings, as the user edits them
+    range_typed = Signal(object)         # FitSettings, at each keystroke in the range or rate
 
     def __init__(self, parent: QWidget | None = None) -> None:
         super().__init__(parent)
@@ -89,6 +90,7 @@ class FitPanel(QWidget):
         form.addRow("Quality:", self.quality)
         form.addRow(self.refraction)
         form.addRow(self.roi)
+        self.mask_note = QLabel(wordWrap=True, visible=False)  # the range's masks
         self.start_button = QPushButton("Start fit")
         self.cancel_button = QPushButton("Cancel", enabled=False)
         buttons = QHBoxLayout()
@@ -101,6 +103,7 @@ class FitPanel(QWidget):
                              wordWrap=True)
         layout = QVBoxLayout(self)
         layout.addLayout(form)
+        layout.addWidget(self.mask_note)
         layout.addLayout(buttons)
         for widget in (self.progress_bar, self.progress_label, self.loss_plot, self.status):
             layout.addWidget(widget)
@@ -109,10 +112,13 @@ class FitPanel(QWidget):
         self.cancel_button.clicked.connect(self.cancel_requested)
         for box in (self.start_s, self.end_s, self.fps):
             box.editingFinished.connect(self._on_edited)
+            box.valueChanged.connect(self._on_typed)
         self.quality.currentIndexChanged.connect(self._on_edited)
         for check in (self.refraction, self.roi):
             check.toggled.connect(self._on_edited)
         self._last_step = -1
+        self._running = False
+        self._can_start = True  # the range's masks allow a fit (show_mask_check)
         self.set_settings(FitSettings(), None)
 
     @staticmethod
@@ -159,15 +165,32 @@ class FitPanel(QWidget):
         if (settings := self._valid_settings()) is not None:
             self.settings_changed.emit(settings)
 
+    def _on_typed(self) -> None:
+        try:
+            self.range_typed.emit(self.settings())
+        except ValueError:
+            pass  # half typed: said when the edit ends (_on_edited)
+
     def _on_start(self) -> None:
         if (settings := self._valid_settings()) is not None:
             self.start_requested.emit(settings)
 
+    def show_mask_check(self, note: str, can_start: bool) -> None:
+        """What the range's masks allow: ``note`` above Start ("" for none), and Start only
+        if ``can_start``."""
+        self._can_start = can_start
+        self.mask_note.setText(note)
+        self.mask_note.setVisible(bool(note))
+        self.start_button.setEnabled(can_start and not self._running)
+        self.start_button.setToolTip("" if can_start else note)
+
     def set_running(self, running: bool) -> None:
         """Lock the settings while a fit runs; Cancel only then."""
+        self._running = running
         for widget in (self.start_s, self.end_s, self.fps, self.quality, self.refraction,
-                       self.roi, self.start_button):
+                       self.roi):
             widget.setEnabled(not running)
+        self.start_button.setEnabled(not running and self._can_start)
         self.cancel_button.setEnabled(running)
         if running:
             self._last_step = -1

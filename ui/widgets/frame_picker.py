@@ -2,11 +2,13 @@
 a picture of the animal and their scores (core/scan/frame_scores.py), best first and sortable
 by any column. Enter (or a double click) measures the animal on that frame; Delete puts the
 frame aside for this animal or takes it back. Frames put aside, or with a fault, are listed
-below the usable ones only when "show frames put aside" is ticked."""
+below the usable ones only when "show frames put aside" is ticked. The table shows the columns
+that fit the dock's width, left to right, rather than scroll sideways; a row's tooltip gives
+every score."""
 
 import numpy as np
 from PySide6.QtCore import QSize, Qt, Signal
-from PySide6.QtGui import QIcon, QKeyEvent, QPixmap
+from PySide6.QtGui import QIcon, QKeyEvent, QPixmap, QResizeEvent
 from PySide6.QtWidgets import (
     QAbstractItemView, QCheckBox, QComboBox, QLabel, QTableWidget,
     QTableWidgetItem, QVBoxLayout, QWidget,
@@ -21,6 +23,9 @@ THUMBNAIL_PX = 72
 COLUMNS = ("animal", "rank", "frame", "quality", "length m", "time s", "length %",
            "straight", "sharp %", "contrast %", "put aside because")
 ROLE_FRAME = Qt.ItemDataRole.UserRole
+KEYS_TIP = ("Enter or double click: measure this frame · Delete: put it aside (or take it "
+            "back) · click a heading to sort · widen the dock for more columns")
+ALWAYS_SHOWN = 3   # rank and frame, whatever the width (column 0, the animal, is never shown)
 
 
 def _number(value: float, digits: int) -> QTableWidgetItem:
@@ -36,6 +41,24 @@ class _Table(QTableWidget):
     """The frames' table: Enter and Delete are the picker's keys, not the table's."""
 
     key_pressed = Signal(int)
+
+    def fit_columns(self) -> None:
+        """Show the columns, left to right, that fit the width whole and hide the rest (a
+        narrower one further right too: the order of the columns is kept)."""
+        room = self.viewport().width()
+        header = self.horizontalHeader()
+        for column in range(1, self.columnCount()):
+            self.setColumnHidden(column, False)   # a hidden column's heading has no size hint
+            width = max(self.sizeHintForColumn(column), header.sectionSizeHint(column))
+            room -= width
+            shown = column < ALWAYS_SHOWN or room >= 0
+            self.setColumnHidden(column, not shown)
+            if shown:
+                self.setColumnWidth(column, width)
+
+    def resizeEvent(self, event: QResizeEvent) -> None:  # noqa: N802 (Qt's name)
+        super().resizeEvent(event)
+        self.fit_columns()
 
     def keyPressEvent(self, event: QKeyEvent) -> None:  # noqa: N802 (Qt's name)
         if event.key() in (Qt.Key.Key_Return, Qt.Key.Key_Enter, Qt.Key.Key_Delete):
@@ -74,8 +97,7 @@ class FramePicker(QWidget):
         self.table.setSelectionBehavior(QAbstractItemView.SelectionBehavior.SelectRows)
         self.table.setSelectionMode(QAbstractItemView.SelectionMode.SingleSelection)
         self.table.setEditTriggers(QAbstractItemView.EditTrigger.NoEditTriggers)
-        self.table.setToolTip("Enter or double click: measure this frame · Delete: put it "
-                              "aside (or take it back) · click a heading to sort")
+        self.table.setToolTip(KEYS_TIP)
         self.table.cellDoubleClicked.connect(lambda row, _: self._choose(row))
         self.table.key_pressed.connect(self._on_key)
         layout = QVBoxLayout(self)
@@ -129,7 +151,7 @@ class FramePicker(QWidget):
             picture = self._pictures.get((number, item.data(ROLE_FRAME)))
             if picture is not None:
                 item.setIcon(QIcon(picture))
-        self.table.resizeColumnToContents(2)  # the pictures beside the frame numbers
+        self.table.fit_columns()  # the pictures widen the frame numbers' column
 
     def _rows(self, number: int) -> list[tuple[FrameScore, str]]:
         """The animal's frames to list, each with why it is put aside ("" when usable):
@@ -175,12 +197,15 @@ class FramePicker(QWidget):
                      _number(100 * score.length_share, 0), _number(score.straightness, 3),
                      _number(100 * score.sharpness_share, 0),
                      _number(100 * score.contrast_share, 0), QTableWidgetItem(why)]
+            tip = "\n".join([f"{name}: {cell.text()}" for name, cell in
+                             zip(COLUMNS[1:], cells[1:]) if cell.text()] + [KEYS_TIP])
             for column, cell in enumerate(cells):
                 if why:
                     cell.setForeground(Qt.GlobalColor.gray)
+                cell.setToolTip(tip)   # every score, whichever columns the width shows
                 table.setItem(row, column, cell)
         table.setSortingEnabled(True)
-        table.resizeColumnsToContents()
+        table.fit_columns()
         for row in range(table.rowCount()):
             if self._frame_at(row) == kept:
                 table.setCurrentCell(row, 2)

@@ -337,15 +337,15 @@ class MeasureOverlay(QObject):
                    f"Nudge {_edge_name(self._edge)}",
                    ("nudge", station, side, self._key, self._gesture))
 
-    def suggest_edges(self, mask: np.ndarray) -> None:
+    def suggest_edges(self, mask: np.ndarray) -> bool:
         """Fill the unplaced edges where the perpendiculars leave ``mask`` ((H, W) bool of the
-        shown frame), as one undo step; placed edges stay."""
+        shown frame), as one undo step; placed edges stay. True if applied."""
         m = self._shown()
         stations = None if m is None else self._stations(m)
         if stations is None:
             self.status_message.emit("Draw the length (two midline points or more) before "
                                      "suggesting edges")
-            return
+            return False
         rect = self._canvas.image_rect()
         frame_shape = (round(rect.height()), round(rect.width()))
         if np.shape(mask) != frame_shape:
@@ -353,10 +353,12 @@ class MeasureOverlay(QObject):
                              f"frame is {frame_shape[1]}×{frame_shape[0]} px (width×height)")
         suggested = suggested_edges(np.asarray(mask), stations)
         placed = np.isfinite(m.offsets_px).sum()
-        if self._edit(lambda m: edits.offsets_from_edges(m, suggested),
-                      "Suggest edges from the mask"):
-            added = np.isfinite(self._shown().offsets_px).sum() - placed
-            self.status_message.emit(f"{added} edges suggested from the mask: review them")
+        if not self._edit(lambda m: edits.offsets_from_edges(m, suggested),
+                          "Suggest edges from the mask"):
+            return False
+        added = np.isfinite(self._shown().offsets_px).sum() - placed
+        self.status_message.emit(f"{added} edges suggested from the mask: review them")
+        return True
 
     # --- mouse -------------------------------------------------------------------------------
 

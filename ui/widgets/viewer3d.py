@@ -150,6 +150,9 @@ class Viewer3D(QWidget):
 
     def _reset_camera(self) -> None:
         self.plotter.view_isometric(render=False)
+        # the bodies side by side stay in view across the width of the dock, however its
+        # height changes (a tall dock, or one resized after the camera was placed)
+        self.plotter.camera.SetUseHorizontalViewAngle(True)
         self.plotter.reset_camera(render=False)
 
     def close_viewer(self) -> None:

@@ -40,3 +40,25 @@ def test_progress_and_cancel(qtbot):
     panel.set_running(False)
     assert panel.start_button.isEnabled() and not panel.cancel_button.isEnabled()
     assert format_eta(None) == "" and format_eta(9.4) == "ETA 9 s"
+
+
+def test_typed_range_is_checked_live_and_start_follows_the_masks(qtbot):
+    """Each keystroke in the range reports the settings shown (before Enter stores them);
+    Start stays off while the masks forbid it, also once a fit ends."""
+    panel = FitPanel()
+    qtbot.addWidget(panel)
+    panel.set_settings(FitSettings(), duration_s=5.0)
+    typed = []
+    panel.range_typed.connect(typed.append)
+    panel.end_s.setFocus()
+    panel.end_s.selectAll()
+    qtbot.keyClicks(panel.end_s, "2.5")
+    assert typed[-1] == FitSettings(end_s=2.5)
+    panel.show_mask_check("⚠ no usable masks in frames 0–24", False)
+    assert not panel.start_button.isEnabled()
+    assert panel.mask_note.isVisibleTo(panel) and panel.start_button.toolTip().startswith("⚠")
+    panel.set_running(True)
+    panel.set_running(False)
+    assert not panel.start_button.isEnabled()
+    panel.show_mask_check("", True)
+    assert panel.start_button.isEnabled() and not panel.mask_note.isVisibleTo(panel)

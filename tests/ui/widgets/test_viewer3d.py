@@ -95,6 +95,17 @@ def test_screenshot_shows_the_scene(viewer):
     assert drawn.mean() > 0.01
 
 
+def test_a_tall_narrow_dock_keeps_the_whole_scene_across(viewer, qtbot):
+    """Placed at 800 × 600, then resized to a column 300 × 900 (the 3D view's tab beside
+    the results): the scene's drawn pixels still stop short of the left and right edges."""
+    viewer.resize(300, 900)
+    qtbot.waitUntil(lambda: viewer.plotter.window_size[0] <= 300, timeout=5_000)
+    viewer.plotter.render()
+    image = viewer.plotter.screenshot(return_img=True)
+    columns = np.flatnonzero(np.any(image[..., :3] != BACKGROUND_RGB, axis=(0, 2)))
+    assert columns.min() > 0 and columns.max() < image.shape[1] - 1
+
+
 def test_nothing_renders_without_a_change(viewer, qtbot, monkeypatch):
     qtbot.wait(200)  # let the exposure's paints finish
     calls, vtk_renders = [], []
