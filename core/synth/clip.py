@@ -40,10 +40,9 @@ def make_clip(config: SynthConfig, out_dir: Path, progress: ProgressCallback | N
     rng = np.random.default_rng(config.seed)
     animal = swimming_animal(config, rng)
     model, motion, altitude = animal.model, animal.motion, animal.altitude_m
-    appearance = _appearance(animal.template, config)
+    appearance = scene_appearance(animal.template, config)
     scene = _rendered(config)
-    intrinsics = CameraIntrinsics.from_sensor(scene.focal_mm, scene.sensor_width_mm,
-                                              scene.width_px, scene.height_px)
+    intrinsics = scene_intrinsics(config)
     scattering = ((np.asarray(config.water_rgb), np.asarray(config.clarity_per_m))
                   if config.effects.scattering else None)
     sea = Sea(scene, rng)
@@ -99,7 +98,14 @@ def _rendered(config: SynthConfig) -> SynthConfig:
                    supersample=1)
 
 
-def _appearance(template, config: SynthConfig) -> Appearance:
+def scene_intrinsics(config: SynthConfig) -> CameraIntrinsics:
+    """The camera the scene is rendered with: ``config``'s at its supersampled size."""
+    scene = _rendered(config)
+    return CameraIntrinsics.from_sensor(scene.focal_mm, scene.sensor_width_mm, scene.width_px,
+                                        scene.height_px)
+
+
+def scene_appearance(template, config: SynthConfig) -> Appearance:
     """The configured colouration under a sun at the configured elevation and azimuth."""
     light = SGLight.overhead_sun(torch.float32)
     axes = light.axes.clone()
