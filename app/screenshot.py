@@ -4,8 +4,8 @@ frames in the Frames dock (PNG_scan.png).
 
 The measurement is made the way a user would start one: "measure this frame", a length
 suggested from the clip's mask (core.measure.mask_midline) and the widths from "suggest edges
-from the mask"; the stations where the flippers join the outline (25 %, 30 %) are skipped, as
-a user reviewing the suggestion would, and left to interpolation. Then the window waits for
+from the mask" (the body's, its flippers and flukes left out), one of them selected as a user
+reviewing the suggestion would. Then the window waits for
 the Monte Carlo intervals and saves itself to a PNG. For the second picture it runs a quick
 fit of the first second of the clip from the fit panel, waits for it, and shows the comparison.
 The work happens in a copy of the project in a temporary folder; the sample stays as it was.
@@ -16,18 +16,19 @@ import time
 from dataclasses import replace
 from pathlib import Path
 
+import numpy as np
 from PySide6.QtCore import QRectF
 
 from dolphinfit.core.io.masks import read_masks
 from dolphinfit.core.measure.mask_midline import midline_from_mask
-from dolphinfit.core.project.edits import set_skipped
+from dolphinfit.core.measure.stations import NUM_STATIONS
 from dolphinfit.core.project.fit_settings import FitSettings
 from dolphinfit.ui.app import application
 from dolphinfit.ui.state.commands import edit_measurement
 from dolphinfit.ui.main_window import MainWindow
 
 SCREENSHOT_FRAME = 24     # the sample dolphin lies flat and whole in the frame here
-FLIPPER_STATIONS = (4, 5)  # 25 % and 30 %: the mask's outline runs round the flippers there
+SELECTED_STATION = 6      # 35 %: its handle selected, its label shown
 SCREENSHOT_FIT = FitSettings(start_s=2.0, end_s=3.0, fps=5.0, quality="quick")
 WINDOW_SIZE = (1900, 1150)
 TIMEOUT_S = 600.0
@@ -104,12 +105,10 @@ def _measure_and_fit(window: MainWindow, out_png: Path) -> None:
     key = model.current_key()
     edit_measurement(model, key, replace(model.current_measurement(),
                                          midline_px=midline_from_mask(mask)), "suggest length")
-    window.overlay.suggest_edges(mask)
-    window.actions_by_name["widths_mode"].trigger()
-    for station in FLIPPER_STATIONS:
-        edit_measurement(model, key, set_skipped(model.current_measurement(), station, True),
-                         "skip station")
-    while window.overlay.selected_edge != (FLIPPER_STATIONS[-1] + 1, 0):
+    window.on_suggest_edges()
+    _wait_until(lambda: np.isfinite(model.current_measurement().offsets_px).all(axis=1).sum()
+                >= NUM_STATIONS - 1, "the suggested edges")
+    while window.overlay.selected_edge != (SELECTED_STATION, 0):
         window.overlay.next_handle()
     _zoom_to_dolphin(window)
     _wait_until(lambda: window.results.current_result() is not None

@@ -152,6 +152,7 @@ def test_a_field_day_with_a_camera_not_among_the_presets(qtbot, make_window, cli
     midline = midline_from_mask(mask)
     edit_measurement(model, model.current_key(), replace(model.current_measurement(),
                                                          midline_px=midline), "length")
+    assert "1 measured" in tree.topLevelItem(0).text(1)   # counted as soon as drawn
     window.on_suggest_edges()
     qtbot.waitUntil(lambda: np.isfinite(model.current_measurement().offsets_px).sum() > 30,
                     timeout=TIMEOUT_MS)

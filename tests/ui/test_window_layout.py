@@ -21,14 +21,17 @@ WIDE_DOCK_PX = 700
 
 
 @pytest.fixture
-def sample_window(qtbot, make_window):
-    """Makes a window of a given size on the sample project, its dolphin measured on
-    MEASURED_FRAME from the mask (length and suggested edges), the results shown."""
+def sample_window(qtbot, make_window, tmp_path):
+    """Makes a window of a given size on a copy of the sample project (saved into a
+    temporary folder first, so that no autosave of it lands beside the shared sample), its
+    dolphin measured on MEASURED_FRAME from the mask (length and suggested edges), the
+    results shown."""
     def make(size: tuple[int, int]):
         window = make_window(size)
         assert (window.width(), window.height()) == size
         with qtbot.waitSignal(window.state.session_opened, timeout=30_000):
             window.files.open_path(ensure_sample_project())
+        assert window.files.save(tmp_path / f"sample_{size[0]}.dolphinfit")
         with qtbot.waitSignal(window.state.frame_shown, timeout=10_000):
             window.go_to_frame(MEASURED_FRAME)
         window.on_measure_frame()

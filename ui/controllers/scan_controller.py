@@ -57,6 +57,7 @@ class ScanController(QObject):
         self._queue: list[Path] = []            # absolute media of the clips still to scan
         self._running: Path | None = None       # the media being scanned
         self._generation = 0                    # one per project held: late answers dropped
+        self._told: list[ClipStatus] = []       # the statuses last sent
         self.worker.progress.connect(self._on_progress)
         self.worker.finished.connect(self._on_scanned)
         self.worker.failed.connect(self._on_failed)
@@ -93,13 +94,16 @@ class ScanController(QObject):
         self._reading.clear()
 
     def _on_model_changed(self, change: Change) -> None:
-        if change.kind == "measurement":
+        if change.kind == "measurement":   # a length drawn or removed: the counts may change
+            if self.statuses() != self._told:
+                self._tell()
             return
         self._read_missing()
         self._tell()
 
     def _tell(self) -> None:
-        self.statuses_changed.emit(self.statuses())
+        self._told = self.statuses()
+        self.statuses_changed.emit(self._told)
         self._show_selected()
 
     def _show_selected(self) -> None:

@@ -2,6 +2,7 @@
 altitude read again when the project's setting changes (and when that is undone), the Clip
 menu's altitude, camera and lens commands asked and done apart."""
 
+import shutil
 from pathlib import Path
 
 import pytest
@@ -38,10 +39,13 @@ class _Answers(Questions):
 
 
 @pytest.fixture
-def sessions(qtbot):
+def sessions(qtbot, tmp_path):
     parent = QWidget()
     qtbot.addWidget(parent)
-    path = ensure_sample_project()
+    sample = ensure_sample_project()   # copied: edits autosave beside the project
+    shutil.copytree(sample.parent, tmp_path / "sample",
+                    ignore=shutil.ignore_patterns("*.autosave"))
+    path = tmp_path / "sample" / sample.name
     model = ProjectModel(read_project(path), path, parent=parent)
     state, notifier = ViewerState(parent), Notifier(parent)
     errors = []
