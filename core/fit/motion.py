@@ -69,3 +69,31 @@ def slerp_axis_angle(start: np.ndarray, end: np.ndarray, weight: float) -> np.nd
     first = Rotation.from_rotvec(start)
     step = (first.inv() * Rotation.from_rotvec(end)).as_rotvec()   # angle ≤ π: the short way
     return (first * Rotation.from_rotvec(weight * step)).as_rotvec()
+
+
+@dataclass(frozen=True)
+class ShownPose:
+    """What the 3D view shows at a clip frame: a pose, how it was found (said to the user) and
+    whether it is the fitted motion's; off the motion (before, after or in a gap of the fitted
+    frames) the nearest fitted frame stands in, labelled, and nothing is drawn over the
+    video."""
+
+    pose: FramePose
+    label: str
+    is_on_motion: bool
+
+
+def shown_pose(frame_idx_fitted: np.ndarray, transl: np.ndarray, pose_aa: np.ndarray,
+               frame_idx: int) -> ShownPose:
+    """The pose at clip frame ``frame_idx`` (:func:`pose_at`), else the nearest fitted frame's."""
+    fitted = np.asarray(frame_idx_fitted)
+    pose = pose_at(fitted, transl, pose_aa, frame_idx)
+    if pose is not None:
+        i = int(np.searchsorted(fitted, frame_idx, side="right")) - 1
+        label = (f"fitted frame {frame_idx}" if fitted[i] == frame_idx else
+                 f"between fitted frames {int(fitted[i])} and {int(fitted[i + 1])}")
+        return ShownPose(pose, label, True)
+    nearest = int(np.argmin(np.abs(fitted - frame_idx)))
+    return ShownPose(FramePose(transl=np.asarray(transl[nearest], np.float64),
+                               pose_aa=np.asarray(pose_aa[nearest], np.float64)),
+                     f"nearest fitted frame {int(fitted[nearest])}", False)

@@ -175,8 +175,9 @@ def read_calibration_table(path: Path | str, altimeter: str | None = None,
         raise InputError(f"{path}: no drone {drone!r}; the table has "
                          f"{', '.join(drones) or 'no drone column'}")
     if drone is None and len(drones) > 1:
-        raise InputError(f"{path}: shots of {len(drones)} drones ({', '.join(drones)}); "
-                         f"choose one with --drone")
+        raise InputError(f"{path}: shots of {len(drones)} drones ({', '.join(drones)}); a "
+                         f"calibration is one drone's: choose one with --drone, or import a "
+                         f"table of that drone's rows")
     chosen = drone if drone is not None else (drones[0] if drones else "")
     frame = frame.assign(_row=np.arange(len(frame)) + 2)   # the spreadsheet's row numbers
     if drone_column is not None:

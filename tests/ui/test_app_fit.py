@@ -172,7 +172,9 @@ def test_fit_runs_saves_shows_and_cancels(qtbot, sample_copy, make_window):
             first = np.array(fits.viewer.fitted_points(), copy=True)
             with qtbot.waitSignal(window.state.frame_shown, timeout=10_000):
                 window.go_to_frame(int(result.frame_idx[-1]))
-            assert not np.allclose(first, fits.viewer.fitted_points())
+            qtbot.waitUntil(lambda: not np.allclose(first, fits.viewer.fitted_points()),
+                            timeout=10_000)
+            assert fits.viewer.frame_label == f"fitted frame {int(result.frame_idx[-1])}"
 
         # a longer fit, cancelled once it optimises: the partial result is kept, labelled
         (partial, _), stopping_s = _fit_cancelled(qtbot, fits, LONGER)

@@ -4,6 +4,7 @@ in the project as an undoable edit; the current animal's fit is read back when s
 the 3D viewer at the current frame, and compared with the elliptical baseline."""
 
 import threading
+from collections.abc import Callable
 from dataclasses import replace
 from pathlib import Path
 from typing import TYPE_CHECKING
@@ -15,7 +16,7 @@ from PySide6.QtWidgets import QGraphicsPathItem
 
 from dolphinfit.core.device import DEFAULT_DEVICE
 from dolphinfit.core.errors import InputError
-from dolphinfit.core.fit.motion import pose_at
+from dolphinfit.core.fit.motion import ShownPose, shown_pose
 from dolphinfit.core.fit.reporter import FitPreview
 from dolphinfit.core.fit.result import STATUS_COMPLETE, STATUS_UNRELIABLE, FitResult
 from dolphinfit.core.fit.result_io import read_fit_result
@@ -283,8 +284,6 @@ class FitController(QObject):
         self._sync_comparison()
 
     def _on_frame_shown(self, frame_idx: int) -> None:
-        if self.viewer is not None:
-            self.viewer.set_frame(frame_idx)
         self._update_silhouette(frame_idx)
 
     def _sync_viewer(self) -> None:
@@ -296,8 +295,8 @@ class FitController(QObject):
             viewer.clear()
             return
         result = self._fits[self._shown]
-        viewer.set_fitted(result.faces, result.frame_idx, result.posed_verts, result.rest_verts)
-        viewer.set_frame(self.state.frame_idx)
+        viewer.set_fitted(result.faces, result.posed_verts, result.rest_verts)
+        self._update_silhouette(self.state.frame_idx)
         if self._view is None:
             viewer.set_elliptical(None)
         else:
@@ -320,41 +319,64 @@ class FitController(QObject):
         self._update_silhouette(self.state.frame_idx)
 
     def _update_silhouette(self, frame_idx: int) -> None:
-        """Outline the fit posed at ``frame_idx`` (worked out in the background)."""
-        self._silhouette_generation += 1  # outlines asked for before this one are stale
-        session, folder, live = self.state.session, self._shown, self._live
+        """Pose the fit at ``frame_idx`` (core.fit.motion, worked out in the background): its
+        outline over the frame where the fitted motion reaches it, and the saved fit's mesh
+        in the 3D view, once that is built."""
+        self._silhouette_generation += 1  # poses asked for before this one are stale
+        session, saved, live = self.state.session, self._shown, self._live
         if live is not None and (self._running is None or session is None
                                  or self._running[0] != session.clip_idx):
             live = None  # the running fit is of another clip
-        if not self._silhouette_on or (folder is None and live is None) \
-                or self.state.session_for(self.model.clip_idx) is None:
-            self.silhouette.setVisible(False)
-            return
         # while a fit runs its latest state is drawn, else the saved fit of the animal shown
-        source = live if live is not None else self._fits[folder]
-        pose = pose_at(source.frame_idx, source.transl, source.pose_aa, frame_idx)
+        drawn = live if live is not None else None if saved is None else self._fits[saved]
+        outline = None if drawn is None else self._outline_source(drawn, live is not None,
+                                                                  frame_idx)
+        if outline is None:
+            self.silhouette.setVisible(False)
+        viewed = None if saved is None or self.viewer is None else self._fits[saved]
+        if outline is None and viewed is None:
+            return
+        shown = None if viewed is None else shown_pose(viewed.frame_idx, viewed.transl,
+                                                       viewed.pose_aa, frame_idx)
+
+        def pose() -> tuple[list[np.ndarray] | None, np.ndarray | None]:
+            from dolphinfit.core.fit.pose_mesh import posed_mesh  # torch: off the GUI thread
+            outlines = None if outline is None else outline()
+            verts = None if shown is None else posed_mesh(viewed.rest_verts, viewed.betas,
+                                                          shown.pose)
+            return outlines, verts
+
+        self.jobs.run(pose, lambda posed, g=self._silhouette_generation: self._draw_pose(
+            g, frame_idx, shown, *posed), lambda why: self.silhouette.setVisible(False))
+
+    def _outline_source(self, source: "FitResult | FitPreview", is_live: bool,
+                        frame_idx: int) -> Callable[[], list[np.ndarray]] | None:
+        """A function giving the outlines of ``source`` posed at ``frame_idx`` as the clip's
+        camera saw it (run it off the GUI thread); None where none is drawn: the silhouette
+        is off, the clip not open, no altitude, or the fitted motion does not reach the
+        frame."""
+        session = self.state.session
+        if not self._silhouette_on or self.state.session_for(self.model.clip_idx) is None:
+            return None
+        shown = shown_pose(source.frame_idx, source.transl, source.pose_aa, frame_idx)
+        if not shown.is_on_motion:
+            return None
         try:
             altitude = frame_altitude(calibrated_clip_telemetry(
                 self.model.project, session.clip_idx, session.telemetry), frame_idx)
         except InputError:
-            pose = None
-        if pose is None:  # no altitude, or no fitted pose here (outside the fit, in its gaps)
-            self.silhouette.setVisible(False)
-            return
-        faces = self._template_faces() if live is not None else source.faces
+            return None
+        faces = self._template_faces() if is_live else source.faces
         clip = self.model.project.clips[session.clip_idx]
         intrinsics, lens = clip.camera.intrinsics(), clip.lens
 
         def outlines() -> list[np.ndarray]:   # the fit's pinhole view, bent as the lens saw it
-            from dolphinfit.core.fit.pose_mesh import posed_mesh  # torch: off the GUI thread
-            verts = posed_mesh(source.rest_verts, source.betas, pose)
+            from dolphinfit.core.fit.pose_mesh import posed_mesh
+            verts = posed_mesh(source.rest_verts, source.betas, shown.pose)
             drawn = silhouette_outlines(verts, faces, intrinsics, altitude)
             return drawn if lens is None else [lens.distort(line) for line in drawn]
 
-        self.jobs.run(
-            outlines,
-            lambda outlines, g=self._silhouette_generation: self._draw_silhouette(g, outlines),
-            lambda why: self.silhouette.setVisible(False))
+        return outlines
 
     def _template_faces(self) -> np.ndarray:
         """The model's faces (every fit shares the template's), read once."""
@@ -362,9 +384,16 @@ class FitController(QObject):
             self._faces = load_template().faces
         return self._faces
 
-    def _draw_silhouette(self, generation: int, outlines: list[np.ndarray]) -> None:
-        if generation != self._silhouette_generation or not self._silhouette_on:
+    def _draw_pose(self, generation: int, frame_idx: int, shown: ShownPose | None,
+                   outlines: list[np.ndarray] | None, verts: np.ndarray | None) -> None:
+        if generation != self._silhouette_generation:
             return
+        if verts is not None and self.viewer is not None:
+            self.viewer.show_pose(frame_idx, verts, shown.label)
+        if outlines is not None and self._silhouette_on:
+            self._draw_silhouette(outlines)
+
+    def _draw_silhouette(self, outlines: list[np.ndarray]) -> None:
         path = QPainterPath()
         for outline in outlines:
             path.addPolygon(QPolygonF([QPointF(u, v) for u, v in outline]))

@@ -16,8 +16,6 @@ from PySide6.QtGui import QCloseEvent, QGuiApplication
 from PySide6.QtWidgets import QCheckBox, QGridLayout, QLabel, QPushButton, QVBoxLayout, QWidget
 from pyvistaqt import QtInteractor
 
-from dolphinfit.core.project.fit_playback import posed_at
-
 SPACING = 1.5          # centre-to-centre spacing of side-by-side bodies, × the wider width
 WATER_MARGIN = 0.25    # water plane margin around the bodies, × body length
 ARROW_HEIGHT = 0.5     # camera arrow start above the animal's top, × body length
@@ -59,8 +57,7 @@ class Viewer3D(QWidget):
         self.plotter: QtInteractor | None = None
         self.toggles: dict[str, QCheckBox] = {}
         self.frame_label = ""
-        self._frame_idx = 0
-        self._fit: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None  # frames, posed, faces
+        self._fit: tuple[np.ndarray, np.ndarray] | None = None  # posed (T, V, 3), faces
         self._rest: np.ndarray | None = None
         self._solid: tuple[np.ndarray, np.ndarray] | None = None
         self._posed_mesh: pv.PolyData | None = None
@@ -91,21 +88,20 @@ class Viewer3D(QWidget):
         return bar
 
     # ------------------------------------------------------------------ content
-    def set_fitted(self, faces: np.ndarray, posed_frames: np.ndarray, posed_verts: np.ndarray,
+    def set_fitted(self, faces: np.ndarray, posed_verts: np.ndarray,
                    rest_verts: np.ndarray | None) -> None:
-        """Show a fit: faces (F, 3), fitted clip frames (T,), posed_verts (T, V, 3) and the
-        rest-pose vertices (V, 3), all in metres. Shows the current frame's pose."""
+        """Show a fit: faces (F, 3), its meshes at its fitted frames posed_verts (T, V, 3) (the
+        scene is laid out around all of them) and the rest-pose vertices (V, 3), in metres.
+        Shows the first fitted frame's pose until :meth:`show_pose` gives the frame's."""
         if self.plotter is None:
             return
-        self._fit = (np.asarray(posed_frames), np.asarray(posed_verts, dtype=np.float64),
-                     np.asarray(faces))
+        self._fit = (np.asarray(posed_verts, dtype=np.float64), np.asarray(faces))
         self._rest = None if rest_verts is None else np.asarray(rest_verts, dtype=np.float64)
-        verts, _ = posed_at(self._fit[0], self._fit[1], self._frame_idx)
-        self._posed_mesh = pv.PolyData.from_regular_faces(np.array(verts), self._fit[2])
+        self._posed_mesh = pv.PolyData.from_regular_faces(self._fit[0][0].copy(), self._fit[1])
         self.plotter.add_mesh(self._posed_mesh, color="slategray", smooth_shading=True,
                               name="posed", reset_camera=False, render=False)
         self._rebuild_scene()
-        self.set_frame(self._frame_idx)
+        self.plotter.render()
 
     def set_elliptical(self, verts: np.ndarray | None, faces: np.ndarray | None = None) -> None:
         """Show the elliptical solid (core/measure/elliptical_solid.py), or remove it (None)."""
@@ -116,14 +112,14 @@ class Viewer3D(QWidget):
         self._rebuild_scene()
         self.plotter.render()
 
-    def set_frame(self, frame_idx: int) -> None:
-        """Pose the fitted mesh at clip frame ``frame_idx`` (in place) and label how."""
-        self._frame_idx = frame_idx
+    def show_pose(self, frame_idx: int, verts: np.ndarray, how: str) -> None:
+        """Pose the fitted mesh as ``verts`` (V, 3) at clip frame ``frame_idx``, found as
+        ``how`` says (core.fit.motion.ShownPose.label)."""
         if self.plotter is None or self._fit is None:
             return
-        verts, self.frame_label = posed_at(self._fit[0], self._fit[1], frame_idx)
+        self.frame_label = how
         self._posed_mesh.points[:] = verts
-        self._label_actor.set_text("upper_left", f"Frame {frame_idx}: {self.frame_label}")
+        self._label_actor.set_text("upper_left", f"Frame {frame_idx}: {how}")
         self.plotter.render()
 
     def fitted_points(self) -> np.ndarray | None:
@@ -178,7 +174,7 @@ class Viewer3D(QWidget):
                                       render=False)
             return
         lo, hi = _bounds(np.concatenate(shown))
-        animal = _bounds(self._fit[1]) if self._fit is not None else (lo, hi)
+        animal = _bounds(self._fit[0]) if self._fit is not None else (lo, hi)
         body_length = float(np.ptp(shown[0], axis=0).max())
         self._add_decor((lo, hi), animal, body_length)
         self._apply_toggles()
@@ -195,11 +191,11 @@ class Viewer3D(QWidget):
         if self._fit is None:
             centre = np.zeros(3)
         else:
-            lo, hi = _bounds(self._fit[1])
+            lo, hi = _bounds(self._fit[0])
             centre = (lo + hi) / 2.0
             centre[1] = hi[1] + width
         if self._rest is not None:
-            rest = pv.PolyData.from_regular_faces(_centred_at(self._rest, centre), self._fit[2])
+            rest = pv.PolyData.from_regular_faces(_centred_at(self._rest, centre), self._fit[1])
             self.plotter.add_mesh(rest, color="silver", smooth_shading=True, name="rest",
                                   reset_camera=False, render=False)
             centre = centre + [0.0, SPACING * width, 0.0]

@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
 
-from dolphinfit.core.fit.motion import bracket, pose_at
+from dolphinfit.core.fit.motion import bracket, pose_at, shown_pose
 from dolphinfit.core.fit.pose_mesh import posed_mesh
 
 FITTED = np.array([10, 16, 22, 40])   # every 6 frames, then a gap of 18 (frames dropped)
@@ -109,3 +109,17 @@ def test_the_running_fits_previews_pose_as_its_result_does(tiny_run):
     pose = pose_at(preview.frame_idx, preview.transl, preview.pose_aa, preview.frame_idx[0])
     verts = posed_mesh(preview.rest_verts, preview.betas, pose)
     assert verts.shape == run.result.rest_verts.shape and np.isfinite(verts).all()
+
+
+def test_the_3d_view_shows_the_motion_and_off_it_the_nearest_fitted_frame():
+    """On the motion: its pose, labelled by where it lies; before the fit, after it or in a
+    gap: the nearest fitted frame's pose, labelled so, and not the motion's."""
+    on = shown_pose(FITTED, TRANSL, POSE, 13)
+    assert on.is_on_motion and on.label == "between fitted frames 10 and 16"
+    np.testing.assert_allclose(on.pose.transl, pose_at(FITTED, TRANSL, POSE, 13).transl)
+    assert shown_pose(FITTED, TRANSL, POSE, 16).label == "fitted frame 16"
+    before = shown_pose(FITTED, TRANSL, POSE, 0)
+    assert not before.is_on_motion and before.label == f"nearest fitted frame {FITTED[0]}"
+    np.testing.assert_allclose(before.pose.transl, TRANSL[0])
+    after = shown_pose(FITTED, TRANSL, POSE, 1000)
+    np.testing.assert_allclose(after.pose.pose_aa, POSE[-1])

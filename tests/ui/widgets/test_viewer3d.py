@@ -12,7 +12,6 @@ from dolphinfit.ui.widgets.viewer3d import Viewer3D
 LENGTH_M = 2.5
 SEMI_AXES_M = (LENGTH_M / 2, 0.25, 0.2)
 DEPTH_M = -0.3
-FITTED_FRAMES = np.array([0, 2, 4])
 SHIFTS_M = np.array([0.0, 1.0, 3.0])  # x translation at each fitted frame
 BACKGROUND_RGB = (255, 255, 255)
 
@@ -36,7 +35,7 @@ def viewer(qtbot, qapp, animal) -> Viewer3D:
     widget.show()
     qtbot.waitExposed(widget)
     posed, faces = animal
-    widget.set_fitted(faces, FITTED_FRAMES, posed, rest_verts=None)
+    widget.set_fitted(faces, posed, rest_verts=None)
     return widget
 
 
@@ -44,18 +43,15 @@ def _points(viewer: Viewer3D, name: str) -> np.ndarray:
     return np.array(viewer.plotter.renderer.actors[name].mapper.dataset.points)
 
 
-def test_set_frame_moves_the_posed_mesh(viewer, animal):
+def test_a_fit_shows_its_first_frame_then_the_pose_it_is_given(viewer, animal):
+    """The fitted mesh at its first fitted frame, then posed as the fit's motion gives it
+    (core.fit.motion), labelled with how that pose was found."""
     posed, _ = animal
-    viewer.set_frame(0)
-    at_0 = _points(viewer, "posed")
-    np.testing.assert_allclose(at_0, posed[0], atol=1e-6)
-    viewer.set_frame(2)
-    np.testing.assert_allclose(_points(viewer, "posed"), at_0 + [1.0, 0.0, 0.0], atol=1e-6)
-    assert viewer.frame_label == "fitted frame 2"
-    viewer.set_frame(1)
+    np.testing.assert_allclose(_points(viewer, "posed"), posed[0], atol=1e-6)
+    viewer.show_pose(1, posed[0] + [0.5, 0.0, 0.0], "between fitted frames 0 and 2")
     np.testing.assert_allclose(_points(viewer, "posed"), posed[0] + [0.5, 0, 0], atol=1e-6)
-    assert viewer.frame_label == "interpolated between frames 0 and 2"
-    viewer.set_frame(9)
+    assert viewer.frame_label == "between fitted frames 0 and 2"
+    viewer.show_pose(9, posed[2], "nearest fitted frame 4")
     np.testing.assert_allclose(_points(viewer, "posed"), posed[2], atol=1e-6)
     assert viewer.frame_label == "nearest fitted frame 4"
 
@@ -115,7 +111,7 @@ def test_nothing_renders_without_a_change(viewer, qtbot, monkeypatch):
     try:
         qtbot.wait(500)
         assert (calls, vtk_renders) == ([], [])
-        viewer.set_frame(1)
+        viewer.show_pose(1, _points(viewer, "posed") + [0.1, 0.0, 0.0], "a test pose")
         qtbot.wait(50)
         assert calls and vtk_renders
     finally:
@@ -127,7 +123,7 @@ def test_clear_and_close_release_the_view(viewer):
     assert not {"posed", "water"} & set(viewer.plotter.renderer.actors)
     viewer.close_viewer()
     assert viewer.plotter is None
-    viewer.set_frame(3)  # a no-op once closed
+    viewer.show_pose(3, np.zeros((3, 3)), "a test pose")  # a no-op once closed
 
 
 def test_headless_platform_shows_a_label(qtbot, monkeypatch):
@@ -135,5 +131,5 @@ def test_headless_platform_shows_a_label(qtbot, monkeypatch):
     widget = Viewer3D()
     qtbot.addWidget(widget)
     assert widget.plotter is None
-    widget.set_frame(1)
+    widget.show_pose(1, np.zeros((3, 3)), "a test pose")
     widget.set_elliptical(None)
