@@ -124,7 +124,9 @@ class CalibrationDialog(QDialog):
         self.table.setHorizontalHeaderLabels(COLUMNS)
         self.table.setSelectionBehavior(QAbstractItemView.SelectionBehavior.SelectRows)
         self.table.setSelectionMode(QAbstractItemView.SelectionMode.SingleSelection)
-        self.table.horizontalHeader().setSectionResizeMode(QHeaderView.ResizeMode.Stretch)
+        header = self.table.horizontalHeader()   # the numbers whole, the names give way
+        header.setSectionResizeMode(QHeaderView.ResizeMode.ResizeToContents)
+        header.setSectionResizeMode(0, QHeaderView.ResizeMode.Stretch)
         self.canvas = FrameCanvas()
         self.line = QGraphicsLineItem()
         self.line.setPen(cosmetic_pen(LINE_COLOUR))
@@ -221,6 +223,8 @@ class CalibrationDialog(QDialog):
     def set_camera(self, camera: CameraPreset, origin: str) -> None:
         """Fit with ``camera`` (``origin``: where it came from, shown beside it)."""
         self._camera, self._camera_origin = camera, origin
+        if NO_CAMERA in self.status.text():   # asked for, now given
+            self.status.clear_message()
         self._show_camera()
         self._refit()
 
