@@ -210,9 +210,9 @@ def fit_error_model(fit_run: FitRun, source: str, camera: CameraChoice,
     """The defaults of ``source`` and the camera; with a calibration (whose line absorbed
     the camera's scale) its spread at the fitted frames' median altitude instead."""
     if calibration is None:
-        return default_error_model(source, camera.is_approximate)
+        return default_error_model(source, camera.is_approximate(fit_run.clip))
     recorded = calibration.recorded_altitude(float(fit_run.data.camera.altitude_m.median()))
-    return default_error_model(source, camera.is_approximate,
+    return default_error_model(source, camera.is_approximate(fit_run.clip),
                                **calibration.error_overrides(recorded))
 
 

@@ -57,13 +57,16 @@ class CameraChoice:
         return CameraIntrinsics.from_sensor(preset.focal_mm, preset.sensor_width_mm,
                                             clip.width_px, clip.height_px)
 
-    @property
-    def is_approximate(self) -> bool:
-        """Whether the focal length is unverified for the video mode (a preset marked
-        approximate); explicit values count as calibrated."""
+    def is_approximate(self, clip: Clip) -> bool:
+        """Whether the focal length is unverified for the clip's video mode: a preset marked
+        approximate, or a preset taken to another frame size than its own (the mode may crop
+        the sensor), as the app has it (core.project.clip_cameras); explicit values count as
+        calibrated."""
         if self.sensor_width_mm is not None and self.focal_mm is not None:
             return False
-        return get_preset(self.preset or DEFAULT_PRESET).approximate
+        preset = get_preset(self.preset or DEFAULT_PRESET)
+        return preset.approximate or (preset.image_width_px, preset.image_height_px) != (
+            clip.width_px, clip.height_px)
 
 
 @dataclass(frozen=True, eq=False)

@@ -5,6 +5,7 @@ video size, with their lenses, in one step that marks their fits out of date."""
 import json
 from dataclasses import replace
 from pathlib import Path
+from types import SimpleNamespace
 
 import cv2
 import numpy as np
@@ -76,10 +77,16 @@ def test_the_flag_reaches_the_project_file_and_the_error_model(tmp_path):
 
 
 def test_the_command_line_follows_the_same_rule():
-    """CameraChoice: explicit values are calibrated; a preset carries its own flag."""
-    assert not CameraChoice(sensor_width_mm=13.2, focal_mm=8.8).is_approximate
-    assert CameraChoice(preset="dji-mavic3-fhd").is_approximate
-    assert not CameraChoice(preset=DEFAULT_PRESET).is_approximate
+    """CameraChoice: explicit values are calibrated; a preset carries its own flag, and is
+    approximate at another frame size than its own (the default 5.1K camera on a 1080p
+    clip, as the app's default camera there)."""
+    uhd, fhd = SimpleNamespace(width_px=5120, height_px=2700), SimpleNamespace(
+        width_px=1920, height_px=1080)
+    assert not CameraChoice(sensor_width_mm=13.2, focal_mm=8.8).is_approximate(fhd)
+    assert CameraChoice(preset="dji-mavic3-fhd").is_approximate(fhd)
+    assert not CameraChoice(preset=DEFAULT_PRESET).is_approximate(uhd)
+    assert CameraChoice(preset=DEFAULT_PRESET).is_approximate(fhd)
+    assert CameraChoice().is_approximate(fhd)
 
 
 def _still(folder: Path, name: str, size: tuple[int, int]) -> str:
