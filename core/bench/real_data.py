@@ -22,7 +22,9 @@ import numpy as np
 from dolphinfit.core.camera_presets import CameraPreset
 from dolphinfit.core.errors import InputError
 from dolphinfit.core.io.medidor import MedidorRow, read_medidor
-from dolphinfit.core.measure.morphometrix import MorphoMetrixRecord, read_morphometrix
+from dolphinfit.core.measure.morphometrix import (
+    MorphoMetrixRecord, read_morphometrix, total_length_name,
+)
 from dolphinfit.core.measure.annotation import Calibration
 from dolphinfit.core.measure.stations import STATION_PCT
 
@@ -116,11 +118,9 @@ def _image_size(path: Path) -> tuple[int, int]:
 
 
 def _human(path: Path, record: MorphoMetrixRecord) -> HumanMeasurement:
-    lengths = [name for name in record.lengths_m if name.lower().startswith("total")]
-    if not lengths:
-        raise InputError(f"{path}: no total length")
-    return HumanMeasurement(path.name, record.lengths_m[lengths[0]],
-                            dict(record.widths_m.get(lengths[0], {})))
+    name = total_length_name(record, path)
+    return HumanMeasurement(path.name, record.lengths_m[name],
+                            dict(record.widths_m.get(name, {})))
 
 
 def load_minke(folder: Path | None = None) -> MinkeImage:

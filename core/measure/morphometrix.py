@@ -1,4 +1,4 @@
-"""MorphoMetriX measurement CSVs: read v1 (block) and v2 (long), write v2 (long).
+"""MorphoMetriX measurement CSVs: read and write v1 (blocks) and v2 (long).
 
 Formats (reference/ecosystem.md §6.1, the real files in tests/data/morphometrix/):
 
@@ -12,7 +12,11 @@ Formats (reference/ecosystem.md §6.1, the real files in tests/data/morphometrix
 - **v1, blocks**: ``key,value`` metadata rows; an ``Object,Length (m),…`` block whose width
   columns are headed ``10.00% Width`` (on the header row or on the row below it), one row per
   length in metres; then ``Object,Angle`` and ``Object,Area (m²)`` blocks. Metres only.
-  Some v1 files head the blocks ``Object Name,Length,…`` instead.
+  Some v1 files head the blocks ``Object Name,Length,…`` instead. v1 has no Mirror Side row.
+
+Each lab names the total length as it likes (``TL``, ``Total_Length``, ``Total Length`` in the
+real files); :func:`total_length_name` finds it whatever its case, spaces and underscores.
+Our files name it ``TL``, as MorphoMetriX v2 and CollatriX do.
 
 Scale: metres per pixel = pixel dimension (mm/px) × altitude (m) / focal length (mm), the same
 as altitude / focal_px.
@@ -36,6 +40,9 @@ from dolphinfit.core.measure.annotation import PixelMeasurements
 from dolphinfit.core.measure.stations import STATION_PCT
 
 LENGTH_NAME = "TL"  # MorphoMetriX / CollatriX name of total length (rostrum tip to fluke notch)
+# total length as labs name it, normalised (_normalised_name): TL, Total_Length, Body length, …
+TOTAL_LENGTH_NAMES = frozenset({"tl", "totallength", "bodylength"})
+MMX_VERSIONS = (1, 2)
 V2_HEADER = ["Object", "Value", "Value_unit"]
 METADATA = "Metadata"
 METERS, PIXELS = "Meters", "Pixels"
@@ -50,6 +57,9 @@ NUMERIC_FIELDS = {"focal_mm": FOCAL_MM, "altitude_m": ALTITUDE_M,
 WIDTH_NAME = re.compile(r"^(?P<length>.+)_w(?P<pct>\d+(?:\.\d*)?)$")
 V1_BLOCK_HEADS = ("Object", "Object Name")  # both in MorphoMetriX v1's own demo files
 V1_WIDTH_HEADER = re.compile(r"^(?P<pct>\d+(?:\.\d*)?)\s*%\s*Width$")
+V1_METADATA = ("Image ID", "Image Path", "Focal Length", "Altitude", "Pixel Dimension", "Notes")
+V1_LENGTH_HEAD = ["Object", "Length (m)"]
+V1_OTHER_HEADS = {DEGREES: ["Object", "Angle"], SQUARE_METERS: ["Object", "Area (m²)"]}
 
 
 @dataclass(frozen=True)
@@ -88,6 +98,32 @@ class MorphoMetrixRecord:
 def width_name(length_name: str, pct: float) -> str:
     """CollatriX's width name, e.g. ``TL_w05.00`` for 5 % of ``TL``."""
     return f"{length_name}_w{pct:05.2f}"
+
+
+def _normalised_name(name: str) -> str:
+    """A length's name without case, spaces, underscores or hyphens: ``Total_Length`` →
+    ``totallength``."""
+    return re.sub(r"[\s_-]+", "", name).casefold()
+
+
+def total_length_name(record: MorphoMetrixRecord, path: Path,
+                      length_name: str | None = None) -> str:
+    """The record's name of the total length: ``length_name`` if given, else one of
+    TOTAL_LENGTH_NAMES, either matched whatever its case, spaces and underscores.
+
+    InputError naming ``path`` and the file's lengths when none or several match.
+    """
+    wanted = (TOTAL_LENGTH_NAMES if length_name is None
+              else frozenset({_normalised_name(length_name)}))
+    names = list(dict.fromkeys([*record.lengths_px, *record.lengths_m]))
+    found = [name for name in names if _normalised_name(name) in wanted]
+    if len(found) == 1:
+        return found[0]
+    what = (f"no length named {length_name!r}" if length_name is not None and not found
+            else "no total length (TL, Total_Length, Total Length …)" if not found
+            else f"several total lengths ({', '.join(found)})")
+    raise InputError(f"{path}: {what} among its lengths ({', '.join(names) or 'none'}); "
+                     f"name the one to use with --length-name")
 
 
 def _float(text: str, path: Path, line_no: int, what: str) -> float:
@@ -210,6 +246,37 @@ def number_text(value: float) -> str:
     return format(float(value), ".10g")
 
 
+def _write_rows(path: Path, rows: list[list[str]]) -> None:
+    """Write CSV rows atomically with CRLF line ends, as MorphoMetriX does."""
+    with atomic_path(Path(path)) as tmp, tmp.open("w", newline="", encoding="utf-8") as file:
+        csv.writer(file, lineterminator="\r\n").writerows(rows)
+
+
+def write_morphometrix_v1(path: Path, record: MorphoMetrixRecord) -> None:
+    """Write ``record`` as a MorphoMetriX v1 block CSV (atomically), laid out as MorphoMetriX
+    v1's own ``demo-annotated.csv``: metadata rows; ``Object,Length (m),5.00% Width,…`` with
+    a row per length in metres; ``Object,Angle`` and ``Object,Area (m²)`` blocks where there
+    are any. Every row has as many cells. Pixels and the mirror side are left out: v1 has
+    neither (mirror-side widths are written doubled, as the record holds them).
+    """
+    meta = [record.image_id, record.image_path, number_text(record.focal_mm),
+            number_text(record.altitude_m), number_text(record.pixel_dimension_mm),
+            record.notes]
+    percents = sorted({pct for widths in record.widths_m.values() for pct in widths})
+    rows = [[name, value] for name, value in zip(V1_METADATA, meta)]
+    rows += [[], V1_LENGTH_HEAD + [f"{pct:.2f}% Width" for pct in percents]]
+    for name, value in record.lengths_m.items():
+        widths = record.widths_m.get(name, {})
+        rows.append([name, number_text(value)] + [number_text(widths[pct]) if pct in widths
+                                                  else "" for pct in percents])
+    for unit, head in V1_OTHER_HEADS.items():
+        block = [[name, number_text(value)] for name, value, other_unit in record.others
+                 if other_unit == unit]
+        rows += [[], head, *block] if block else []
+    num_columns = max(map(len, rows))
+    _write_rows(path, [row + [""] * (num_columns - len(row)) for row in rows])
+
+
 def write_morphometrix_v2(path: Path, record: MorphoMetrixRecord) -> None:
     """Write ``record`` as a MorphoMetriX v2 long CSV (atomically).
 
@@ -232,8 +299,15 @@ def write_morphometrix_v2(path: Path, record: MorphoMetrixRecord) -> None:
         rows += [[name, number_text(value), other_unit if other_unit != SQUARE_PIXELS
                   else PIXELS] for name, value, other_unit in record.others
                  if other_unit in (DEGREES, area_unit)]
-    with atomic_path(Path(path)) as tmp, tmp.open("w", newline="", encoding="utf-8") as file:
-        csv.writer(file, lineterminator="\r\n").writerows(rows)
+    _write_rows(path, rows)
+
+
+WRITERS = {1: write_morphometrix_v1, 2: write_morphometrix_v2}  # by MorphoMetriX version
+
+
+def write_morphometrix(path: Path, record: MorphoMetrixRecord, version: int = 2) -> None:
+    """Write ``record`` as a MorphoMetriX CSV of ``version`` (MMX_VERSIONS)."""
+    WRITERS[version](path, record)
 
 
 def record_from_pixels(pixels: PixelMeasurements, *, image_id: str, image_path: str,
@@ -261,17 +335,17 @@ def record_from_pixels(pixels: PixelMeasurements, *, image_id: str, image_path: 
 
 
 def pixel_measurements(record: MorphoMetrixRecord, path: Path,
-                       length_name: str = LENGTH_NAME) -> PixelMeasurements:
+                       length_name: str | None = None) -> PixelMeasurements:
     """Length and the 19 station widths in pixels (from metres where a file has no pixels).
 
-    Stations missing from the file are NaN; widths off the 5 % grid, an implausible body
-    length and widths not between zero and the length are refused (core.limits).
+    ``length_name``: the total length's name (default: any of TOTAL_LENGTH_NAMES; see
+    :func:`total_length_name`). Stations missing from the file are NaN; widths off the 5 %
+    grid, an implausible body length and widths not between zero and the length are refused
+    (core.limits).
     """
+    length_name = total_length_name(record, path, length_name)
     from_m = length_name not in record.lengths_px
     lengths = record.lengths_m if from_m else record.lengths_px
-    if length_name not in lengths:
-        raise InputError(f"{path}: no length named {length_name!r} "
-                         f"(lengths: {', '.join(lengths) or 'none'})")
     scale = 1.0 / record.m_per_px if from_m else 1.0
     widths = (record.widths_m if from_m else record.widths_px).get(length_name, {})
     widths_px = np.full(len(STATION_PCT), np.nan)

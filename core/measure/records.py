@@ -6,9 +6,9 @@ The CLI (`dolphinfit measure`) and the GUI build the same records with these fun
    MorphoMetriX CSV (:func:`measured_image_from_morphometrix`);
 2. ``core.measure.baseline.estimate_baseline`` on its pixels, focal length and altitude;
 3. :func:`result_record` (the result JSON), then :func:`write_exports`: STEM_measure.json,
-   STEM_mmx.csv (MorphoMetriX v2, long), STEM_wide.csv (ours: metres, pixels, Xcertainty's
-   calibration and the results, one row) and STEM_collatrix.csv (the row CollatriX's
-   body-condition tool reads as it is; core.measure.collatrix).
+   STEM_mmx.csv (MorphoMetriX v2, long, or v1, blocks), STEM_wide.csv (ours: metres, pixels,
+   Xcertainty's calibration and the results, one row) and STEM_collatrix.csv (the row
+   CollatriX's body-condition tool reads as it is; core.measure.collatrix).
 """
 
 from dataclasses import dataclass, fields, replace
@@ -22,8 +22,8 @@ from dolphinfit.core.measure.collatrix import collatrix_row, wide_row, write_wid
 from dolphinfit.core.io.json_file import read_json, write_json
 from dolphinfit.core.io.masks import read_masks
 from dolphinfit.core.measure.morphometrix import (
-    LENGTH_NAME, MorphoMetrixRecord, read_morphometrix, record_from_pixels,
-    write_morphometrix_v2,
+    LENGTH_NAME, MorphoMetrixRecord, read_morphometrix, record_from_pixels, total_length_name,
+    write_morphometrix,
 )
 from dolphinfit.core.measure.morphometrix import pixel_measurements as record_pixels
 from dolphinfit.core.measure.altitude_calibration import AltitudeCalibration
@@ -112,21 +112,28 @@ def measured_image_from_annotation(doc: AnnotationFile, *, image_id: str,
 
 
 def measured_image_from_morphometrix(path: Path, *, altitude_m: float | None = None,
-                                     altitude_source: str | None = None) -> MeasureInput:
+                                     altitude_source: str | None = None,
+                                     length_name: str | None = None) -> MeasureInput:
     """The pixels and metadata of a MorphoMetriX v1/v2 CSV.
 
     ``altitude_m`` replaces the file's altitude (the pixels stay those of the file's altitude);
     without ``altitude_source`` the source is taken as MMX_ALTITUDE_SOURCE, with a note.
+    ``length_name``: the total length's name in the file (default: TL, Total_Length, …,
+    morphometrix.total_length_name); the exports name it LENGTH_NAME, so that measurements
+    from several labs pool under the same columns.
     """
     record = read_morphometrix(path)
-    pixels = record_pixels(record, path)
+    length_name = total_length_name(record, path, length_name)
+    pixels = record_pixels(record, path, length_name)
     if altitude_m is not None:
         record = replace(record, altitude_m=altitude_m)
     notes = [f"MorphoMetriX v{record.version} file, focal {record.focal_px:.1f} px"]
+    if length_name != LENGTH_NAME:
+        notes.append(f"total length {length_name!r} exported as {LENGTH_NAME}")
     if altitude_source is None:
         notes.append(f"altitude source unknown: taken as {MMX_ALTITUDE_SOURCE}")
     if record.version == 1:
-        notes.append("v1 files hold metres rounded to cm only: pixels derived from them")
+        notes.append("v1 files hold rounded metres only: pixels derived from them")
     if pixels.is_mirrored:
         notes.append("mirror-side widths: MorphoMetriX v2 may store one side undoubled; check")
     exported = record_from_pixels(
@@ -220,12 +227,12 @@ def collatrix_csv_row(source: MeasureInput, estimate: BaselineEstimate, *, csv_n
 
 
 def write_exports(stem: Path, source: MeasureInput, estimate: BaselineEstimate,
-                  result: dict) -> list[Path]:
-    """Write STEM_measure.json, STEM_mmx.csv (MorphoMetriX v2), STEM_wide.csv and
-    STEM_collatrix.csv; their paths."""
+                  result: dict, mmx_version: int = 2) -> list[Path]:
+    """Write STEM_measure.json, STEM_mmx.csv (MorphoMetriX ``mmx_version``: 2 long, 1
+    blocks), STEM_wide.csv and STEM_collatrix.csv; their paths."""
     paths = [stem.with_name(f"{stem.name}{suffix}") for suffix in EXPORT_SUFFIXES]
     write_json(paths[0], result)
-    write_morphometrix_v2(paths[1], source.record)
+    write_morphometrix(paths[1], source.record, mmx_version)
     write_wide_csv(paths[2], [wide_csv_row(source, estimate, result, csv_name=paths[1].name)])
     write_wide_csv(paths[3], [collatrix_csv_row(source, estimate, csv_name=paths[1].name)])
     return paths

@@ -6,6 +6,7 @@ from pathlib import Path
 
 import cv2
 import numpy as np
+import pandas as pd
 import pytest
 
 from dolphinfit.app.cli import main
@@ -20,6 +21,15 @@ from dolphinfit.core.measure.xcertainty import MEASUREMENT_COLUMNS
 
 V2_DEMO = Path(__file__).resolve().parents[1] / "data" / "morphometrix" / \
     "mmx_v2_demo-annotated.csv"
+MINKE = Path(__file__).resolve().parents[1] / "data" / "real" / "minke"
+# The two people's MorphoMetriX v1 measurements of the minke, as written in their files
+MINKE_PEOPLE = {
+    "demo-annotated": (7.593, dict(zip(range(5, 100, 5), (
+        0.479, 0.693, 0.869, 1.084, 1.106, 1.172, 1.243, 1.259, 1.184, 1.136, 1.043, 0.929,
+        0.809, 0.65, 0.504, 0.357, 0.224, 0.169, 0.942)))),
+    "test-image": (7.547, dict(zip(range(10, 100, 10), (
+        0.684, 1.086, 1.186, 1.257, 1.139, 0.941, 0.657, 0.363, 0.156)))),
+}
 # Provisional template widths / BL (reference/morphometrics.md §4)
 W_BL = np.array([.045, .085, .13, .15, .165, .175, .18, .18, .175, .16, .14, .125, .11, .09,
                  .075, .06, .045, .030, .015])
@@ -191,3 +201,119 @@ def test_bad_inputs_exit_2_naming_the_file(tmp_path, capsys):
         capsys.readouterr().err
     assert main(["measure", str(V2_DEMO), "--from-mask", str(masks)]) == 2
     assert "--from-mask needs an annotation" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("name", MINKE_PEOPLE)
+def test_the_minke_files_as_people_wrote_them(tmp_path, capsys, name):
+    """Both people's v1 files (Total_Length, Total Length) measure: their length and every
+    width they wrote, station by station, in the MorphoMetriX export (as TL) and, to 85 %
+    (the default tail extrapolates 90/95 %), in the result."""
+    length_m, widths_m = MINKE_PEOPLE[name]
+    widths_m = {float(pct): w for pct, w in widths_m.items()}
+    argv = ["measure", str(MINKE / f"{name}.csv"), "--out", str(tmp_path), "--mc", "0"]
+    assert main(argv) == 0
+    assert "exported as TL" in capsys.readouterr().out
+    result = _result(tmp_path, name)
+    assert result["length_m"] == pytest.approx(length_m, rel=1e-9)
+    body = {s["station_pct"]: s["width_m"] for s in result["stations"]
+            if not s["is_filled"] and s["station_pct"] <= 85}
+    assert body == pytest.approx({p: w for p, w in widths_m.items() if p <= 85}, rel=1e-9)
+    record = read_morphometrix(tmp_path / f"{name}_mmx.csv")
+    assert record.lengths_m == pytest.approx({"TL": length_m}, rel=1e-9)
+    assert record.widths_m["TL"] == pytest.approx(widths_m, rel=1e-9)
+
+
+def test_people_files_pool_with_ours(tmp_path):
+    """Our CollatriX table and the two people's have the same columns; pooled, the three TLs
+    are 2.5, 7.593 and 7.547 m."""
+    tables = []
+    for path in (_annotation_file(tmp_path), MINKE / "demo-annotated.csv",
+                 MINKE / "test-image.csv"):
+        assert main(["measure", str(path), "--out", str(tmp_path), "--mc", "0"]) == 0
+        tables.append(pd.read_csv(tmp_path / f"{path.stem}_collatrix.csv"))
+    assert all(list(table.columns) == list(tables[0].columns) for table in tables)
+    pooled = pd.concat(tables, ignore_index=True)
+    assert pooled.shape == (3, len(tables[0].columns))
+    np.testing.assert_allclose(pooled["TL"], [BL_M, 7.593, 7.547], rtol=1e-9)
+
+
+def test_morphometrix_v1_export(tmp_path, capsys):
+    """--mmx-version 1 writes MorphoMetriX v1 blocks (and says so): read back, the same metres
+    as the v2 export."""
+    path = _annotation_file(tmp_path)
+    assert main(["measure", str(path), "--mc", "0", "--out", str(tmp_path / "v2")]) == 0
+    assert main(["measure", str(path), "--mc", "0", "--out", str(tmp_path / "v1"),
+                 "--mmx-version", "1"]) == 0
+    assert "t1_mmx.csv (MorphoMetriX v1)" in capsys.readouterr().out
+    v1 = read_morphometrix(tmp_path / "v1" / "t1_mmx.csv")
+    v2 = read_morphometrix(tmp_path / "v2" / "t1_mmx.csv")
+    assert (v1.version, v2.version) == (1, 2) and not v1.lengths_px
+    assert v1.lengths_m == pytest.approx(v2.lengths_m, rel=1e-9)
+    assert v1.widths_m["TL"] == pytest.approx(v2.widths_m["TL"], rel=1e-9)
+    assert (tmp_path / "v1" / "t1_mmx.csv").read_text().splitlines()[7].startswith(
+        "Object,Length (m),5.00% Width,10.00% Width")
+
+
+def test_length_name_option(tmp_path, capsys):
+    """--length-name matches whatever the case and spacing; a name not in the file, or two
+    total lengths, exit 2 naming the file and its lengths."""
+    test_image = MINKE / "test-image.csv"
+    assert main(["measure", str(test_image), "--out", str(tmp_path), "--mc", "0",
+                 "--length-name", "TOTAL_length"]) == 0
+    assert _result(tmp_path, "test-image")["length_m"] == pytest.approx(7.547, rel=1e-9)
+    assert main(["measure", str(test_image), "--out", str(tmp_path), "--length-name",
+                 "body"]) == 2
+    assert "test-image.csv: no length named 'body' among its lengths (Total Length, " \
+        "Fluke_span)" in capsys.readouterr().err
+    both = tmp_path / "both.csv"
+    text = test_image.read_text(encoding="utf-8")
+    both.write_text(text.replace("Fluke_span,2.225", "TL,7.6"), encoding="utf-8")
+    assert main(["measure", str(both), "--out", str(tmp_path)]) == 2
+    assert "both.csv: several total lengths (Total Length, TL)" in capsys.readouterr().err
+
+
+def _mask_image(tmp_path: Path) -> Path:
+    """The straight 2.5 m dolphin of _annotation_file as a 1280×720 mask image."""
+    v, u = np.mgrid[:720, :1280].astype(float)
+    at = ORIGIN_PX[0] + np.concatenate([[0.0], STATION_FRACTIONS, [1.0]]) * BL_M / M_PER_PX
+    half = np.interp(u, at, np.concatenate([[0.0], W_BL, [0.0]]) * BL_M / M_PER_PX / 2)
+    path = tmp_path / "still_mask.png"
+    cv2.imwrite(str(path), (np.abs(v - ORIGIN_PX[1]) < half) * np.uint8(255))
+    return path
+
+
+def test_from_mask_alone(tmp_path):
+    """--from-mask without an annotation: the midline from the mask, the camera and altitude
+    of the options; the 2.5 m dolphin within 0.5 %, widths within 1.5 px, volume within 2 %."""
+    mask = _mask_image(tmp_path)
+    assert main(["measure", "--from-mask", str(mask), "--altitude-m", str(ALTITUDE_M),
+                 "--sensor-width-mm", str(CAMERA.sensor_width_mm),
+                 "--focal-mm", str(CAMERA.focal_mm), "--mc", "0"]) == 0
+    result = _result(tmp_path, "still_mask")
+    assert result["length_m"] == pytest.approx(BL_M, rel=0.005)
+    assert result["altitude_source"] == "manual"
+    widths_px = np.array([s["width_px"] for s in result["stations"]])
+    np.testing.assert_allclose(widths_px, W_BL * BL_M / M_PER_PX, atol=1.5)
+    assert result["volume_m3"] == pytest.approx(_expected_volume(), rel=0.02)
+    assert (tmp_path / "still_mask_xcertainty.csv").is_file()
+
+
+@pytest.mark.parametrize("argv, message", [
+    ([], "give an annotation (.json), a MorphoMetriX file (.csv) or --from-mask MASKS"),
+    (["--from-mask", "MASK", "--camera", "dji-mavic3-5.1k"],
+     "--from-mask without an annotation needs --altitude-m"),
+    (["--from-mask", "MASK", "--altitude-m", "20", "--focal-mm", "12.29"],
+     "needs its camera: --camera PRESET or both --sensor-width-mm and --focal-mm"),
+    (["--from-mask", "MASK", "--altitude-m", "20", "--camera", "dji-mavic3-5.1k"],
+     "but the clip is 1280×720 px"),
+    (["--from-mask", "MASK", "--altitude-m", "20", "--camera", "dji-mavic3-5.1k",
+      "--frame", "3"], "no animal in the mask of frame 3 (1 frames)"),
+    (["ANNOTATION", "--camera", "dji-mavic3-5.1k"], "--camera is for --from-mask without"),
+])
+def test_from_mask_alone_needs_altitude_and_camera(tmp_path, capsys, argv, message):
+    """Without an annotation a mask needs --altitude-m and one camera; a preset of another
+    frame size and a frame without the animal exit 2."""
+    argv = [a.replace("MASK", str(_mask_image(tmp_path))) if a == "MASK"
+            else str(_annotation_file(tmp_path)) if a == "ANNOTATION" else a for a in argv]
+    assert main(["measure", *argv]) == 2
+    assert message in capsys.readouterr().err

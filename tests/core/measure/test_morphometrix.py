@@ -1,5 +1,6 @@
 """MorphoMetriX CSVs: the real v1 and v2 files, name normalisation, writing and round trips."""
 
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -8,7 +9,8 @@ import pytest
 from dolphinfit.core.errors import InputError
 from dolphinfit.core.measure.morphometrix import (
     MorphoMetrixRecord, pixel_measurements, read_morphometrix, record_from_pixels,
-    width_name, write_morphometrix_v2,
+    total_length_name, width_name, write_morphometrix, write_morphometrix_v1,
+    write_morphometrix_v2,
 )
 from dolphinfit.core.measure.annotation import PixelMeasurements
 
@@ -170,3 +172,55 @@ def test_impossible_lengths_and_widths_are_refused(tmp_path, old, new, message):
     path.write_text(V2_DEMO.read_text(encoding="utf-8").replace(old, new), encoding="utf-8")
     with pytest.raises(InputError, match=f"bad.csv: {message}"):
         pixel_measurements(read_morphometrix(path), path)
+
+
+@pytest.mark.parametrize("name, expected", [
+    ("demo-annotated.csv", "Total_Length"), ("test-image.csv", "Total Length")])
+def test_total_length_by_its_usual_names(name, expected):
+    """Each person named the total length their way; both are found, and read in pixels
+    from their metres: 7.593 m and 7.547 m at 3.1781 mm/px."""
+    record = read_morphometrix(MINKE / name)
+    assert total_length_name(record, MINKE / name) == expected
+    assert total_length_name(record, MINKE / name, "total-LENGTH") == expected
+    pixels = pixel_measurements(record, MINKE / name)
+    assert pixels.length_px * record.m_per_px == pytest.approx(record.lengths_m[expected],
+                                                               rel=1e-12)
+    assert record.m_per_px == pytest.approx(0.0031781, abs=1e-7)
+
+
+def test_total_length_missing_or_twice_is_an_input_error(tmp_path):
+    """No total length, or TL beside Total_Length: InputError listing the file's lengths."""
+    record = MorphoMetrixRecord(1, "i", "", 50.0, 50.0, 0.004, None, "",
+                                lengths_m={"Fluke": 2.0})
+    with pytest.raises(InputError, match=r"r.csv: no total length .* \(Fluke\); name the"):
+        total_length_name(record, tmp_path / "r.csv")
+    record = replace(record, lengths_m={"TL": 7.0, "Total_Length": 7.1})
+    with pytest.raises(InputError, match=r"several total lengths \(TL, Total_Length\)"):
+        total_length_name(record, tmp_path / "r.csv")
+
+
+def test_v1_round_trip_of_a_persons_file(tmp_path):
+    """Their v1 file written again as v1 reads back equal: metadata, lengths, 19 widths, the
+    angle and the area."""
+    record = read_morphometrix(MINKE / "demo-annotated.csv")
+    write_morphometrix(tmp_path / "again.csv", record, version=1)
+    assert read_morphometrix(tmp_path / "again.csv") == record
+    assert record.others == (("fluke-lead-edge", 23.907, "Degrees"),
+                             ("diatom-patch-1", 0.374, "Square Meters"))
+
+
+def test_pixels_round_trip_through_a_written_v1_file(tmp_path):
+    """Annotation pixels → v1 file (metres only) → pixels: equal to 10 significant digits,
+    NaN kept; the mirror side has no row in v1."""
+    widths = np.linspace(15, 62, 19)
+    widths[[4, 17]] = np.nan
+    pixels = PixelMeasurements(341.5865663, widths, True)
+    record = record_from_pixels(pixels, image_id="x", image_path="", focal_mm=12.29,
+                                pixel_dimension_mm=17.27 / 3840, altitude_m=20.0,
+                                mirror_side="A")
+    write_morphometrix_v1(tmp_path / "x.csv", record)
+    back_record = read_morphometrix(tmp_path / "x.csv")
+    assert (back_record.version, back_record.mirror_side) == (1, None)
+    back = pixel_measurements(back_record, tmp_path / "x.csv")
+    assert back.length_px == pytest.approx(pixels.length_px, rel=5e-10)
+    np.testing.assert_allclose(back.widths_px, widths, rtol=5e-10)
