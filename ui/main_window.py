@@ -85,7 +85,7 @@ class MainWindow(QMainWindow):
         self.model = ProjectModel(parent=self)
         self.recent_actions: deque[str] = deque(maxlen=RECENT_ACTIONS)  # for crash reports
         self.jobs = BackgroundJobs(self)
-        self.probe = BackgroundJobs(self)  # its own pool: loading torch delays no clip
+        self.probe = BackgroundJobs(self)  # its own pool: a slow CUDA driver delays no clip
         self.state = ViewerState(self)
         self.notifier = Notifier(self)
         self.ask = Questions(self)
@@ -351,15 +351,17 @@ class MainWindow(QMainWindow):
         self.loader.set_source(session.source)
         self.playback.set_clip(media.num_frames, media.fps)
         self.timeline.set_clip(media.num_frames, media.fps)
-        self._show_telemetry()
-        self._update_marks()
-        self._check_camera()
-        measurement = self.model.current_measurement()
-        target = measurement.frame_idx if measurement is not None else self._pending_frame
-        self._pending_frame = None
-        self.go_to_frame(target if target is not None else 0, force=True)
-        self.results.refresh()
-        self.canvas.setFocus()
+        try:
+            self._show_telemetry()
+            self._update_marks()
+            self._check_camera()
+            measurement = self.model.current_measurement()
+            target = measurement.frame_idx if measurement is not None else self._pending_frame
+            self._pending_frame = None
+            self.go_to_frame(target if target is not None else 0, force=True)
+        finally:  # a step that failed is reported (ui/crash_handler.py); the results still
+            self.results.refresh()  # follow the open clip, not "the clip is still opening"
+            self.canvas.setFocus()
 
     def _on_telemetry_changed(self) -> None:
         self._show_telemetry()

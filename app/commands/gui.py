@@ -19,7 +19,7 @@ from pathlib import Path
 
 from dolphinfit.core.errors import InputError
 
-# The app opens without the fitting stack; work that needs torch sets its threads itself.
+# torch is imported at start (ui/app.py), but the work that computes with it sets its threads.
 LOADS_TORCH = False
 
 
