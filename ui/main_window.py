@@ -21,9 +21,10 @@ from PySide6.QtWidgets import (
     QWidget,
 )
 
-from dolphinfit.core.camera_presets import preset_resolution_mismatch
+from dolphinfit.core.camera_presets import CameraPreset, preset_resolution_mismatch
 from dolphinfit.core.device import AUTO, CUDA, DEFAULT_DEVICE, DEVICES, cuda_available
 from dolphinfit.core.errors import InputError
+from dolphinfit.core.project.model import CAMERA_UNKNOWN
 from dolphinfit.core.project.recent import recent_projects
 from dolphinfit.core.segment.backends import BACKENDS, COLOUR, DEFAULT_BACKEND, NETWORK, SAM2
 from dolphinfit.core.segment.sam2_backend import INSTALL_HINT, PACKAGE, installed
@@ -71,6 +72,15 @@ DEVICE_ACTIONS = {f"device_{device}": device for device in DEVICES}   # core.dev
 CUDA_CHECKING = "asking torch whether it sees a CUDA GPU…"
 NO_CUDA = ("torch sees no CUDA GPU here (the CPU-only build of torch, or no GPU or driver): "
            "Help → Manual → Install tells how to install a CUDA build")
+
+
+def _gsd_text(camera: CameraPreset | None, preset_name: str | None, altitude_m: float) -> str:
+    """The status bar's GSD at ``altitude_m``, with where a camera of no preset came from
+    (a photo's EXIF, values typed)."""
+    if camera is None:
+        return f"GSD: {CAMERA_UNKNOWN}"
+    gsd_cm = 100 * camera.intrinsics().gsd_m_per_px(altitude_m)
+    return f"GSD {gsd_cm:.2f} cm/px" + ("" if preset_name else f" ({camera.description})")
 
 
 class MainWindow(QMainWindow):
@@ -369,13 +379,18 @@ class MainWindow(QMainWindow):
         self.results.refresh()
 
     def _check_camera(self) -> None:
-        """A lasting red warning while the camera's image size is not the clip's."""
+        """A lasting red warning while the clip has no camera, or the camera's image size is
+        not the clip's."""
         session = self.state.session
         if session is None:
             self.camera_warning.clear()
             return
         media = session.source.clip
         clip = self.model.project.clips[session.clip_idx]
+        if clip.camera is None:
+            self.camera_warning.setText(CAMERA_UNKNOWN)
+            self.camera_warning.setToolTip("nothing is measured until the clip has a camera")
+            return
         mismatch = preset_resolution_mismatch(clip.camera, media.width_px, media.height_px)
         self.camera_warning.setText("camera size ≠ clip: Clip → Camera…" if mismatch else "")
         self.camera_warning.setToolTip(mismatch or "")
@@ -453,8 +468,8 @@ class MainWindow(QMainWindow):
             if calibrated is not None:  # what the results measure with
                 where = f"calibrated by {clip.altitude_calibration!r}; {altitude:.2f} m {where}"
                 altitude = calibrated
-            gsd_cm = 100 * clip.camera.intrinsics().gsd_m_per_px(altitude)
-            parts += [f"altitude {altitude:.2f} m ({where})", f"GSD {gsd_cm:.2f} cm/px"]
+            parts.append(f"altitude {altitude:.2f} m ({where})")
+            parts.append(_gsd_text(clip.camera, clip.preset_name, altitude))
         if clip.lens is not None:
             parts.append("through the lens model")
         self.status_label.setText(" · ".join(parts))

@@ -32,6 +32,7 @@ from dolphinfit.core.measure.annotation import (
 )
 from dolphinfit.core.measure.baseline import SUMMARISED, BaselineEstimate
 from dolphinfit.core.measure.condition import MassModel
+from dolphinfit.core.measure.edge_sources import stations_sources_json, wide_source_columns
 from dolphinfit.core.measure.elliptical import TAIL_EXTRAPOLATED, TAIL_MEASURED, fill_skipped
 from dolphinfit.core.measure.mask_midline import suggested_edges
 from dolphinfit.core.measure.stations import STATION_PCT
@@ -58,6 +59,7 @@ class MeasureInput:
     uas: str = ""
     recorded_altitude_m: float | None = None   # before an altitude calibration, if applied
     warnings: tuple[str, ...] = ()   # about the input (added to the estimate's in the result)
+    edge_sources: np.ndarray | None = None   # (S, 2) core.measure.edge_sources; None: unknown
 
 
 def default_image_id(doc: AnnotationFile, path: Path) -> str:
@@ -184,8 +186,13 @@ def default_error_model(altitude_source: str, is_camera_approximate: bool,
 def result_record(source: MeasureInput, estimate: BaselineEstimate, *, input_name: str,
                   seed: int) -> dict:
     """The result JSON: schema version, input, calibration, Monte Carlo seed and the estimate
-    (its warnings after the input's own)."""
+    (its warnings after the input's own; its stations with their edges' sources, where
+    known)."""
     estimated = estimate.to_json()
+    if source.edge_sources is not None:
+        estimated["stations"] = [
+            {**station, **sources} for station, sources in
+            zip(estimated["stations"], stations_sources_json(source.edge_sources))]
     return {"schema_version": RESULT_SCHEMA_VERSION, "input": input_name,
             "altitude_m": source.record.altitude_m, "altitude_source": source.altitude_source,
             **({} if source.recorded_altitude_m is None
@@ -196,14 +203,17 @@ def result_record(source: MeasureInput, estimate: BaselineEstimate, *, input_nam
 
 def wide_csv_row(source: MeasureInput, estimate: BaselineEstimate, result: dict, *,
                  csv_name: str) -> dict[str, str]:
-    """Our wide-table row: measurements, calibration and the result columns.
+    """Our wide-table row: measurements, calibration, the edges' sources (where known) and the
+    result columns.
 
     ``csv_name``: the MorphoMetriX file exported with it.
     """
+    sources = ({} if source.edge_sources is None
+               else wide_source_columns(source.edge_sources, LENGTH_NAME))
     return wide_row(source.record, csv_name=csv_name, altitude_source=source.altitude_source,
                     image_width_px=source.image_width_px,
                     sensor_width_mm=source.sensor_width_mm, uas=source.uas,
-                    extras=_result_columns(estimate, result))
+                    extras={**sources, **_result_columns(estimate, result)})
 
 
 def collatrix_csv_row(source: MeasureInput, estimate: BaselineEstimate, *, csv_name: str,

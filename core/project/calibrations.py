@@ -61,7 +61,7 @@ def calibrated_clip_telemetry(project: Project, clip_idx: int,
     if calibration is None:
         return telemetry
     clip = project.clips[clip_idx]
-    calibration.check_focal_px(clip.camera.intrinsics().focal_px, clip.media_path)
+    calibration.check_focal_px(clip.known_camera().intrinsics().focal_px, clip.media_path)
     return calibrated_telemetry(telemetry, calibration)
 
 

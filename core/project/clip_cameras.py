@@ -24,20 +24,23 @@ EDITED_NAME = "edited"  # the name of a camera whose values were typed
 Size = tuple[int, int]  # (width, height) px
 
 
-def entered_camera(based_on: CameraPreset, is_preset: bool, focal_mm: float,
+def entered_camera(based_on: CameraPreset | None, is_preset: bool, focal_mm: float,
                    sensor_width_mm: float, image_width_px: int, image_height_px: int,
                    source: str) -> CameraPreset:
-    """The camera of values typed over ``based_on`` (a preset's where ``is_preset``), by the
-    module doc's rule: typed focal length or sensor width, not approximate; else ``based_on``'s
-    flag, and approximate where a preset's are taken to another image size."""
-    is_lens_typed = (focal_mm, sensor_width_mm) != (based_on.focal_mm, based_on.sensor_width_mm)
-    is_resized = (image_width_px, image_height_px) != (based_on.image_width_px,
-                                                       based_on.image_height_px)
-    return CameraPreset(
+    """The camera of values typed over ``based_on`` (a preset's where ``is_preset``; None: no
+    camera, every value typed), by the module doc's rule: typed focal length or sensor width,
+    not approximate; else ``based_on``'s flag, and approximate where a preset's are taken to
+    another image size."""
+    camera = CameraPreset(
         name=EDITED_NAME, description="values entered by hand", focal_mm=focal_mm,
         sensor_width_mm=sensor_width_mm, image_width_px=image_width_px,
-        image_height_px=image_height_px, source=source,
-        approximate=not is_lens_typed and (based_on.approximate or is_preset and is_resized))
+        image_height_px=image_height_px, source=source, approximate=False)
+    if based_on is None or (focal_mm, sensor_width_mm) != (based_on.focal_mm,
+                                                          based_on.sensor_width_mm):
+        return camera
+    is_resized = (image_width_px, image_height_px) != (based_on.image_width_px,
+                                                       based_on.image_height_px)
+    return replace(camera, approximate=based_on.approximate or is_preset and is_resized)
 
 
 @dataclass(frozen=True)

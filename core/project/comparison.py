@@ -175,7 +175,7 @@ def project_comparison_rows(project: Project, project_path: Path, num_draws: int
         clip = project.clips[key.clip]
         rows.append(comparison_csv_row(by_key[key].image_id, animal.animal_id, fit.status,
                                        compare(by_key[key].estimate, fit,
-                                               clip.camera.image_width_px),
+                                               clip.known_camera().image_width_px),
                                        changed_since_fit(project, clip, animal)))
     return rows, notes + skipped
 

@@ -10,6 +10,7 @@ from dataclasses import replace
 import numpy as np
 
 from dolphinfit.core.measure.annotation import SIDES, Stations, edge_offsets, place_stations
+from dolphinfit.core.measure.edge_sources import EDGE_CLICKED, EDGE_SUGGESTED, moved_source
 from dolphinfit.core.project.model import Measurement
 
 
@@ -64,7 +65,8 @@ def reverse_midline(m: Measurement) -> Measurement:
     offsets = -m.offsets_px[::-1, ::-1]
     mirror = None if m.mirror_side is None else SIDES[1 - SIDES.index(m.mirror_side)]
     return replace(m, midline_px=m.midline_px[::-1], offsets_px=offsets,
-                   skipped=m.skipped[::-1], mirror_side=mirror)
+                   skipped=m.skipped[::-1], mirror_side=mirror,
+                   edge_sources=m.edge_sources[::-1, ::-1])
 
 
 def stations_of(m: Measurement) -> Stations | None:
@@ -77,17 +79,31 @@ def offset_of_point(stations: Stations, station: int, u: float, v: float) -> flo
     return float(np.dot(np.array([u, v]) - stations.points_px[station], stations.normals[station]))
 
 
-def set_offset(m: Measurement, station: int, side: int, offset_px: float) -> Measurement:
-    """Place side ``side`` (0 = A, 1 = B) of ``station`` at ``offset_px`` (NaN removes it).
-
-    Placing an edge un-skips the station.
-    """
+def _with_edge(m: Measurement, station: int, side: int, offset_px: float,
+               source: str) -> Measurement:
     offsets = m.offsets_px.copy()
     offsets[station, side] = offset_px
+    sources = m.edge_sources.copy()
+    sources[station, side] = source
     skipped = m.skipped.copy()
     if np.isfinite(offset_px):
         skipped[station] = False
-    return replace(m, offsets_px=offsets, skipped=skipped)
+    return replace(m, offsets_px=offsets, skipped=skipped, edge_sources=sources)
+
+
+def set_offset(m: Measurement, station: int, side: int, offset_px: float) -> Measurement:
+    """Place side ``side`` (0 = A, 1 = B) of ``station`` at ``offset_px`` by a click (NaN
+    removes it).
+
+    Placing an edge un-skips the station.
+    """
+    return _with_edge(m, station, side, offset_px, EDGE_CLICKED)
+
+
+def move_offset(m: Measurement, station: int, side: int, offset_px: float) -> Measurement:
+    """``set_offset`` for a drag or nudge: a suggested edge becomes suggested then moved; any
+    other keeps its source."""
+    return _with_edge(m, station, side, offset_px, moved_source(m.edge_sources[station, side]))
 
 
 def set_skipped(m: Measurement, station: int, is_skipped: bool) -> Measurement:
@@ -104,13 +120,15 @@ def set_mirror_side(m: Measurement, side: str | None) -> Measurement:
 
 def offsets_from_edges(m: Measurement, edges_px: np.ndarray,
                        only_missing: bool = True) -> Measurement:
-    """Offsets from edge points, e.g. ``suggest_edges`` on a mask; NaN edges change nothing.
+    """Offsets from edge points suggested from a mask (``suggested_edges``), recorded as
+    suggested; NaN edges change nothing.
 
-    ``only_missing``: keep the edges the user already placed.
+    ``only_missing``: keep the edges already placed.
     """
     stations = stations_of(m)
     if stations is None:
         raise ValueError("edges need a midline with at least two points")
     suggested = edge_offsets(stations, edges_px)
     keep = np.isnan(suggested) | (np.isfinite(m.offsets_px) if only_missing else False)
-    return replace(m, offsets_px=np.where(keep, m.offsets_px, suggested))
+    return replace(m, offsets_px=np.where(keep, m.offsets_px, suggested),
+                   edge_sources=np.where(keep, m.edge_sources, EDGE_SUGGESTED))

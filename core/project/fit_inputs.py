@@ -36,7 +36,7 @@ def _inputs(project: Project, clip: ClipEntry) -> dict[str, object]:
     calibration = next((c for c in project.calibrations
                         if c.name == clip.altitude_calibration), None)
     return {
-        "camera": _camera(clip.camera),
+        "camera": None if clip.camera is None else _camera(clip.camera),
         "altitude": None if altitude is None else [
             _file(altitude.path), altitude.constant_m, altitude.launch_height_m,
             altitude.time_offset_s, altitude.source],

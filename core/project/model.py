@@ -15,7 +15,11 @@ from pathlib import Path
 import numpy as np
 
 from dolphinfit.core.camera_presets import CameraPreset
+from dolphinfit.core.errors import InputError
 from dolphinfit.core.measure.annotation import ALTITUDE_SOURCES, SIDES, Annotation, place_stations
+from dolphinfit.core.measure.edge_sources import (
+    EDGE_CLICKED, EDGE_SOURCE_DTYPE, EDGE_SOURCES, NO_EDGE,
+)
 from dolphinfit.core.measure.elliptical import TAIL_EXTRAPOLATED, TAIL_OPTIONS
 from dolphinfit.core.measure.hw_ratios import DEFAULT_PRESET
 from dolphinfit.core.measure.lens import LensModel
@@ -23,6 +27,7 @@ from dolphinfit.core.measure.stations import NUM_STATIONS
 from dolphinfit.core.project.fit_settings import FitSettings
 
 MEDIA_KINDS = ("video", "image", "frames")
+CAMERA_UNKNOWN = "camera unknown: Clip → Camera…"  # what a clip without a camera says
 
 
 def _frozen_array(values: object, shape_tail: tuple[int, ...], dtype: type) -> np.ndarray:
@@ -39,6 +44,8 @@ class Measurement:
     ``offsets_px``: (S, 2) signed distance of the side A / side B edge from the midline along
     the station's normal, NaN where not placed. ``skipped``: (S,) stations marked not
     measurable (glare, splash). ``mirror_side``: None, "A" or "B" (that side doubled).
+    ``edge_sources``: (S, 2) how each edge was placed (core.measure.edge_sources), NO_EDGE
+    where none is; a placed edge given without a source counts as clicked.
     """
 
     frame_idx: int
@@ -48,13 +55,22 @@ class Measurement:
     skipped: np.ndarray = field(default_factory=lambda: np.zeros(NUM_STATIONS, bool))
     mirror_side: str | None = None
     notes: str = ""
+    edge_sources: np.ndarray = field(
+        default_factory=lambda: np.full((NUM_STATIONS, 2), NO_EDGE))
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "midline_px", _frozen_array(self.midline_px, (2,), np.float64))
         object.__setattr__(self, "offsets_px", _frozen_array(self.offsets_px, (2,), np.float64))
         object.__setattr__(self, "skipped", _frozen_array(self.skipped, (), bool))
-        if self.offsets_px.shape != (NUM_STATIONS, 2) or self.skipped.shape != (NUM_STATIONS,):
+        sources = np.asarray(self.edge_sources, dtype=str)
+        if (self.offsets_px.shape != (NUM_STATIONS, 2) or self.skipped.shape != (NUM_STATIONS,)
+                or sources.shape != (NUM_STATIONS, 2)):
             raise ValueError(f"a measurement has {NUM_STATIONS} stations")
+        if not np.isin(sources, (NO_EDGE, *EDGE_SOURCES)).all():
+            raise ValueError(f"edge sources must be among {EDGE_SOURCES}")
+        placed = np.isfinite(self.offsets_px)
+        sources = np.where(placed, np.where(sources == NO_EDGE, EDGE_CLICKED, sources), NO_EDGE)
+        object.__setattr__(self, "edge_sources", _frozen_array(sources, (2,), EDGE_SOURCE_DTYPE))
         if self.mirror_side not in (None, *SIDES):
             raise ValueError(f"mirror_side must be None, 'A' or 'B', got {self.mirror_side!r}")
         if self.frame_idx < 0:
@@ -73,6 +89,13 @@ class Measurement:
         """(S,) bool: stations skipped or with every needed side placed."""
         placed = np.isfinite(self.offsets_px[:, self.needed_sides()]).all(axis=1)
         return self.skipped | placed
+
+    def used_edge_sources(self) -> np.ndarray:
+        """(S, 2) ``edge_sources`` of the edges a width is measured from: NO_EDGE at skipped
+        stations, at stations without every needed side, and on the side a mirror leaves out."""
+        needed = self.needed_sides()
+        has_width = ~self.skipped & np.isfinite(self.offsets_px[:, needed]).all(axis=1)
+        return np.where(has_width[:, None] & np.isin([0, 1], needed), self.edge_sources, NO_EDGE)
 
     def to_annotation(self) -> Annotation | None:
         """The annotation of core.measure (edge points in pixels), None without a length."""
@@ -181,20 +204,22 @@ class ClipEntry:
     """A video, a still image or a folder of numbered frames, with its calibration.
 
     ``media_path``: relative to the project file's folder (POSIX separators). ``camera``: the
-    camera and video mode; ``preset_name``: the preset it was chosen from (None: edited by
-    hand). ``altitude``: None until the user gives one. ``masks_path``: the clip's masks (a
-    folder of %06d.png, an .npz or a mask video; core/io/masks.py), relative like the media.
-    ``altitude_calibration``: the name of the project's calibration its altitudes are
-    corrected by (None: as recorded). ``scan_path``: the clip's scan (core/scan/scan_files.py),
-    relative like the media; ``rejected_frames``: (scan animal number, frame) pairs the user
-    put aside in the frame picker. ``lens``: the camera's lens model (`dolphinfit calibrate
-    lens`) measurements are taken through; None: measured as clicked. ``media_fingerprint``:
-    the media's content when it was added (core/io/media_fingerprint.py; None: not taken).
+    camera and video mode, None while unknown (a still whose EXIF names none: nothing is
+    measured until the user sets one); ``preset_name``: the preset it was chosen from (None:
+    edited by hand, or the photo's own). ``altitude``: None until the user gives one.
+    ``masks_path``: the clip's masks (a folder of %06d.png, an .npz or a mask video;
+    core/io/masks.py), relative like the media. ``altitude_calibration``: the name of the
+    project's calibration its altitudes are corrected by (None: as recorded). ``scan_path``:
+    the clip's scan (core/scan/scan_files.py), relative like the media; ``rejected_frames``:
+    (scan animal number, frame) pairs the user put aside in the frame picker. ``lens``: the
+    camera's lens model (`dolphinfit calibrate lens`) measurements are taken through; None:
+    measured as clicked. ``media_fingerprint``: the media's content when it was added
+    (core/io/media_fingerprint.py; None: not taken).
     """
 
     media_path: str
     kind: str
-    camera: CameraPreset
+    camera: CameraPreset | None
     preset_name: str | None = None
     altitude: AltitudeSpec | None = None
     animals: tuple[Animal, ...] = ()
@@ -215,6 +240,12 @@ class ClipEntry:
     def name(self) -> str:
         """The media's file or folder name."""
         return Path(self.media_path).name
+
+    def known_camera(self) -> CameraPreset:
+        """The clip's camera; InputError naming the clip while it is unknown."""
+        if self.camera is None:
+            raise InputError(f"{self.name}: {CAMERA_UNKNOWN}")
+        return self.camera
 
 
 @dataclass(frozen=True)

@@ -11,8 +11,9 @@ Schema version 1 (``*.dolphinfit``)::
         "scan": "survey.scans/DJI_0042_scan.json", "rejected_frames": [[1, 150]],
         "lens": {"width_px": 5120, "height_px": 2700, "fx_px": …, "distortion": [k1, k2, p1,
                  p2, k3], …},
-        "camera": {"preset": "dji-mavic3-5.1k", "focal_mm": 12.29, "sensor_width_mm": 17.27,
-                   "image_width_px": 5120, "image_height_px": 2700, "approximate": false},
+        "camera": {"preset": "dji-mavic3-5.1k", "description": "DJI Mavic 3, …",
+                   "focal_mm": 12.29, "sensor_width_mm": 17.27, "image_width_px": 5120,
+                   "image_height_px": 2700, "approximate": false},
         "altitude": {"path": "DJI_0042.SRT", "constant_m": null, "launch_height_m": 1.5,
                      "time_offset_s": 0.0, "source": "barometer"},
         "altitude_calibration": "Mavic 3 barometer",
@@ -21,7 +22,7 @@ Schema version 1 (``*.dolphinfit``)::
           "result": "survey.fits/DJI_0042_dolphin-1"}, "measurements": [{
           "frame_idx": 120, "midline_px": [[u, v], ...], "mirror_side": null, "notes": "",
           "stations": [{"station_pct": 5, "side_a_px": 12.5, "side_b_px": -12.1,
-                        "skipped": false}, ...]}]}]
+                        "side_b_source": "suggested", "skipped": false}, ...]}]}]
       }],
       "calibrations": [{"name": "Mavic 3 barometer", "object_length_m": 2.0,
         "camera": {...}, "altimeter": "barometer", "shots": [{"image": "board_12m.jpg",
@@ -31,7 +32,10 @@ Schema version 1 (``*.dolphinfit``)::
 Pixels (midline clicks; each edge as its signed distance from the midline along the station's
 normal, side A positive) are kept apart from the calibration (camera, altitude), so a corrected
 altitude rescales everything without re-annotation. The camera's values are stored with the
-preset's name, so a project opens unchanged where that preset is unknown.
+preset's name, so a project opens unchanged where that preset is unknown; a clip's camera is
+null while unknown (core.project.model.ClipEntry), and "description" may be absent. An edge's
+``side_a_source`` / ``side_b_source`` (core.measure.edge_sources) is written only where it is
+not ``clicked``, so a missing one (every file from before) reads as clicked.
 
 The autosave file is the project file's sibling ``NAME.autosave``; it is written after edits
 and removed on save, so one that is newer than its project marks unsaved work (a crash).
@@ -50,6 +54,7 @@ from dolphinfit.core.errors import InputError
 from dolphinfit.core.io.json_file import (
     check_schema_version, dataclass_from_json, json_field, read_json, write_json,
 )
+from dolphinfit.core.measure.edge_sources import EDGE_CLICKED, NO_EDGE, SOURCE_JSON_KEYS
 from dolphinfit.core.measure.lens import LensModel, checked_lens
 from dolphinfit.core.measure.stations import NUM_STATIONS, STATION_PCT
 from dolphinfit.core.project.fit_settings import FitSettings
@@ -85,19 +90,24 @@ def _camera_from_json(data: Any, where: str) -> tuple[CameraPreset, str | None]:
     values = {key: _get(data, key, int if key.endswith("_px") else NUMBER, where)
               for key in ("focal_mm", "sensor_width_mm", "image_width_px", "image_height_px")}
     approximate = _get(data, "approximate", bool, where, optional=True) or False
+    description = (_get(data, "description", str, where, optional=True) or preset
+                   or "camera values of the project")
     try:
-        camera = CameraPreset(name=preset or "explicit",
-                              description=preset or "camera values of the project",
+        camera = CameraPreset(name=preset or "explicit", description=description,
                               source=where, approximate=approximate, **values)
     except ValueError as exc:
         raise InputError(f"{where}: {exc}") from exc
     return camera, preset
 
 
-def _camera_to_json(camera: CameraPreset, preset_name: str | None) -> dict[str, Any]:
-    return {"preset": preset_name, "focal_mm": camera.focal_mm,
-            "sensor_width_mm": camera.sensor_width_mm, "image_width_px": camera.image_width_px,
-            "image_height_px": camera.image_height_px, "approximate": camera.approximate}
+def _camera_to_json(camera: CameraPreset | None,
+                    preset_name: str | None) -> dict[str, Any] | None:
+    if camera is None:
+        return None
+    return {"preset": preset_name, "description": camera.description,
+            "focal_mm": camera.focal_mm, "sensor_width_mm": camera.sensor_width_mm,
+            "image_width_px": camera.image_width_px, "image_height_px": camera.image_height_px,
+            "approximate": camera.approximate}
 
 
 def _altitude_from_json(data: Any, where: str) -> AltitudeSpec | None:
@@ -138,6 +148,7 @@ def _measurement_from_json(data: Any, where: str) -> Measurement:
     if len(stations) != NUM_STATIONS:
         raise InputError(f"{where}: expected the {NUM_STATIONS} stations, got {len(stations)}")
     offsets = np.full((NUM_STATIONS, 2), np.nan)
+    sources = []  # absent: NO_EDGE, which a placed edge reads as clicked
     skipped = np.zeros(NUM_STATIONS, bool)
     for idx, (entry, pct) in enumerate(zip(stations, STATION_PCT)):
         at = f"{where}: stations[{idx}]"
@@ -146,6 +157,8 @@ def _measurement_from_json(data: Any, where: str) -> Measurement:
         for side, key in enumerate(("side_a_px", "side_b_px")):
             value = _get(entry, key, NUMBER, at, optional=True)
             offsets[idx, side] = np.nan if value is None else value
+        sources.append([_get(entry, key, str, at, optional=True) or NO_EDGE
+                        for key in SOURCE_JSON_KEYS])
         skipped[idx] = bool(_get(entry, "skipped", bool, at, optional=True))
     frame_idx = _get(data, "frame_idx", int, where)
     try:
@@ -154,7 +167,7 @@ def _measurement_from_json(data: Any, where: str) -> Measurement:
                                                         f"{where}: midline_px"),
             offsets_px=offsets, skipped=skipped,
             mirror_side=_get(data, "mirror_side", str, where, optional=True),
-            notes=_get(data, "notes", str, where, optional=True) or "")
+            notes=_get(data, "notes", str, where, optional=True) or "", edge_sources=sources)
     except ValueError as exc:
         raise InputError(f"{where}: {exc}") from exc
 
@@ -163,8 +176,11 @@ def _measurement_to_json(m: Measurement) -> dict[str, Any]:
     stations = [{"station_pct": pct,
                  "side_a_px": None if np.isnan(a) else float(a),
                  "side_b_px": None if np.isnan(b) else float(b),
+                 **{key: source for key, source in zip(SOURCE_JSON_KEYS, sources)
+                    if source not in (NO_EDGE, EDGE_CLICKED)},
                  "skipped": bool(skip)}
-                for pct, (a, b), skip in zip(STATION_PCT, m.offsets_px, m.skipped)]
+                for pct, (a, b), sources, skip in zip(STATION_PCT, m.offsets_px,
+                                                      m.edge_sources.tolist(), m.skipped)]
     return {"frame_idx": m.frame_idx, "midline_px": m.midline_px.tolist(),
             "mirror_side": m.mirror_side, "notes": m.notes, "stations": stations}
 
@@ -211,7 +227,9 @@ def _fit_inputs_from_json(data: Any, where: str) -> tuple[tuple[str, str], ...]:
 
 
 def _clip_from_json(data: Any, where: str) -> ClipEntry:
-    camera, preset = _camera_from_json(_get(data, "camera", dict, where), f"{where}: camera")
+    camera, preset = None, None   # null: the camera is unknown
+    if _get(data, "camera", (dict, type(None)), where) is not None:
+        camera, preset = _camera_from_json(data["camera"], f"{where}: camera")
     animals = tuple(_animal_from_json(a, f"{where}: animals[{i}]")
                     for i, a in enumerate(_get(data, "animals", list, where)))
     try:

@@ -121,25 +121,26 @@ def _frame_input(project: Project, key: MeasurementKey, altitude_m: float,
                  altitude_source: str) -> tuple[str, MeasureInput, ErrorModel]:
     """The frame's export name, its measurement in pixels with its camera and altitude (the
     clicks through the clip's lens model and its altitude calibration applied, where it has
-    them) and the error SDs that go with them."""
+    them) and the error SDs that go with them; InputError while the camera is unknown."""
     clip = project.clips[key.clip]
+    camera = clip.known_camera()
     measurement = get_measurement(project, key)
     annotation = measurement.to_annotation()
     if annotation is None:
         raise ValueError("no body length yet: click from the rostrum tip to the fluke notch")
-    calibration = Calibration(clip.camera, clip.preset_name, altitude_m, altitude_source)
+    calibration = Calibration(camera, clip.preset_name, altitude_m, altitude_source)
     name = image_id(clip, measurement.frame_idx)
     doc = AnnotationFile(annotation=annotation, calibration=calibration, image_id=name,
                          media_path=clip.media_path, notes=measurement.notes)
     doc, notes, warnings = through_lens(doc, clip.lens, f"the lens model of {clip.name}")
     source = replace(measured_image_from_annotation(doc, image_id=name, notes=notes),
-                     warnings=tuple(warnings))
+                     warnings=tuple(warnings), edge_sources=measurement.used_edge_sources())
     overrides = {}
     altitude_calibration = clip_calibration(project, key.clip)
     if altitude_calibration is not None:
         source = with_altitude_calibration(source, altitude_calibration, name)
         overrides = altitude_calibration.error_overrides(altitude_m)
-    return name, source, default_error_model(altitude_source, clip.camera.approximate,
+    return name, source, default_error_model(altitude_source, camera.approximate,
                                              **overrides)
 
 

@@ -54,7 +54,8 @@ def scan_clip(project_path: Path, project: Project, clip_idx: int, settings: Sca
         telemetry = clip_telemetry(project_path.parent, clip, source.clip)
         if telemetry is not None:
             telemetry = calibrated_clip_telemetry(project, clip_idx, telemetry)
-        known = scan_telemetry(source.clip, telemetry, clip.camera.intrinsics().focal_px)
+        known = scan_telemetry(source.clip, telemetry,
+                               clip.known_camera().intrinsics().focal_px)
         return scanner.scan(source, known, settings, progress, cancel)
 
 

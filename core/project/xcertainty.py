@@ -20,7 +20,7 @@ NUMBERED_ANIMAL = re.compile(r"dolphin \d+")   # the IDs the app and the scan gi
 
 
 def _drone(clip: ClipEntry) -> str:
-    return clip.altitude_calibration or clip.preset_name or clip.camera.name
+    return clip.altitude_calibration or clip.preset_name or clip.known_camera().name
 
 
 def measurement_row(project: Project, result: FrameResult) -> dict[str, str]:

@@ -4,11 +4,12 @@ temporary one, so tests never read or write the real one."""
 import gc
 from pathlib import Path
 
-import cv2
 import pytest
 
+from dolphinfit.core.camera_presets import DEFAULT_PRESET, get_preset
 from dolphinfit.core.project.model import AltitudeSpec
 
+from ..core.io.exif_still import write_still
 from .ellipse_scene import dolphin_frame
 
 
@@ -107,11 +108,12 @@ STILL_ALTITUDE_M = 20.0   # what opening the still answers for its altitude
 
 @pytest.fixture
 def still(tmp_path: Path) -> Path:
-    """The ellipse scene as a PNG still in a survey folder."""
+    """The ellipse scene as a PNG still in a survey folder, whose EXIF names a camera of the
+    default preset's focal length and sensor width (a still's camera is its EXIF's)."""
     path = tmp_path / "survey" / "DJI_0001.png"
     path.parent.mkdir()
-    cv2.imwrite(str(path), cv2.cvtColor(dolphin_frame(), cv2.COLOR_RGB2BGR))
-    return path
+    frame, preset = dolphin_frame(), get_preset(DEFAULT_PRESET)
+    return write_still(path, frame, preset.focal_mm, preset.sensor_width_mm / frame.shape[1])
 
 
 @pytest.fixture

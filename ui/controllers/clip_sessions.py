@@ -15,7 +15,7 @@ from dolphinfit.core.errors import InputError
 from dolphinfit.core.measure.lens import LensModel, read_lens
 from dolphinfit.core.project.calibrations import clip_calibration
 from dolphinfit.core.project.clip_cameras import CameraSetting, camera_setting, with_camera_setting
-from dolphinfit.core.project.model import with_calibration, with_clip
+from dolphinfit.core.project.model import CAMERA_UNKNOWN, with_calibration, with_clip
 from dolphinfit.core.project.project_file import media_path
 from dolphinfit.core.project.results import frame_altitude
 from dolphinfit.ui.dialogs.questions import Questions
@@ -231,9 +231,13 @@ class ClipSessions(QObject):
             return
         project = self.model.project
         clip = project.clips[clip_idx]
+        if clip.camera is None:
+            self.notifier.error("Altitude calibration", f"{clip.name}: {CAMERA_UNKNOWN}")
+            return
         current = (None if clip.altitude_calibration is None
                    else project.calibration(clip.altitude_calibration))
-        clips = [(i, c.name, c.camera.intrinsics().focal_px) for i, c in enumerate(project.clips)]
+        clips = [(i, c.name, c.camera.intrinsics().focal_px)
+                 for i, c in enumerate(project.clips) if c.camera is not None]
         ticked = (set() if current is None else
                   {i for i, c in enumerate(project.clips)
                    if c.altitude_calibration == current.name})

@@ -368,6 +368,8 @@ class FitController(QObject):
             return None
         faces = self._template_faces() if is_live else source.faces
         clip = self.model.project.clips[session.clip_idx]
+        if clip.camera is None:
+            return None
         intrinsics, lens = clip.camera.intrinsics(), clip.lens
 
         def outlines() -> list[np.ndarray]:   # the fit's pinhole view, bent as the lens saw it
@@ -410,7 +412,7 @@ class FitController(QObject):
         if (frame_result.key.clip, frame_result.key.animal) != (m.clip_idx, m.animal_idx):
             return  # the previous animal's result, still on show
         fit, folder = self._fits[self._shown], self._shown
-        width = m.project.clips[frame_result.key.clip].camera.image_width_px
+        width = m.project.clips[frame_result.key.clip].known_camera().image_width_px
         self.jobs.run(lambda: comparison_view(frame_result.estimate, fit, width),
                       lambda view: self._show_comparison(folder, view),
                       lambda why: self._comparison_failed(folder, why))
@@ -473,7 +475,8 @@ class FitController(QObject):
         return FitJob(discard=self._closing, media=media_path(path, clip),
                       telemetry=calibrated_clip_telemetry(self.model.project, clip_idx,
                                                           session.telemetry),
-                      masks=(path.parent / clip.masks_path).resolve(), camera=clip.camera,
+                      masks=(path.parent / clip.masks_path).resolve(),
+                      camera=clip.known_camera(),
                       out_dir=fit_dir(path, clip.media_path, animal.animal_id),
                       config=project_fit_config(settings, self.model.project, path.parent),
                       lens=clip.lens, device=self.device)

@@ -11,8 +11,8 @@ from PySide6.QtCore import QObject, Signal
 
 from dolphinfit.core.errors import InputError
 from dolphinfit.core.project.media_check import changed_media, with_media_accepted
-from dolphinfit.core.project.model import Project
-from dolphinfit.core.project.new_project import project_path_for, project_with_media
+from dolphinfit.core.project.model import ClipEntry, Project
+from dolphinfit.core.project.new_project import clip_entry_for, project_path_for, project_with_clip
 from dolphinfit.core.project.project_file import (
     PROJECT_SUFFIX,
     autosave_path,
@@ -140,20 +140,29 @@ class ProjectFiles(QObject):
                           f"relink {Path(stored).name}", Change("clip", clip=clip_idx))
 
     def add_media(self, media: Path) -> None:
-        """Open media in the background and add it to the project (or select its clip)."""
+        """Open media and find its camera (a still's EXIF) in the background, then add it to
+        the project (or select its clip); the status bar says where the camera came from."""
         from dolphinfit.core.io.media import open_media
 
-        def opened(source: object) -> None:
-            project, clip_idx = project_with_media(self.model.project, media,
-                                                   self.model.path.parent, source)
-            source.close()
+        path = self.model.path
+
+        def read() -> tuple[ClipEntry, str]:
+            with open_media(media) as source:
+                return clip_entry_for(media, path.parent, source)
+
+        def opened(found: tuple[ClipEntry, str]) -> None:
+            if self.model.path != path:
+                return   # another project by now: the media was not added to it
+            entry, note = found
+            project, clip_idx = project_with_clip(self.model.project, entry)
             if project is not self.model.project:
                 push_edit(self.model, project, f"add {media.name}", Change("structure"))
+                if note:
+                    self.notifier.status(note, STATUS_MS)
             self.model.select(clip_idx)
             self.clip_chosen.emit()
 
-        self.jobs.run(lambda: open_media(media), opened,
-                      lambda why: self.notifier.error("Cannot open media", why))
+        self.jobs.run(read, opened, lambda why: self.notifier.error("Cannot open media", why))
 
     def save(self, path: Path | None = None) -> bool:
         """Write the project (to ``path``: Save As); False when it could not be written."""

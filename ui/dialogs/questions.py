@@ -251,7 +251,7 @@ class Questions:
         dialog = AltitudeDialog(media, project_dir, clip, current, self.parent)
         return dialog.spec if dialog.exec() else None
 
-    def camera(self, camera: CameraPreset, preset_name: str | None, width_px: int,
+    def camera(self, camera: CameraPreset | None, preset_name: str | None, width_px: int,
                height_px: int, num_clips: int) -> CameraAnswer | None:
         """The camera of the open clip (``width_px`` × ``height_px``) and of the other clips
         selected with it (``num_clips`` in all)."""

@@ -234,9 +234,10 @@ class MeasureOverlay(QObject):
             self._own_edit = False
         return True
 
-    def _place_edge(self, edge: Edge, u: float, v: float, merge_tag: Hashable | None = None
-                    ) -> bool:
-        """Put a width handle at the projection of (u, v) on its perpendicular."""
+    def _place_edge(self, edge: Edge, u: float, v: float, merge_tag: Hashable | None = None,
+                    is_move: bool = False) -> bool:
+        """Put a width handle at the projection of (u, v) on its perpendicular: by a click,
+        or (``is_move``) by a drag (a suggested edge becomes suggested then moved)."""
         m = self._shown()
         stations = None if m is None else self._stations(m)
         if stations is None:
@@ -244,7 +245,8 @@ class MeasureOverlay(QObject):
             return False
         station, side = edge
         offset = _on_own_side(edits.offset_of_point(stations, station, u, v), side)
-        return self._edit(lambda m: edits.set_offset(m, station, side, offset),
+        place = edits.move_offset if is_move else edits.set_offset
+        return self._edit(lambda m: place(m, station, side, offset),
                           f"Place {_edge_name(edge)}", merge_tag)
 
     def _delete_point(self, index: int) -> None:
@@ -333,7 +335,7 @@ class MeasureOverlay(QObject):
             return
         outward = 1.0 if side == 0 else -1.0  # side A lies at positive offsets
         new = _on_own_side(offset + direction * outward * step_px, side)
-        self._edit(lambda m: edits.set_offset(m, station, side, new),
+        self._edit(lambda m: edits.move_offset(m, station, side, new),
                    f"Nudge {_edge_name(self._edge)}",
                    ("nudge", station, side, self._key, self._gesture))
 
@@ -423,7 +425,7 @@ class MeasureOverlay(QObject):
             self._edit(lambda m: edits.move_midline_point(m, index[0], u, v),
                        "Move midline point", self._drag.merge_tag)
         else:
-            self._place_edge(tuple(index), u, v, self._drag.merge_tag)
+            self._place_edge(tuple(index), u, v, self._drag.merge_tag, is_move=True)
 
     def handle_released(self, handle: HandleItem) -> None:
         self._drag = None

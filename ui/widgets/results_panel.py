@@ -17,7 +17,11 @@ from PySide6.QtWidgets import (
 )
 
 from dolphinfit.core.errors import InputError
+from dolphinfit.core.measure.annotation import SIDES
 from dolphinfit.core.measure.baseline import BaselineEstimate
+from dolphinfit.core.measure.edge_sources import (
+    EDGE_CLICKED, EDGE_SUGGESTED, EDGE_SUGGESTED_MOVED,
+)
 from dolphinfit.core.measure.elliptical import TAIL_EXTRAPOLATED, TAIL_IDX, TAIL_MEASURED
 from dolphinfit.core.measure.hw_ratios import preset_names
 from dolphinfit.core.measure.stations import NUM_STATIONS, STATION_PCT
@@ -37,6 +41,8 @@ FRAME_ROWS = (("length_m", "Length (m)", ".3f"), ("volume_m3", "Volume (m³)", "
               ("mass_kg", "Mass (kg)", ".1f"))
 ANIMAL_ROWS = tuple(row for row in FRAME_ROWS if row[0] != "density_kg_m3")
 TAIL_LABELS = {TAIL_EXTRAPOLATED: "from 85 % (CollatriX)", TAIL_MEASURED: "as measured"}
+EDGE_SOURCE_TEXT = {EDGE_CLICKED: "measured", EDGE_SUGGESTED: "suggested",
+                    EDGE_SUGGESTED_MOVED: "suggested, moved"}  # "Width from"
 PENDING, NONE = "…", "—"
 PROBLEM_COLOUR, HINT_COLOUR = "#b00020", "#505050"
 STATION_ROWS_VISIBLE = 10
@@ -54,12 +60,22 @@ def _range_text(low: float, high: float, fmt: str) -> str:
     return f"{format(low, fmt)} – {format(high, fmt)}"
 
 
+def _edges_text(measurement: Measurement, idx: int) -> str:
+    """How a measured station's edges were placed: one phrase, or one per side where the
+    sides differ ("A suggested / B measured")."""
+    sides = measurement.needed_sides()
+    texts = [EDGE_SOURCE_TEXT[measurement.edge_sources[idx, side]] for side in sides]
+    if len(set(texts)) == 1:
+        return texts[0]
+    return " / ".join(f"{SIDES[side]} {text}" for side, text in zip(sides, texts))
+
+
 def _station_state(estimate: BaselineEstimate, measurement: Measurement, idx: int) -> str:
     """How a station's width was obtained, in words."""
     if estimate.settings.tail == TAIL_EXTRAPOLATED and idx in TAIL_IDX:
         return "from 85 %"
     if np.isfinite(estimate.measured.widths_px[idx]):
-        return "measured"
+        return _edges_text(measurement, idx)
     return "skipped, filled" if measurement.skipped[idx] else "filled"
 
 

@@ -15,8 +15,11 @@ from dolphinfit.core.measure.morphometrix import read_morphometrix
 from dolphinfit.core.measure.annotation import place_stations
 from dolphinfit.core.measure.hw_ratios import load_hw_preset
 from dolphinfit.core.progress import Cancelled
+from dolphinfit.core.project import edits
 from dolphinfit.core.project.exports import MediaFrames, export_frames
-from dolphinfit.core.project.model import Animal, ClipEntry, Measurement, MeasurementKey, Project
+from dolphinfit.core.project.model import (
+    Animal, ClipEntry, Measurement, MeasurementKey, Project, get_measurement, with_measurement,
+)
 from dolphinfit.core.project.results import FrameResult, measure_frame
 
 CAMERA = CameraPreset("test-1080p", "", 8.8, 13.2, 1920, 1080, "test", True)
@@ -137,6 +140,34 @@ def test_json_summarises_each_animal(exported):
         assert first["summary"][key]["mean"] == pytest.approx(np.mean(values), rel=1e-12)
         assert first["summary"][key]["sd"] == pytest.approx(np.std(values, ddof=1), rel=1e-9)
     assert second["summary"]["length_m"]["n"] == 1 and second["summary"]["length_m"]["sd"] is None
+
+
+def test_edge_sources_go_to_the_wide_csv_and_the_json(tmp_path):
+    """Each width edge's source is a wide-CSV column and a station entry of the result JSON;
+    the CollatriX and MorphoMetriX files keep their layouts."""
+    project, key = _project(), MeasurementKey(0, 0, 0)
+    m = get_measurement(project, key)
+    stations = edits.stations_of(m)
+    same_edges = stations.points_px[:, None] + m.offsets_px[..., None] * stations.normals[:, None]
+    m = edits.offsets_from_edges(m, same_edges, only_missing=False)
+    m = edits.set_offset(edits.move_offset(m, 1, 0, m.offsets_px[1, 0] + 2.0), 2, 1,
+                         m.offsets_px[2, 1])
+    project = with_measurement(project, key, edits.set_skipped(m, 4, True))
+    export_frames(project, _results(project)[:1], tmp_path, "s")
+    with (tmp_path / "s_wide.csv").open(newline="", encoding="utf-8") as file:
+        row = next(csv.DictReader(file))
+    assert [row[f"TL_w{pct}_{side}_source"] for pct in ("05.00", "10.00", "15.00", "25.00")
+            for side in "AB"] == ["suggested", "suggested", "suggested_moved", "suggested",
+                                  "suggested", "clicked", "", ""]  # 25 %: skipped
+    result = json.loads((tmp_path / "s_results.json").read_text(encoding="utf-8"))
+    stations = result["frames"]["DJI_0001_f000003"]["result"]["stations"]
+    assert (stations[1]["side_a_source"], stations[2]["side_b_source"]) == \
+        ("suggested_moved", "clicked")
+    assert stations[4]["side_a_source"] is None
+    with (tmp_path / "s_collatrix.csv").open(newline="", encoding="utf-8") as file:
+        columns = next(csv.reader(file))
+    assert not any(column.endswith(("_A_source", "_B_source")) for column in columns)
+    assert "suggested" not in (tmp_path / "s_mmx" / "DJI_0001_f000003.csv").read_text()
 
 
 def test_receipt_draws_along_the_midline(exported):

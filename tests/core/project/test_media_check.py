@@ -46,7 +46,7 @@ def test_the_fingerprint_sees_edits_at_either_end_and_a_new_size(tmp_path):
 
 def test_changed_clips_are_listed_and_stamped_again_only_when_asked(tmp_path):
     project_path = tmp_path / "survey.dolphinfit"
-    entries = [clip_entry_for(_media(tmp_path / f"{name}.mp4", seed=i), tmp_path, _Source)
+    entries = [clip_entry_for(_media(tmp_path / f"{name}.mp4", seed=i), tmp_path, _Source)[0]
                for i, name in enumerate(("a", "b"))]
     project = Project(clips=tuple(entries))
     write_project(project_path, project)

@@ -128,3 +128,39 @@ def test_fit_settings_make_the_engines_configuration():
     assert folder.parent == Path("/d/survey.fits")
     assert folder.name.startswith("DJI_1-") and folder.name.endswith("_dolphin-1")
     assert fit_dir(Path("/d/survey.dolphinfit"), "b/DJI_1.MP4", "dolphin 1") != folder
+
+
+def test_edge_sources_follow_suggest_move_and_click():
+    """Suggested edges stay suggested until moved; a click makes an edge clicked."""
+    m = edits.set_offset(edits.set_offset(ellipse_measurement(), 2, 0, np.nan), 5, 1, np.nan)
+    assert (m.edge_sources[np.isfinite(m.offsets_px)] == "clicked").all()
+    assert m.edge_sources[2, 0] == m.edge_sources[5, 1] == ""
+    stations = edits.stations_of(m)
+    edges = stations.points_px[:, None, :] + np.full((19, 2, 1), 10.0) * stations.normals[:, None]
+    suggested = edits.offsets_from_edges(m, edges)
+    assert suggested.edge_sources[2, 0] == suggested.edge_sources[5, 1] == "suggested"
+    assert (np.delete(suggested.edge_sources.ravel(), [2 * 2, 5 * 2 + 1]) == "clicked").all()
+    everything = edits.offsets_from_edges(m, edges, only_missing=False)
+    assert (everything.edge_sources == "suggested").all()
+    moved = edits.move_offset(edits.move_offset(everything, 2, 0, 12.0), 2, 0, 13.0)
+    assert moved.edge_sources[2, 0] == "suggested_moved" and moved.offsets_px[2, 0] == 13.0
+    assert edits.move_offset(m, 3, 0, 40.0).edge_sources[3, 0] == "clicked"
+    clicked = edits.set_offset(moved, 4, 1, -11.0)
+    assert clicked.edge_sources[4, 1] == "clicked"
+    assert edits.set_offset(clicked, 2, 0, np.nan).edge_sources[2, 0] == ""
+    reversed_ = edits.reverse_midline(clicked)
+    assert reversed_.edge_sources[18 - 2, 1] == "suggested_moved"
+    assert reversed_.edge_sources[18 - 4, 0] == "clicked"
+
+
+def test_used_edge_sources_leave_out_edges_no_width_uses():
+    """Skipped stations, half-placed stations and the side a mirror leaves out have none."""
+    m = edits.set_skipped(edits.set_offset(ellipse_measurement(), 3, 1, np.nan), 7, True)
+    used = m.used_edge_sources()
+    assert (used[[3, 7]] == "").all() and (np.delete(used, [3, 7], axis=0) == "clicked").all()
+    assert (edits.set_mirror_side(m, "B").used_edge_sources()[:, 0] == "").all()
+
+
+def test_bad_edge_source_is_refused():
+    with pytest.raises(ValueError, match="edge sources"):
+        Measurement(frame_idx=0, edge_sources=np.full((19, 2), "guessed"))

@@ -5,9 +5,9 @@ import numpy as np
 
 from dolphinfit.core.camera_presets import DEFAULT_PRESET, get_preset
 from dolphinfit.core.io.media import open_media
-from dolphinfit.core.project.model import Project
+from dolphinfit.core.project.model import CAMERA_UNKNOWN, Project
 from dolphinfit.core.project.new_project import (
-    default_camera, project_path_for, project_with_media,
+    clip_entry_for, default_camera, project_path_for, project_with_clip,
 )
 
 
@@ -30,13 +30,16 @@ def test_default_camera_keeps_the_preset_only_at_its_own_size():
 
 
 def test_media_is_added_once_with_a_relative_path(tmp_path):
+    """A still without EXIF, of no preset's size, is added with its camera unknown."""
     image = tmp_path / "stills" / "a.png"
     image.parent.mkdir()
     cv2.imwrite(str(image), np.zeros((40, 60, 3), np.uint8))
     with open_media(image) as source:
-        project, idx = project_with_media(Project(), image, tmp_path, source)
-        again, again_idx = project_with_media(project, image, tmp_path, source)
+        entry, note = clip_entry_for(image, tmp_path, source)
+    project, idx = project_with_clip(Project(), entry)
+    again, again_idx = project_with_clip(project, entry)
     assert idx == again_idx == 0 and again is project
     clip = project.clips[0]
     assert (clip.media_path, clip.kind) == ("stills/a.png", "image")
-    assert (clip.camera.image_width_px, clip.camera.image_height_px) == (60, 40)
+    assert clip.camera is None and clip.preset_name is None
+    assert CAMERA_UNKNOWN in note and "a.png has no EXIF" in note

@@ -9,11 +9,13 @@ import numpy as np
 import pytest
 
 from dolphinfit.core.errors import InputError
-from dolphinfit.core.project import recent
+from dolphinfit.core.measure.stations import STATION_PCT
+from dolphinfit.core.project import edits, recent
 from dolphinfit.core.project.project_file import (
     autosave_path, find_moved_media, has_newer_autosave, media_path, missing_media,
     project_from_json, project_to_json, read_project, rebase_media, relink_clip, write_project,
 )
+from dolphinfit.core.project.model import MeasurementKey, get_measurement, with_measurement
 
 
 def _same(a, b) -> None:
@@ -39,6 +41,42 @@ def test_round_trip_keeps_everything(tmp_path, project):
     assert data["schema_version"] == 1
     assert data["clips"][0]["media"] == "media/clip.mp4"          # relative, POSIX
     assert "altitude_m" not in json.dumps(data["clips"][0]["animals"])  # pixels apart
+
+
+def test_edge_sources_are_kept(tmp_path, project):
+    """Suggested, suggested-then-moved and clicked edges come back as they were saved."""
+    key = MeasurementKey(0, 0, 0)
+    m = get_measurement(project, key)
+    stations = edits.stations_of(m)
+    edges = stations.points_px[:, None, :] + np.full((19, 2, 1), 30.0) * stations.normals[:, None]
+    m = edits.set_offset(edits.move_offset(edits.offsets_from_edges(m, edges, False),
+                                           4, 1, -33.0), 6, 0, 41.0)
+    path = tmp_path / "p.dolphinfit"
+    write_project(path, with_measurement(project, key, m))
+    back = get_measurement(read_project(path), key)
+    np.testing.assert_array_equal(back.edge_sources, m.edge_sources)
+    assert back.edge_sources[4, 1] == "suggested_moved" and back.edge_sources[6, 0] == "clicked"
+    station = json.loads(path.read_text())["clips"][0]["animals"][0]["measurements"][0][
+        "stations"][6]
+    assert station["side_b_source"] == "suggested" and "side_a_source" not in station  # clicked
+
+
+def test_file_from_before_edge_sources_reads_its_edges_as_clicked():
+    """A measurement written without sources (every file before them) opens, edges clicked."""
+    stations = [{"station_pct": pct, "side_a_px": 20.0, "side_b_px": None if i == 3 else -20.0,
+                 "skipped": False} for i, pct in enumerate(STATION_PCT.tolist())]
+    data = {"schema_version": 1, "settings": {"hw_ratios": "tursiops-provisional",
+                                              "tail": "extrapolated"},
+            "clips": [{"media": "clip.mp4", "kind": "video", "masks": None,
+                       "camera": {"preset": None, "focal_mm": 12.29, "sensor_width_mm": 17.27,
+                                  "image_width_px": 1280, "image_height_px": 720},
+                       "altitude": None, "altitude_calibration": None,
+                       "animals": [{"id": "dolphin 1", "notes": "", "measurements": [{
+                           "frame_idx": 3, "midline_px": [[100, 300], [900, 320]],
+                           "mirror_side": None, "notes": "", "stations": stations}]}]}]}
+    m = get_measurement(project_from_json(data, "old.dolphinfit"), MeasurementKey(0, 0, 0))
+    assert m.edge_sources[3, 1] == ""
+    assert (np.delete(m.edge_sources.ravel(), 3 * 2 + 1) == "clicked").all()
 
 
 def test_save_as_elsewhere_rebases_relative_paths(tmp_path, project):
@@ -100,6 +138,8 @@ def test_autosave_newer_than_the_project_means_unsaved_work(tmp_path, project):
     (lambda d: d["clips"][0]["animals"][0]["fit"]["settings"].update(quality="best"),
      "quality"),
     (lambda d: d["clips"][0]["animals"][0]["fit"]["settings"].update(end_s=-1.0), "end"),
+    (lambda d: d["clips"][0]["animals"][0]["measurements"][0]["stations"][0].update(
+        side_a_source="guessed"), "measurements[0]: edge sources"),
 ])
 def test_bad_files_name_the_entry(project, mutate, message):
     data = project_to_json(project)

@@ -326,6 +326,36 @@ def test_suggest_edges_from_mask(qtbot, canvas, overlay_for):
         overlay.suggest_edges(dolphin_mask().T)
 
 
+def test_edge_sources_of_suggest_drag_nudge_and_click(qtbot, canvas, overlay_for):
+    """Suggested edges stay suggested until dragged or nudged; a click makes one clicked;
+    undo brings each source back."""
+    overlay, model = overlay_for(Measurement(frame_idx=0, midline_px=MIDLINE))
+    overlay.set_mode("widths")
+    overlay.suggest_edges(dolphin_mask())
+
+    def sources() -> np.ndarray:
+        return model.current_measurement().edge_sources
+
+    assert (sources() == "suggested").all()
+    stations, offsets = place_stations(MIDLINE), model.current_measurement().offsets_px
+    drag(qtbot, canvas, stations.points_px[9] + offsets[9, 0] * stations.normals[9],
+         QPoint(3, -12))
+    assert overlay.selected_edge == (9, 0) and sources()[9, 0] == "suggested_moved"
+    overlay.next_handle()
+    overlay.nudge(1)
+    assert sources()[9, 1] == "suggested_moved"
+    overlay.next_handle()
+    point, normal = stations.points_px[10], stations.normals[10]
+    click(qtbot, canvas, point + (offsets[10, 0] + 15.0) * normal)
+    assert model.current_measurement().offsets_px[10, 0] == pytest.approx(
+        offsets[10, 0] + 15.0, abs=1.0)
+    assert sources()[10, 0] == "clicked"
+    assert (np.delete(sources().ravel(), [18, 19, 20]) == "suggested").all()
+    for edge in ((10, 0), (9, 1), (9, 0)):
+        model.undo_stack.undo()
+        assert sources()[edge] == "suggested"
+
+
 def test_handles_keep_their_screen_size_at_any_zoom(qtbot, canvas, overlay_for):
     overlay, _ = overlay_for(measured())
     overlay.set_mode("widths")

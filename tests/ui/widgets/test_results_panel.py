@@ -15,6 +15,7 @@ from dolphinfit.core.measure.annotation import pixel_measurements, place_station
 from dolphinfit.core.measure.baseline import BaselineEstimate, BaselineSettings, estimate_baseline
 from dolphinfit.core.measure.hw_ratios import load_hw_preset
 from dolphinfit.core.measure.records import default_error_model
+from dolphinfit.core.project import edits
 from dolphinfit.core.project.model import Animal, ClipEntry, Measurement, MeasurementKey, Project
 from dolphinfit.core.project.results import measure_length
 from dolphinfit.ui.state.commands import edit_measurement
@@ -119,6 +120,24 @@ def test_animal_summary_over_its_measurable_frames(setup, qtbot):
     assert panel.animal_title.text() == "dolphin 1: n = 2 frames; 1 not measurable yet"
     assert figures[-1][MeasurementKey(0, 0, 1)].endswith(f"{volumes[1]:.3f} m³")
     assert MeasurementKey(0, 0, 2) not in figures[-1]
+
+
+def test_width_from_names_suggested_and_moved_edges(setup, qtbot):
+    """Suggested, suggested-then-moved and clicked edges each say so; mixed sides say both."""
+    model, panel = setup
+    with qtbot.waitSignal(panel.result_shown, timeout=TIMEOUT_MS):
+        panel.set_altitude_lookup(_constant)
+    assert panel.stations.item(3, 2).text() == "measured"
+    m = model.current_measurement()
+    stations = edits.stations_of(m)
+    edges = stations.points_px[:, None] + m.offsets_px[..., None] * stations.normals[:, None]
+    m = edits.offsets_from_edges(m, edges, only_missing=False)
+    m = edits.move_offset(edits.move_offset(m, 1, 0, m.offsets_px[1, 0] + 1.0), 1, 1,
+                          m.offsets_px[1, 1] - 1.0)
+    with qtbot.waitSignal(panel.result_shown, timeout=TIMEOUT_MS):
+        edit_measurement(model, KEY, edits.set_offset(m, 2, 1, m.offsets_px[2, 1]), "edges")
+    assert [panel.stations.item(row, 2).text() for row in range(4)] == [
+        "suggested", "suggested, moved", "A suggested / B measured", "suggested"]
 
 
 def test_editing_the_measurement_updates_the_volume(setup, qtbot):
