@@ -30,11 +30,14 @@ built-in tracker, on every frame or only on chosen ones (the frames a fit will u
    may have cut the animal (``View.shows_whole``), the network looks again in a window
    around both instead (on the suite's clips the new look repeated the first window's
    reading to an IoU of 0.97–0.99 in most steps, at the cost of a second pass of the
-   network). Of the two masks, the plausible one (area within ``lost_area_ratio``
-   … ``max_area_ratio`` of the animal's, colours apart from the water) whose area is closest
-   to the animal's. Where neither is plausible (the network merged the animal with glitter
-   or seagrass), the colour tracker's step from the last frame's colours
-   (``tracker.colour_follow``) may be.
+   network). Of the two masks, the plausible one whose area is closest to the animal's.
+   Plausible: an area within ``lost_area_ratio`` … ``max_area_ratio`` of the animal's, and
+   colours at least ``lost_separation_ratio`` as far from the water's as the animal's; both
+   references run over the accepted frames, as the ground under the animal changes (held to
+   the seed frame's contrast on light sand, an animal that swam into dark seagrass was
+   refused in its right masks and lost). Where neither is plausible (the network merged
+   the animal with glitter or seagrass), the colour tracker's step from the last frame's
+   colours (``tracker.colour_follow``) may be.
 5. **Lost** when no mask is plausible; then the whole frame is searched as the scan searches
    it (``auto_seed.find_animals``), for the animal of about its area nearest to where it was
    last seen (a look around where it was lost misses an animal that dived and came up
@@ -88,8 +91,8 @@ class _State:
 
     mask: np.ndarray | None            # last accepted (H, W) bool mask; None while lost
     last_seen: np.ndarray              # last accepted mask, kept while lost
-    area_px: float
-    reference_separation: float
+    area_px: float                     # the animal's, running over the accepted masks
+    reference_separation: float        # its colours' from the water's, running likewise
     animal: ColourModel                # colours of the last accepted mask and around it
     water: ColourModel
     velocity_px: np.ndarray = field(default_factory=lambda: np.zeros(2))
@@ -219,11 +222,14 @@ class NetTracker:
         state.moving = state.mask is not None
         state.velocity_px = (centroid(mask) - centroid(state.mask) if state.moving
                              else np.zeros(2))
-        state.area_px = ((1 - settings.model_rate) * state.area_px
-                         + settings.model_rate * float(np.count_nonzero(mask)))
         state.mask = state.last_seen = mask
         state.others = seen.others if seen.others.any() else None
         state.animal, state.water = models_near(frame_rgb, mask)
+        state.area_px = _blended(state.area_px, float(np.count_nonzero(mask)),
+                                 settings.model_rate)
+        state.reference_separation = _blended(state.reference_separation,
+                                              separation(state.animal, state.water),
+                                              settings.model_rate)
         state.lost_steps = 0
         return mask
 
@@ -254,3 +260,8 @@ class NetTracker:
             return False
         contrast = separation(*models_near(frame_rgb, mask))
         return contrast >= settings.lost_separation_ratio * state.reference_separation
+
+
+def _blended(reference: float, value: float, rate: float) -> float:
+    """A running reference moved ``rate`` of the way to a new frame's ``value``."""
+    return (1 - rate) * reference + rate * value
