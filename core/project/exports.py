@@ -13,12 +13,19 @@ Files, all written atomically, under ``out_dir``:
 - ``STEM_xcertainty.csv``: the frames as Xcertainty reads them (core.project.xcertainty), and
   ``STEM_xcertainty_calibration.csv`` the shots of the project's altitude calibrations, if any.
 - ``STEM_mmx/NAME.csv``: one MorphoMetriX v2 long CSV per frame.
+- ``STEM_annotations/NAME.json``: the frame as `dolphinfit measure` reads it
+  (core.measure.annotation_json): clicks as clicked, camera, recorded altitude. Where the clip
+  has them, ``STEM_lenses/NAME.json`` is its lens model and ``STEM_altitude_calibrations/
+  NAME.json`` its altitude calibration, for ``--lens`` and ``--altitude-calibration``; with
+  those and the project's ``--hw`` and ``--tail``, `dolphinfit measure` gives the frame's
+  length and volume as here.
 - ``STEM_receipts/NAME.png``: the receipt of each frame whose image ``frames`` gives.
 
 NAME is the frame's image ID; where several animals share a frame, the animal ID is appended.
 """
 
 import math
+import os
 import re
 import threading
 from collections import Counter
@@ -36,13 +43,17 @@ from dolphinfit.core.measure.collatrix import write_wide_csv
 from dolphinfit.core.io.frame_source import FrameSource
 from dolphinfit.core.io.json_file import write_json
 from dolphinfit.core.io.media import open_media
+from dolphinfit.core.measure.altitude_calibration import write_altitude_calibration
+from dolphinfit.core.measure.annotation_json import write_annotation_json
+from dolphinfit.core.measure.lens import write_lens
 from dolphinfit.core.measure.morphometrix import write_morphometrix_v2
 from dolphinfit.core.measure.receipt import draw_receipt, write_png
 from dolphinfit.core.measure.records import collatrix_csv_row, wide_csv_row
 from dolphinfit.core.progress import Progress, ProgressCallback, check_cancel
 from dolphinfit.core.project.model import Project, get_measurement
 from dolphinfit.core.project.project_file import media_path
-from dolphinfit.core.project.results import FrameResult, Spread, animal_summary
+from dolphinfit.core.project.calibrations import clip_calibration
+from dolphinfit.core.project.results import FrameResult, Spread, animal_summary, frame_annotation
 from dolphinfit.core.project.xcertainty import calibration_rows, measurement_row
 
 EXPORTS_SCHEMA_VERSION = 1
@@ -100,12 +111,52 @@ def results_json(project: Project, results: Sequence[FrameResult],
             "animals": animals}
 
 
+def _media_from(folder: Path, project_dir: Path | None, clip_media_path: str) -> str | None:
+    """The clip's media relative to ``folder`` (absolute on another drive); None without
+    ``project_dir``, which the clip's path is relative to."""
+    if project_dir is None:
+        return None
+    media = Path(project_dir) / clip_media_path
+    try:
+        return Path(os.path.relpath(media, folder)).as_posix()
+    except ValueError:  # Windows: another drive
+        return media.as_posix()
+
+
+def write_frame_inputs(project: Project, result: FrameResult, name: str, out_dir: Path,
+                       stem: str, project_dir: Path | None = None) -> list[Path]:
+    """The annotation file of one result and, where its clip has them, its lens model and
+    altitude calibration (module docstring); the paths written. ``project_dir``: the project
+    file's folder, to give the media's path relative to the annotation."""
+    source = result.source
+    recorded_m = (source.record.altitude_m if source.recorded_altitude_m is None
+                  else source.recorded_altitude_m)
+    folder = out_dir / f"{stem}_annotations"
+    media = _media_from(folder, project_dir, project.clips[result.key.clip].media_path)
+    annotation = folder / f"{name}.json"
+    write_annotation_json(annotation, frame_annotation(project, result.key, recorded_m,
+                                                       source.altitude_source, media))
+    written = [annotation]
+    lens = project.clips[result.key.clip].lens
+    if lens is not None:
+        written.append(out_dir / f"{stem}_lenses" / f"{name}.json")
+        write_lens(lens, written[-1])
+    calibration = clip_calibration(project, result.key.clip)
+    if calibration is not None:
+        written.append(out_dir / f"{stem}_altitude_calibrations" / f"{name}.json")
+        write_altitude_calibration(calibration, written[-1])
+    return written
+
+
 def export_frames(project: Project, results: Sequence[FrameResult], out_dir: Path, stem: str,
                   frames: FrameImages | None = None, progress: ProgressCallback | None = None,
-                  cancel: threading.Event | None = None) -> list[Path]:
+                  cancel: threading.Event | None = None,
+                  project_dir: Path | None = None) -> list[Path]:
     """Write the exports of ``results`` (frames of ``project``); the paths written.
 
-    frames: the RGB frame (H, W, 3) uint8 of a result, or None, for its receipt; progress:
+    frames: the RGB frame (H, W, 3) uint8 of a result, or None, for its receipt; project_dir:
+    the project file's folder, for the media paths of the annotations (None: as stored in the
+    project, relative to it); progress:
     called with (frames done, frames in all) after each frame's files; cancel: checked between
     frames (core.progress). On any exception, a cancel included, the files written so far are
     removed again.
@@ -122,6 +173,7 @@ def export_frames(project: Project, results: Sequence[FrameResult], out_dir: Pat
             mmx = out_dir / f"{stem}_mmx" / f"{name}.csv"
             write_morphometrix_v2(mmx, result.source.record)
             written.append(mmx)
+            written += write_frame_inputs(project, result, name, out_dir, stem, project_dir)
             rows.append({**_identity(project, result),
                          **wide_csv_row(result.source, result.estimate, result.record,
                                         csv_name=mmx.name)})

@@ -117,24 +117,38 @@ class FrameResult:
     recorded_at: datetime | None = None
 
 
-def _frame_input(project: Project, key: MeasurementKey, altitude_m: float,
-                 altitude_source: str) -> tuple[str, MeasureInput, ErrorModel]:
-    """The frame's export name, its measurement in pixels with its camera and altitude (the
-    clicks through the clip's lens model and its altitude calibration applied, where it has
-    them) and the error SDs that go with them; InputError while the camera is unknown."""
+def frame_annotation(project: Project, key: MeasurementKey, altitude_m: float,
+                     altitude_source: str, media_path: str | None = None) -> AnnotationFile:
+    """A measured frame as an annotation file: its clicks as clicked, the clip's camera, the
+    recorded altitude, the export name as image ID; ``media_path``: the media relative to
+    where the file goes (None: the clip's, relative to the project). InputError while the
+    camera is unknown, ValueError while the frame has no length."""
     clip = project.clips[key.clip]
     camera = clip.known_camera()
     measurement = get_measurement(project, key)
     annotation = measurement.to_annotation()
     if annotation is None:
         raise ValueError("no body length yet: click from the rostrum tip to the fluke notch")
-    calibration = Calibration(camera, clip.preset_name, altitude_m, altitude_source)
-    name = image_id(clip, measurement.frame_idx)
-    doc = AnnotationFile(annotation=annotation, calibration=calibration, image_id=name,
-                         media_path=clip.media_path, notes=measurement.notes)
+    return AnnotationFile(
+        annotation=annotation,
+        calibration=Calibration(camera, clip.preset_name, altitude_m, altitude_source),
+        image_id=image_id(clip, measurement.frame_idx),
+        media_path=clip.media_path if media_path is None else media_path,
+        notes=measurement.notes)
+
+
+def _frame_input(project: Project, key: MeasurementKey, altitude_m: float,
+                 altitude_source: str) -> tuple[str, MeasureInput, ErrorModel]:
+    """The frame's export name, its measurement in pixels with its camera and altitude (the
+    clicks through the clip's lens model and its altitude calibration applied, where it has
+    them) and the error SDs that go with them; InputError while the camera is unknown."""
+    clip = project.clips[key.clip]
+    doc = frame_annotation(project, key, altitude_m, altitude_source)
+    name, camera = doc.image_id, doc.calibration.camera
     doc, notes, warnings = through_lens(doc, clip.lens, f"the lens model of {clip.name}")
+    edge_sources = get_measurement(project, key).used_edge_sources()
     source = replace(measured_image_from_annotation(doc, image_id=name, notes=notes),
-                     warnings=tuple(warnings), edge_sources=measurement.used_edge_sources())
+                     warnings=tuple(warnings), edge_sources=edge_sources)
     overrides = {}
     altitude_calibration = clip_calibration(project, key.clip)
     if altitude_calibration is not None:

@@ -38,7 +38,8 @@ class ExportWorker(JobWorker):
             with MediaFrames(project, Path(project_path)) as frames:
                 paths = export_frames(project, results, Path(out_dir), stem,
                                       frames if receipts else None,
-                                      part_of(progress, total - len(results), total), cancel)
+                                      part_of(progress, total - len(results), total), cancel,
+                                      Path(project_path).parent)
             return paths, skipped + frames.notes
 
         return self.run_job(job)

@@ -4,16 +4,19 @@ frames."""
 import csv
 import json
 import threading
+from dataclasses import replace
 
 import cv2
 import numpy as np
 import pytest
 
+from dolphinfit.app.cli import main
 from dolphinfit.core.camera_presets import CameraPreset
 from dolphinfit.core.errors import InputError
 from dolphinfit.core.measure.morphometrix import read_morphometrix
 from dolphinfit.core.measure.annotation import place_stations
 from dolphinfit.core.measure.hw_ratios import load_hw_preset
+from dolphinfit.core.measure.lens import LensModel
 from dolphinfit.core.progress import Cancelled
 from dolphinfit.core.project import edits
 from dolphinfit.core.project.exports import MediaFrames, export_frames
@@ -21,6 +24,8 @@ from dolphinfit.core.project.model import (
     Animal, ClipEntry, Measurement, MeasurementKey, Project, get_measurement, with_measurement,
 )
 from dolphinfit.core.project.results import FrameResult, measure_frame
+
+from .test_calibrations import calibration_set
 
 CAMERA = CameraPreset("test-1080p", "", 8.8, 13.2, 1920, 1080, "test", True)
 FRAME_SHAPE = (1080, 1920, 3)
@@ -83,7 +88,8 @@ def test_writes_every_file(exported):
     expected = {out / "survey_results.json", out / "survey_wide.csv", out / "survey_collatrix.csv",
                 out / "survey_xcertainty.csv",
                 *(out / "survey_mmx" / f"{n}.csv" for n in names),
-                *(out / "survey_receipts" / f"{n}.png" for n in names)}
+                *(out / "survey_receipts" / f"{n}.png" for n in names),
+                *(out / "survey_annotations" / f"{n}.json" for n in names)}
     assert set(paths) == expected and all(p.is_file() for p in paths)
     assert calls == [("write", 1, 3), ("write", 2, 3), ("write", 3, 3)]
 
@@ -168,6 +174,68 @@ def test_edge_sources_go_to_the_wide_csv_and_the_json(tmp_path):
         columns = next(csv.reader(file))
     assert not any(column.endswith(("_A_source", "_B_source")) for column in columns)
     assert "suggested" not in (tmp_path / "s_mmx" / "DJI_0001_f000003.csv").read_text()
+
+
+def _measured_by_cli(annotation, out_dir, *options) -> dict:
+    """`dolphinfit measure ANNOTATION` without draws: its result JSON."""
+    assert main(["measure", str(annotation), "--mc", "0", "--out", str(out_dir), *options]) == 0
+    return json.loads((out_dir / f"{annotation.stem}_measure.json").read_text(encoding="utf-8"))
+
+
+def test_annotations_measure_as_in_the_app(exported, tmp_path, capsys):
+    """`dolphinfit measure` on each exported annotation gives the app's length and volume."""
+    _, results, out, _, _ = exported
+    for name, result in zip(["DJI_0001_f000003_dolphin-1", "DJI_0001_f000009",
+                             "DJI_0001_f000003_dolphin-2"], results):
+        measured = _measured_by_cli(out / "survey_annotations" / f"{name}.json", tmp_path)
+        for key in ("length_m", "volume_m3"):
+            assert measured[key] == pytest.approx(result.record[key], rel=1e-12)
+    capsys.readouterr()
+
+
+def test_annotation_carries_the_lens_and_the_media_path(tmp_path, capsys):
+    """A clip with a lens model: its lens goes beside the annotation, the media path is
+    relative to the annotation, and with --lens and the project's --tail the CLI agrees."""
+    lens = LensModel(1920, 1080, 1280.0, 1280.0, 959.5, 539.5, (-0.2, 0.05, 0.0, 0.0, 0.0),
+                     0.1, 9, "test")
+    base = _project()
+    project = Project(clips=(replace(base.clips[0], lens=lens),), tail="measured")
+    key = MeasurementKey(0, 0, 1)
+    result = measure_frame(project, key, 21.0, "laser", load_hw_preset(), 0)
+    paths = export_frames(project, [result], tmp_path / "out", "s",
+                          project_dir=tmp_path / "project")
+    annotation = tmp_path / "out" / "s_annotations" / "DJI_0001_f000009.json"
+    lens_file = tmp_path / "out" / "s_lenses" / "DJI_0001_f000009.json"
+    assert {annotation, lens_file} <= set(paths)
+    data = json.loads(annotation.read_text(encoding="utf-8"))
+    assert data["image"]["media_path"] == "../../project/clips/DJI_0001.MP4"
+    assert data["altitude"] == {"altitude_m": 21.0, "source": "laser"}
+    measured = _measured_by_cli(annotation, tmp_path, "--lens", str(lens_file),
+                                "--tail", "measured")
+    for key_name in ("length_m", "volume_m3"):
+        assert measured[key_name] == pytest.approx(result.record[key_name], rel=1e-12)
+    as_clicked = _measured_by_cli(annotation, tmp_path, "--tail", "measured")
+    assert as_clicked["length_m"] != pytest.approx(result.record["length_m"], rel=1e-6)
+    capsys.readouterr()
+
+
+def test_annotation_carries_the_altitude_calibration(tmp_path, capsys):
+    """A clip whose altitudes are calibrated: the annotation keeps the recorded altitude, the
+    calibration goes beside it, and with --altitude-calibration the CLI agrees."""
+    base = _project()
+    project = replace(base, calibrations=(calibration_set(CAMERA),), clips=(
+        replace(base.clips[0], altitude_calibration="test drone barometer"),))
+    result = measure_frame(project, MeasurementKey(0, 1, 0), 22.0, "barometer",
+                           load_hw_preset(), 0)
+    assert result.record["altitude_m"] != pytest.approx(22.0)  # corrected in the app
+    export_frames(project, [result], tmp_path, "s")
+    annotation = tmp_path / "s_annotations" / "DJI_0001_f000003.json"
+    assert json.loads(annotation.read_text(encoding="utf-8"))["altitude"]["altitude_m"] == 22.0
+    measured = _measured_by_cli(annotation, tmp_path, "--altitude-calibration",
+                                str(tmp_path / "s_altitude_calibrations" / annotation.name))
+    for key in ("length_m", "volume_m3"):
+        assert measured[key] == pytest.approx(result.record[key], rel=1e-12)
+    capsys.readouterr()
 
 
 def test_receipt_draws_along_the_midline(exported):

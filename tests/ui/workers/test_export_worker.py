@@ -2,6 +2,7 @@
 receipt from the media, and cancel removing what was written."""
 
 import csv
+import json
 
 import cv2
 import numpy as np
@@ -62,6 +63,10 @@ def test_exports_with_progress_and_receipts(worker, saved_project, qtbot, tmp_pa
     assert [row["animal_id"] for row in rows] == ["dolphin 1", "dolphin 2"]
     assert all(float(row["volume_m3_lo95"]) < float(row["volume_m3"]) for row in rows)
     assert set(paths) == {p for p in (tmp_path / "out").rglob("*") if p.is_file()}
+    annotations = tmp_path / "out" / "survey_annotations"
+    media = json.loads((annotations / "still_dolphin-1.json").read_text(encoding="utf-8"))[
+        "image"]["media_path"]
+    assert (annotations / media).resolve() == (tmp_path / "still.png").resolve()
     assert not worker.is_running
 
 
