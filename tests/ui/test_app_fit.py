@@ -80,21 +80,23 @@ def _fit_watched(qtbot, fits, settings: FitSettings):
 
 def _fit_cancelled(qtbot, fits, settings: FitSettings):
     """Run a fit from the panel and press Cancel once it optimises ("global"): the worker's
-    outcome and the seconds from Cancel to the start of the result stage."""
-    moments = {}
+    outcome, the reports that Cancel answered and that began the result stage, and the
+    seconds between them."""
+    moments, reports = {}, {}
 
     def cancel_in_global(progress) -> None:
         if progress.stage == "global" and "cancel" not in moments:
-            moments["cancel"] = time.monotonic()
+            moments["cancel"], reports["cancel"] = time.monotonic(), progress
             fits.panel.cancel_button.click()
         elif progress.stage == "result" and "stopped" not in moments:
-            moments["stopped"] = time.monotonic()
+            moments["stopped"], reports["stopped"] = time.monotonic(), progress
 
     fits.panel.set_settings(settings, 5.0)
     fits.worker.progress.connect(cancel_in_global)
     with qtbot.waitSignal(fits.worker.finished, timeout=FIT_TIMEOUT_MS) as cut:
         fits.panel.start_button.click()
-    return cut.args[0], moments["stopped"] - moments["cancel"]
+    return (cut.args[0], reports["cancel"], reports["stopped"],
+            moments["stopped"] - moments["cancel"])
 
 
 def _export(qtbot, window: MainWindow, action: str, signal: str = "finished") -> None:
@@ -114,8 +116,9 @@ def test_fit_runs_saves_shows_and_cancels(qtbot, sample_copy, make_window):
                         == window.model.project.clips[0].altitude, timeout=10_000)
         fits = window.fits
         (result, folder), reports, gaps, elapsed = _fit_watched(qtbot, fits, SMALL)
-        # the event loop kept turning: ticks every 50 ms, none missing by more than 1 s
-        assert len(gaps) >= 0.5 * elapsed / 0.05 and gaps.max() < 1.0
+        # the event loop kept turning: a quarter of the 50 ms ticks at least, and no gap over
+        # 1 s or, on a loaded machine where the fit itself slows, a quarter of the fit
+        assert len(gaps) >= 0.25 * elapsed / 0.05 and gaps.max() < max(1.0, elapsed / 4)
         previews = [r.preview for r in reports if r.preview is not None]
         assert previews and previews[-1].transl.shape == (len(previews[-1].frame_idx), 3)
         steps = [r.step for r in reports]
@@ -177,9 +180,14 @@ def test_fit_runs_saves_shows_and_cancels(qtbot, sample_copy, make_window):
             assert fits.viewer.frame_label == f"fitted frame {int(result.frame_idx[-1])}"
 
         # a longer fit, cancelled once it optimises: the partial result is kept, labelled
-        (partial, _), stopping_s = _fit_cancelled(qtbot, fits, LONGER)
-        # the optimisation stopped (and the result stage began) within 2 s of Cancel
-        assert stopping_s < 2.0
+        (partial, _), at_cancel, at_result, stopping_s = _fit_cancelled(qtbot, fits, LONGER)
+        # the optimisation stopped (and the result stage began) at once: long before it would
+        # have ended, measured by the fit's own pace, not a wall-clock deadline a loaded
+        # machine may miss. Under a quarter of the steps left were run (idle: none) and under
+        # a quarter of the time they would take by the rate measured at Cancel (idle: ~10 ms)
+        steps_left = at_cancel.total - at_cancel.step
+        assert at_result.step - at_cancel.step < steps_left / 4
+        assert stopping_s < at_cancel.eta_s / 4
         assert partial.status == "cancelled" and "cancelled by the user" in partial.status_message
         assert "partial result" in fits.panel.status.text()
         assert np.isfinite(partial.volume_m3)

@@ -1,8 +1,6 @@
 """``dolphinfit bench e2e``'s plumbing: the stage clock, the chains' child processes and the
 command line's checks (the chain itself is a full fit: run by the bench, not here)."""
 
-import time
-
 import pytest
 import torch
 
@@ -12,21 +10,23 @@ from dolphinfit.core.bench.e2e_bench import PACKAGE_ROOT, StageClock, chain_in_c
 from dolphinfit.core.progress import Progress
 
 
-def test_the_stage_clock_times_each_stage_from_its_first_report():
+def test_the_stage_clock_times_each_stage_from_its_first_report(monkeypatch):
     """Opening lasts until the first report; a stage lasts until the next one's first
     report; one entered twice is summed; the stages add up to the whole."""
-    clock = StageClock()
-    time.sleep(0.02)
+    clock = [100.0]
+    monkeypatch.setattr(e2e_bench.time, "perf_counter", lambda: clock[0])
+    stage_clock = StageClock()
+    clock[0] += 0.02
     for stage, pause in (("scan", 0.03), ("scan", 0.01), ("track", 0.02), ("scan", 0.01)):
-        clock(Progress(stage, 1, 2))
-        time.sleep(pause)
-    clock.mark("intervals")
-    time.sleep(0.01)
-    stages = clock.seconds()
+        stage_clock(Progress(stage, 1, 2))
+        clock[0] += pause
+    stage_clock.mark("intervals")
+    clock[0] += 0.01
+    stages = stage_clock.seconds()
     assert list(stages) == ["open", "scan", "track", "intervals"]
-    assert stages["open"] == pytest.approx(0.02, abs=0.015)
-    assert stages["scan"] == pytest.approx(0.05, abs=0.02)
-    assert sum(stages.values()) == pytest.approx(time.perf_counter() - clock.start, abs=0.005)
+    assert stages == pytest.approx({"open": 0.02, "scan": 0.05, "track": 0.02,
+                                    "intervals": 0.01})
+    assert sum(stages.values()) == pytest.approx(clock[0] - stage_clock.start)
 
 
 def test_the_4k_clip_is_the_speed_clips_scene():

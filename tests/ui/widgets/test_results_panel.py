@@ -247,7 +247,9 @@ def test_event_loop_turns_during_a_long_monte_carlo(make_panel, qtbot):
     timer.stop()
     assert panel.current_result().estimate.interval.num_draws == 20_000
     assert elapsed_s > 0.3  # the debounce, then the Monte Carlo
-    assert len(ticks) >= max(10, elapsed_s / 0.010 / 4)  # at least a quarter of the ticks
+    # at least an eighth of the 10 ms ticks, of the time it really took (a loaded machine
+    # delays timers; a GUI thread blocked by the Monte Carlo gets none while it runs)
+    assert len(ticks) >= max(10, elapsed_s / 0.010 / 8)
 
 
 def _cut_off_labels(panel: ResultsPanel) -> None:
