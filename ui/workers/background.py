@@ -40,11 +40,13 @@ class _Job(QRunnable):
         self._relay = relay
 
     def run(self) -> None:
+        fn, relay = self._fn, self._relay
+        self._fn = self._relay = None   # the pool may keep the runnable a while: it holds nothing
         try:
-            ok, value = guarded(self._fn)
+            ok, value = guarded(fn)
         except Cancelled as exc:  # one-shot jobs take no cancel: an internal error if raised
             ok, value = False, f"internal error: {exc!r}"
-        (self._relay.done if ok else self._relay.failed).emit(value)
+        (relay.done if ok else relay.failed).emit(value)
 
 
 class BackgroundJobs(QObject):
