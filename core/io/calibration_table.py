@@ -73,17 +73,21 @@ class CalibrationTable:
     shots: tuple[CalibrationShot, ...]
     resolution: str = ""
 
-    def common_value(self, name: str) -> float | None:
-        """The value of shot field ``name`` all the shots that carry it share; None when none
-        does. InputError naming the file when they disagree."""
+    def known_values(self, name: str) -> np.ndarray:
+        """(N,) the values of shot field ``name`` that the shots carry (NaN ones left out)."""
         values = np.array([getattr(shot, name) for shot in self.shots], dtype=float)
-        known = values[np.isfinite(values)]
+        return values[np.isfinite(values)]
+
+    def common_value(self, name: str, what: str | None = None) -> float | None:
+        """The value of shot field ``name`` all the shots that carry it share; None when none
+        does. InputError naming the file (and ``what``, else ``name``) when they disagree."""
+        known = self.known_values(name)
         if not known.size:
             return None
         if not np.allclose(known, known[0], rtol=SAME_VALUE_RTOL, atol=0.0):
             listed = ", ".join(f"{value:g}" for value in np.unique(known))
-            raise InputError(f"{self.path}: the rows disagree on {name} ({listed}): one "
-                             f"calibration holds for one object and camera; split the table")
+            raise InputError(f"{self.path}: the rows disagree on {what or name} ({listed}): "
+                             f"one calibration holds for one object and camera; split the table")
         return float(known[0])
 
 

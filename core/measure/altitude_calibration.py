@@ -147,40 +147,33 @@ def calibrated_telemetry(telemetry: Telemetry, calibration: AltitudeCalibration)
                    warnings=(*telemetry.warnings, *dict.fromkeys(warnings)))
 
 
-def _listed(values: np.ndarray) -> str:
-    return ", ".join(f"{value:g}" for value in np.unique(values))
-
-
-def _one_value(values: np.ndarray, given: float | None, name: str, path: Path,
+def _one_value(table: CalibrationTable, name: str, given: float | None, label: str,
                option: str) -> float:
-    """The one value of a table column, or ``given``: InputError when the table's rows
-    disagree with each other or with ``given``, or neither says."""
-    known = values[np.isfinite(values)]
+    """The one value of the table's shot field ``name``, or ``given``: InputError when the
+    table's rows disagree with each other (CalibrationTable.common_value) or with ``given``,
+    or neither says."""
     if given is not None:
+        known = table.known_values(name)
         if known.size and not np.allclose(known, given, rtol=SAME_CAMERA_RTOL, atol=0.0):
-            raise InputError(f"{path}: the table's {name} ({_listed(known)}) differs from "
+            listed = ", ".join(f"{value:g}" for value in np.unique(known))
+            raise InputError(f"{table.path}: the table's {label} ({listed}) differs from "
                              f"{option} {given:g}")
         return float(given)
-    if not known.size:
-        raise InputError(f"{path}: the table has no {name}; give {option}")
-    if not np.allclose(known, known[0], rtol=SAME_CAMERA_RTOL, atol=0.0):
-        raise InputError(f"{path}: the rows disagree on the {name} ({_listed(known)}): one "
-                         f"calibration holds for one object and camera; split the table")
-    return float(known[0])
+    value = table.common_value(name, f"the {label}")
+    if value is None:
+        raise InputError(f"{table.path}: the table has no {label}; give {option}")
+    return value
 
 
 def calibration_inputs(table: CalibrationTable, object_length_m: float | None,
                        camera: CalibrationCamera | None) -> tuple[float, CalibrationCamera]:
     """The object's length and the camera, from the options or the table (which must agree)."""
-    shots, path = table.shots, table.path
-    column = lambda name: np.array([getattr(s, name) for s in shots], dtype=float)  # noqa: E731
-    length = _one_value(column("object_length_m"), object_length_m, "object length", path,
+    length = _one_value(table, "object_length_m", object_length_m, "object length",
                         "--object-length")
     in_range(length, BODY_LENGTH_M, "--object-length")
-    given = camera or CalibrationCamera(np.nan, np.nan, 0)
     options = ("--focal-mm", "--sensor-width-mm", "--image-width")
-    values = [_one_value(column(name), None if camera is None else getattr(given, name),
-                         name.replace("_", " "), path, option)
+    values = [_one_value(table, name, None if camera is None else getattr(camera, name),
+                         name.replace("_", " "), option)
               for name, option in zip(("focal_mm", "sensor_width_mm", "image_width_px"),
                                       options)]
     for value, limits, option in zip(values, (FOCAL_MM, SENSOR_WIDTH_MM, IMAGE_SIZE_PX),
