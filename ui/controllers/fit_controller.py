@@ -16,7 +16,7 @@ from PySide6.QtWidgets import QGraphicsPathItem
 
 from dolphinfit.core.device import DEFAULT_DEVICE
 from dolphinfit.core.errors import InputError
-from dolphinfit.core.fit.motion import ShownPose, shown_pose
+from dolphinfit.core.fit.motion import FramePose, ShownPose, shown_pose
 from dolphinfit.core.fit.reporter import FitPreview
 from dolphinfit.core.fit.result import STATUS_COMPLETE, STATUS_UNRELIABLE, FitResult
 from dolphinfit.core.fit.result_io import read_fit_result
@@ -341,20 +341,26 @@ class FitController(QObject):
 
         def pose() -> tuple[list[np.ndarray] | None, np.ndarray | None]:
             from dolphinfit.core.fit.pose_mesh import posed_mesh  # torch: off the GUI thread
-            outlines = None if outline is None else outline()
             verts = None if shown is None else posed_mesh(viewed.rest_verts, viewed.betas,
                                                           shown.pose)
-            return outlines, verts
+            if outline is None:
+                return None, verts
+            # the saved fit drawn over the frame is the one the 3D view shows: posed once
+            at, draw = outline
+            drawn_verts = (verts if drawn is viewed else
+                           posed_mesh(drawn.rest_verts, drawn.betas, at))
+            return draw(drawn_verts), verts
 
         self.jobs.run(pose, lambda posed, g=self._silhouette_generation: self._draw_pose(
             g, frame_idx, shown, *posed), lambda why: self.silhouette.setVisible(False))
 
     def _outline_source(self, source: "FitResult | FitPreview", is_live: bool,
-                        frame_idx: int) -> Callable[[], list[np.ndarray]] | None:
-        """A function giving the outlines of ``source`` posed at ``frame_idx`` as the clip's
-        camera saw it (run it off the GUI thread); None where none is drawn: the silhouette
-        is off, the clip not open, no altitude, or the fitted motion does not reach the
-        frame."""
+                        frame_idx: int) -> tuple[FramePose,
+                                                 Callable[[np.ndarray], list[np.ndarray]]] | None:
+        """The pose of ``source`` at ``frame_idx`` and a function giving the outlines of its
+        mesh so posed as the clip's camera saw it (run it off the GUI thread); None where none
+        is drawn: the silhouette is off, the clip not open, no altitude, or the fitted motion
+        does not reach the frame."""
         session = self.state.session
         if not self._silhouette_on or self.state.session_for(self.model.clip_idx) is None:
             return None
@@ -372,13 +378,11 @@ class FitController(QObject):
             return None
         intrinsics, lens = clip.camera.intrinsics(), clip.lens
 
-        def outlines() -> list[np.ndarray]:   # the fit's pinhole view, bent as the lens saw it
-            from dolphinfit.core.fit.pose_mesh import posed_mesh
-            verts = posed_mesh(source.rest_verts, source.betas, shown.pose)
-            drawn = silhouette_outlines(verts, faces, intrinsics, altitude)
+        def outlines(verts: np.ndarray) -> list[np.ndarray]:   # the pinhole view, bent as
+            drawn = silhouette_outlines(verts, faces, intrinsics, altitude)   # the lens saw it
             return drawn if lens is None else [lens.distort(line) for line in drawn]
 
-        return outlines
+        return shown.pose, outlines
 
     def _template_faces(self) -> np.ndarray:
         """The model's faces (every fit shares the template's), read once."""
